@@ -1,0 +1,101 @@
+// Reading and writing images with OpenImageIO.
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <system_error>
+
+#include "image.h"
+
+namespace ray {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lowerExtension(const fs::path& file) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// A file beside the target, with the same extension so OpenImageIO picks the same format.
+fs::path temporarySibling(const fs::path& file) {
+    std::string name = ".";
+    name += file.stem().string();
+    name += ".tmp" + std::to_string(getpid());
+    name += file.extension().string();
+    fs::path tmp = file;
+    tmp.replace_filename(name);
+    return tmp;
+}
+
+}  // namespace
+
+Image readImage(const fs::path& file) {
+    auto input = OIIO::ImageInput::open(file.string());
+    if (!input) throw ImageError(file.string() + ": cannot read image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = input->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw ImageError(file.string() + ": image has no pixels");
+    // Refuse absurd sizes before allocating (a corrupt header can claim anything).
+    constexpr int64_t kMaxPixels = int64_t(1) << 28;
+    if (int64_t(spec.width) * spec.height > kMaxPixels)
+        throw ImageError(file.string() + ": image is " + std::to_string(spec.width) + "x" +
+                         std::to_string(spec.height) + ", larger than the 2^28-pixel limit");
+    const int channels = spec.nchannels;
+    std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(channels));
+    // Integer formats convert to [0, 1] as v / max, i.e. v/255 for 8-bit files.
+    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw ImageError(file.string() + ": cannot decode image: " + input->geterror());
+    input->close();
+
+    Image image(spec.width, spec.height);
+    for (size_t p = 0, n = size_t(spec.width) * size_t(spec.height); p < n; ++p) {
+        const float* src = &pixels[p * size_t(channels)];
+        for (int c = 0; c < 3; ++c) image.rgb[p * 3 + size_t(c)] = channels >= 3 ? src[c] : src[0];
+    }
+    return image;
+}
+
+bool isFloatFormat(const fs::path& file) {
+    std::string ext = lowerExtension(file);
+    return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+}
+
+void writeImage(const Image& image, const fs::path& file) {
+    if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
+    fs::path tmp = temporarySibling(file);
+    auto output = OIIO::ImageOutput::create(tmp.string());
+    if (!output)
+        throw ImageError(file.string() + ": unknown output format '" + file.extension().string() +
+                         "'; use .png, .jpg, .tif, .ppm, .exr, .hdr or .pfm");
+
+    const bool floats = isFloatFormat(file);
+    OIIO::ImageSpec spec(image.width, image.height, 3, floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    std::vector<uint8_t> bytes;
+    const void* data = image.rgb.data();
+    if (!floats) {
+        bytes.resize(image.rgb.size());
+        for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(quantize8(image.rgb[i]));
+        data = bytes.data();
+    }
+    bool ok = output->open(tmp.string(), spec) &&
+              output->write_image(floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8, data) &&
+              output->close();
+    if (!ok) {
+        std::string why = output->geterror();
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw ImageError(file.string() + ": cannot write image: " + why);
+    }
+    std::error_code ec;
+    fs::rename(tmp, file, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw ImageError(file.string() + ": cannot write image: " + ec.message());
+    }
+}
+
+}  // namespace ray

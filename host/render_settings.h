@@ -1,0 +1,39 @@
+// What to render and how: the options both renderers take, set from the command line.
+#pragma once
+
+#include <cstdint>
+
+namespace ray {
+
+enum class AntialiasMode {
+    Off,         // one sample at the pixel centre
+    Course,      // the course's deterministic adaptive subdivision (SPEC §3)
+    Stratified,  // jittered stratified samples, --samples N
+    Adaptive,    // stochastic refinement where neighbouring samples differ
+};
+
+enum class TextureFilter { Nearest, Bilinear, Trilinear };
+
+struct RenderSettings {
+    int width = 1024;
+    int height = 768;
+    int maxDepth = 4;  // bounces after the camera ray; 0 = no reflection or refraction
+    AntialiasMode antialias = AntialiasMode::Course;
+    int samples = 16;  // per pixel, for the stochastic modes
+    // A reflected or refracted branch stops when its accumulated weight is below this in
+    // every channel (SPEC §4).
+    double weightThreshold = 1.0 / 256.0;
+    bool shadows = true;
+    bool reflections = true;
+    bool refraction = true;
+    bool textures = true;
+    bool depthOfField = true;
+    TextureFilter textureFilter = TextureFilter::Nearest;
+    uint32_t seed = 0;
+};
+
+// The course's antialiasing constants (SPEC §3).
+constexpr double kCourseAaContrast = 0.2;  // max − min spread that triggers subdivision
+constexpr int kCourseAaMaxLevel = 3;       // levels 1..3: at most 4³ = 64 samples a pixel
+
+}  // namespace ray
