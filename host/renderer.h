@@ -1,0 +1,41 @@
+// Choosing a renderer (an OpenCL device or the host reference) and running it.
+#pragma once
+
+#include <functional>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+
+#include "image.h"
+#include "render_settings.h"
+#include "render_stats.h"
+#include "scene.h"
+
+namespace ray {
+
+// A device or runtime failure (no OpenCL platform, a kernel that fails to build, a scene
+// too big for the device): the message says what happened and what to try instead.
+struct DeviceError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct RenderJob {
+    const Scene& scene;
+    const RenderSettings& settings;
+    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index>
+    std::function<void(double)> progress;
+};
+
+struct RenderOutput {
+    Image image;
+    RenderStats stats;
+};
+
+// Renders on the device the job names. With "all" it renders on every device in turn and
+// returns the last image (the stats name every device). Throws DeviceError, InputError.
+RenderOutput render(const RenderJob& job);
+
+// Prints every OpenCL platform and device with its index (--list-devices).
+void printDeviceList(std::ostream& out);
+
+}  // namespace ray
