@@ -1,0 +1,236 @@
+/* Ray–primitive intersection and BVH traversal.
+ *
+ * Primitives are intersected in object space: the world ray is carried into the unit
+ * primitive's space by its world-to-object transform without renormalizing the direction,
+ * so the parameter t means the same distance along the ray in both spaces and hits of
+ * different primitives compare directly.
+ *
+ * No fast-math here: the slab tests rely on IEEE infinities. */
+
+#define RAY_INFINITY INFINITY
+#define RAY_BVH_STACK 64
+
+typedef struct {
+    float3 origin;
+    float3 direction; /* unit length in world space */
+} Ray;
+
+/* Which part of a primitive was hit; decides the texture mapping (SPEC §5). */
+#define PART_SIDE 0
+#define PART_TOP 1    /* +y cap (cylinder) */
+#define PART_BOTTOM 2 /* -y cap (cylinder, cone) */
+/* Cube faces: 0..5 = +x, -x, +y, -y, +z, -z. */
+
+typedef struct {
+    float t;
+    int primitive;   /* position in the primitive buffer, -1 for a miss */
+    int part;
+    float3 objectPoint;
+    float3 objectNormal; /* outward, unnormalized */
+} Hit;
+
+inline float3 transformPoint(__global const float4* m, float3 p) {
+    return (float3)(dot(m[0].xyz, p) + m[0].w, dot(m[1].xyz, p) + m[1].w, dot(m[2].xyz, p) + m[2].w);
+}
+
+inline float3 transformVector(__global const float4* m, float3 v) {
+    return (float3)(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v));
+}
+
+/* Object normal to world: the transpose of world-to-object's linear part (SPEC §1: normals
+ * transform by the inverse transpose of object-to-world). */
+inline float3 normalToWorld(__global const float4* m, float3 n) {
+    return normalize(m[0].xyz * n.x + m[1].xyz * n.y + m[2].xyz * n.z);
+}
+
+/* Both roots of a t² + b t + c = 0 in ascending order, without the cancellation of the
+ * schoolbook formula; false when there are none. */
+inline bool solveQuadratic(float a, float b, float c, float* t0, float* t1) {
+    if (a == 0.0f) {
+        if (b == 0.0f) return false;
+        *t0 = *t1 = -c / b;
+        return true;
+    }
+    float disc = b * b - 4.0f * a * c;
+    if (disc < 0.0f) return false;
+    float q = -0.5f * (b + copysign(sqrt(disc), b));
+    float r0 = q / a;
+    float r1 = q != 0.0f ? c / q : r0;
+    *t0 = fmin(r0, r1);
+    *t1 = fmax(r0, r1);
+    return true;
+}
+
+/* Keeps a candidate hit when it is the nearest so far in (0, best). */
+inline void considerHit(float t, int part, float3 normal, float* best, int* bestPart, float3* bestNormal) {
+    if (t > 0.0f && t < *best) {
+        *best = t;
+        *bestPart = part;
+        *bestNormal = normal;
+    }
+}
+
+inline void intersectCube(float3 o, float3 d, float* best, int* part, float3* normal) {
+    /* Each face plane; a hit counts when the other two coordinates are inside the face. */
+    for (int axis = 0; axis < 3; ++axis) {
+        float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+        float oa = axis == 0 ? o.x : (axis == 1 ? o.y : o.z);
+        if (da == 0.0f) continue;
+        for (int side = 0; side < 2; ++side) {
+            float plane = side == 0 ? 0.5f : -0.5f;
+            float t = (plane - oa) / da;
+            if (!(t > 0.0f && t < *best)) continue;
+            float3 p = o + t * d;
+            float u = axis == 0 ? p.y : p.x, v = axis == 2 ? p.y : p.z;
+            if (fabs(u) <= 0.5f && fabs(v) <= 0.5f) {
+                float3 n = (float3)(0.0f);
+                if (axis == 0) n.x = plane * 2.0f;
+                else if (axis == 1) n.y = plane * 2.0f;
+                else n.z = plane * 2.0f;
+                considerHit(t, axis * 2 + side, n, best, part, normal);
+            }
+        }
+    }
+}
+
+inline void intersectSphere(float3 o, float3 d, float* best, int* part, float3* normal) {
+    float t0, t1;
+    if (!solveQuadratic(dot(d, d), 2.0f * dot(o, d), dot(o, o) - 0.25f, &t0, &t1)) return;
+    float t = t0 > 0.0f ? t0 : t1;
+    considerHit(t, PART_SIDE, o + t * d, best, part, normal);
+}
+
+/* A cap of radius 0.5 in the plane y = capY. */
+inline void intersectCap(float3 o, float3 d, float capY, int capPart, float* best, int* part, float3* normal) {
+    if (d.y == 0.0f) return;
+    float t = (capY - o.y) / d.y;
+    float3 p = o + t * d;
+    if (p.x * p.x + p.z * p.z <= 0.25f)
+        considerHit(t, capPart, (float3)(0.0f, capY > 0.0f ? 1.0f : -1.0f, 0.0f), best, part, normal);
+}
+
+/* A root of the side surface counts when it lies between the caps. */
+inline void considerSideRoot(float3 o, float3 d, float t, int cone, float* best, int* part, float3* normal) {
+    float3 p = o + t * d;
+    if (p.y < -0.5f || p.y > 0.5f) return;
+    float3 n = cone ? (float3)(p.x, 0.25f * (0.5f - p.y), p.z) : (float3)(p.x, 0.0f, p.z);
+    considerHit(t, PART_SIDE, n, best, part, normal);
+}
+
+inline void intersectCylinder(float3 o, float3 d, float* best, int* part, float3* normal) {
+    float t0, t1;
+    float a = d.x * d.x + d.z * d.z;
+    if (a > 0.0f && solveQuadratic(a, 2.0f * (o.x * d.x + o.z * d.z), o.x * o.x + o.z * o.z - 0.25f, &t0, &t1)) {
+        considerSideRoot(o, d, t0, 0, best, part, normal);
+        considerSideRoot(o, d, t1, 0, best, part, normal);
+    }
+    intersectCap(o, d, 0.5f, PART_TOP, best, part, normal);
+    intersectCap(o, d, -0.5f, PART_BOTTOM, best, part, normal);
+}
+
+/* Side: x² + z² = ((0.5 − y) / 2)², the radius shrinking from 0.5 at the base to 0 at the
+ * apex (0, 0.5, 0). */
+inline void intersectCone(float3 o, float3 d, float* best, int* part, float3* normal) {
+    float k = 0.5f - o.y; /* (0.5 − y) at the origin; along the ray it is k − t·d.y */
+    float a = d.x * d.x + d.z * d.z - 0.25f * d.y * d.y;
+    float b = 2.0f * (o.x * d.x + o.z * d.z) + 0.5f * k * d.y;
+    float c = o.x * o.x + o.z * o.z - 0.25f * k * k;
+    float t0, t1;
+    if (solveQuadratic(a, b, c, &t0, &t1)) {
+        considerSideRoot(o, d, t0, 1, best, part, normal);
+        considerSideRoot(o, d, t1, 1, best, part, normal);
+    }
+    intersectCap(o, d, -0.5f, PART_BOTTOM, best, part, normal);
+}
+
+/* Intersects one primitive, updating hit when it is nearer than hit->t. */
+inline void intersectPrimitive(__global const RayPrimitive* prim, int index, Ray ray, Hit* hit) {
+    float3 o = transformPoint(prim->worldToObject, ray.origin);
+    float3 d = transformVector(prim->worldToObject, ray.direction);
+    float best = hit->t;
+    int part = 0;
+    float3 normal = (float3)(0.0f);
+    switch (prim->info.x) {
+        case RAY_PRIM_CUBE: intersectCube(o, d, &best, &part, &normal); break;
+        case RAY_PRIM_SPHERE: intersectSphere(o, d, &best, &part, &normal); break;
+        case RAY_PRIM_CYLINDER: intersectCylinder(o, d, &best, &part, &normal); break;
+        case RAY_PRIM_CONE: intersectCone(o, d, &best, &part, &normal); break;
+        default: break;
+    }
+    if (best < hit->t) {
+        hit->t = best;
+        hit->primitive = index;
+        hit->part = part;
+        hit->objectPoint = o + best * d;
+        hit->objectNormal = normal;
+    }
+}
+
+/* Slab distances to both children of a node; returns the entry distances (left, right),
+ * +infinity for a child the ray misses within (0, tMax). */
+inline float2 childEntryDistances(__global const RayBvhNode* node, float3 origin, float3 inverseDirection, float tMax) {
+    float4 tx = (node->xBounds - origin.x) * inverseDirection.x;
+    float4 ty = (node->yBounds - origin.y) * inverseDirection.y;
+    float4 tz = (node->zBounds - origin.z) * inverseDirection.z;
+    /* lanes .lo are the min planes of (left, right), .hi the max planes */
+    float2 tNear = fmax(fmax(fmin(tx.lo, tx.hi), fmin(ty.lo, ty.hi)), fmax(fmin(tz.lo, tz.hi), 0.0f));
+    float2 tFar = fmin(fmin(fmax(tx.lo, tx.hi), fmax(ty.lo, ty.hi)), fmin(fmax(tz.lo, tz.hi), tMax));
+    return (float2)(tNear.x <= tFar.x ? tNear.x : RAY_INFINITY, tNear.y <= tFar.y ? tNear.y : RAY_INFINITY);
+}
+
+/* 1/d with exact zeros replaced by a tiny signed value, so that no 0·∞ NaN reaches the
+ * slab test (an empty child's ±1e30 bounds then give huge but ordered distances). */
+inline float3 safeInverse(float3 d) {
+    const float tiny = 1e-20f;
+    return (float3)(1.0f / (fabs(d.x) > tiny ? d.x : copysign(tiny, d.x)),
+                    1.0f / (fabs(d.y) > tiny ? d.y : copysign(tiny, d.y)),
+                    1.0f / (fabs(d.z) > tiny ? d.z : copysign(tiny, d.z)));
+}
+
+/* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
+ * found (shadow rays). Returns whether anything was hit. */
+bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* prims, Ray ray, float tMax,
+              bool anyHit, Hit* hit) {
+    hit->t = tMax;
+    hit->primitive = -1;
+    float3 inverseDirection = safeInverse(ray.direction);
+    int stack[RAY_BVH_STACK];
+    int top = 0;
+    int nodeIndex = 0;
+    while (true) {
+        __global const RayBvhNode* node = &nodes[nodeIndex];
+        float2 entry = childEntryDistances(node, ray.origin, inverseDirection, hit->t);
+        int4 links = node->links;
+        /* Leaves are intersected at once; inner children are queued nearer first. */
+        int innerChild[2];
+        float innerEntry[2];
+        int inner = 0;
+        for (int c = 0; c < 2; ++c) {
+            int index = c == 0 ? links.x : links.z;
+            int count = c == 0 ? links.y : links.w;
+            float t = c == 0 ? entry.x : entry.y;
+            if (index < 0 || !(t < hit->t)) continue;
+            if (count > 0) {
+                for (int i = index; i < index + count; ++i) intersectPrimitive(&prims[i], i, ray, hit);
+                if (anyHit && hit->primitive >= 0) return true;
+            } else {
+                innerChild[inner] = index;
+                innerEntry[inner] = t;
+                ++inner;
+            }
+        }
+        if (inner == 2) {
+            bool leftFirst = innerEntry[0] <= innerEntry[1];
+            int near = leftFirst ? innerChild[0] : innerChild[1];
+            int far = leftFirst ? innerChild[1] : innerChild[0];
+            if (top < RAY_BVH_STACK) stack[top++] = far;
+            nodeIndex = near;
+        } else if (inner == 1) {
+            nodeIndex = innerChild[0];
+        } else {
+            if (top == 0) break;
+            nodeIndex = stack[--top];
+        }
+    }
+    return hit->primitive >= 0;
+}

@@ -1,0 +1,39 @@
+/* The counter-based random numbers of the stochastic features, shared by the host and the
+ * kernel so that both draw bit-identical samples.
+ *
+ * A sample's number is a pure function of (pixel, sample, dimension, seed): no state is
+ * carried between work-items or threads, so any device, any launch order and any tiling
+ * give the same image for the same seed. The mixing function is the PCG-RXS-M-XS hash
+ * ("Hash Functions for GPU Rendering", Jarzynski and Olano, JCGT 2020). Only 32-bit
+ * unsigned arithmetic is used, which wraps identically in C++ and OpenCL C; the float is
+ * built from the top 24 bits, so its conversion and scaling are exact. */
+#ifndef RAY_RANDOM_H
+#define RAY_RANDOM_H
+
+#ifdef __OPENCL_VERSION__
+#define RAY_U32 uint
+#define RAY_FN inline
+#else
+#include <cstdint>
+#define RAY_U32 uint32_t
+#define RAY_FN inline
+namespace ray {
+#endif
+
+RAY_FN RAY_U32 rayHash(RAY_U32 v) {
+    RAY_U32 state = v * 747796405u + 2891336453u;
+    RAY_U32 word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+/* A number in [0, 1) for one dimension of one sample of one pixel. */
+RAY_FN float rayRandom(RAY_U32 pixel, RAY_U32 sample, RAY_U32 dimension, RAY_U32 seed) {
+    RAY_U32 h = rayHash(seed ^ rayHash(dimension ^ rayHash(sample ^ rayHash(pixel))));
+    return (float)(h >> 8) * (1.0f / 16777216.0f);
+}
+
+#ifndef __OPENCL_VERSION__
+}  /* namespace ray */
+#endif
+
+#endif

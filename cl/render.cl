@@ -1,0 +1,192 @@
+/* The kernel: one work-item per pixel. A pixel's samples (SPEC §3) each trace a tree of
+ * rays (reflection now; refraction adds a second branch) with an explicit stack, since
+ * OpenCL C has no recursion. */
+
+#ifndef RAY_MAX_FRAMES
+#define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
+#endif
+
+/* One ray of the tree awaiting its children. Its color is folded into its parent, clamped
+ * to [0, 1] and weighted, once all of its children are folded into it (SPEC §4: I_r is
+ * clamped before it is weighted). */
+typedef struct {
+    float3 color;          /* local shading plus the children folded in so far */
+    float3 pathWeight;     /* product of the weights from the camera ray to this one */
+    float3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
+    Ray children[2];
+    float3 childWeights[2];
+    int childCount, nextChild, depth;
+} Frame;
+
+inline bool anyAbove(float3 v, float threshold) {
+    return v.x >= threshold || v.y >= threshold || v.z >= threshold;
+}
+
+/* Traces frame's ray, shades the hit and records the rays it spawns. */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, RayCounter* counter) {
+    frame->color = (float3)(0.0f);
+    frame->childCount = 0;
+    frame->nextChild = 0;
+    Hit hit;
+    if (!traceBvh(scene->nodes, scene->primitives, ray, RAY_INFINITY, false, &hit)) return;
+
+    __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
+    RayMaterial m = scene->materials[prim->info.y];
+    float3 p = ray.origin + hit.t * ray.direction;
+    float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
+    if (dot(normal, ray.direction) > 0.0f) normal = -normal; /* face the incoming ray */
+    float4 k = params->globals;                               /* ka, kd, ks, kt */
+    int features = params->mode.z;
+
+    float3 diffuse = k.y * m.diffuse.xyz;
+    if ((features & RAY_FEATURE_TEXTURES) && m.maps.x >= 0) {
+        float2 uv = surfaceUv(prim->info.x, hit.part, hit.objectPoint);
+        float3 t = sampleTexture(scene, m.maps.x, uv, m.repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
+        float blend = m.diffuse.w;
+        diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
+    }
+    frame->color = k.x * m.ambient.xyz + m.emissive.xyz +
+                   directLighting(scene, params, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz,
+                                  m.ambient.w, counter);
+
+    if (frame->depth >= params->mode.y) return;
+    float3 reflectWeight = k.z * m.reflective.xyz;
+    if ((features & RAY_FEATURE_REFLECTIONS) && anyAbove(frame->pathWeight * reflectWeight, params->limits.x) &&
+        anyAbove(reflectWeight, 1e-30f)) {
+        Ray reflected = {offsetFromSurface(p, normal, params->limits.y),
+                         ray.direction - 2.0f * dot(ray.direction, normal) * normal};
+        frame->children[frame->childCount] = reflected;
+        frame->childWeights[frame->childCount] = reflectWeight;
+        frame->childCount++;
+    }
+}
+
+/* The color of one camera ray: the tree of reflected rays below it, depth first. */
+float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, RayCounter* counter) {
+    Frame stack[RAY_MAX_FRAMES];
+    int top = 0;
+    stack[0].depth = 0;
+    stack[0].pathWeight = (float3)(1.0f);
+    stack[0].weightInParent = (float3)(1.0f);
+    counter->primary++;
+    shadeFrame(scene, params, &stack[0], ray, counter);
+    while (true) {
+        Frame* frame = &stack[top];
+        if (frame->nextChild < frame->childCount && top + 1 < RAY_MAX_FRAMES) {
+            int c = frame->nextChild++;
+            Frame* child = &stack[top + 1];
+            child->depth = frame->depth + 1;
+            child->weightInParent = frame->childWeights[c];
+            child->pathWeight = frame->pathWeight * frame->childWeights[c];
+            counter->secondary++;
+            shadeFrame(scene, params, child, frame->children[c], counter);
+            ++top;
+            continue;
+        }
+        if (top == 0) return frame->color;
+        float3 folded = frame->weightInParent * clamp(frame->color, 0.0f, 1.0f);
+        --top;
+        stack[top].color += folded;
+    }
+}
+
+/* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). */
+inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy) {
+    float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
+    float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
+    Ray ray = {params->eye.xyz, normalize(u * params->right.xyz + v * params->up.xyz + params->forward.xyz)};
+    return ray;
+}
+
+inline float3 samplePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
+                          RayCounter* counter) {
+    return clamp(traceCameraRay(scene, params, cameraRay(params, i, j, sx, sy), counter), 0.0f, 1.0f);
+}
+
+inline float contrast(float3 a, float3 b, float3 c, float3 d) {
+    float3 spread = fmax(fmax(a, b), fmax(c, d)) - fmin(fmin(a, b), fmin(c, d));
+    return fmax(spread.x, fmax(spread.y, spread.z));
+}
+
+/* The course's adaptive antialiasing (SPEC §3): value(square, level) samples the centres
+ * of the square's four quadrants; where they differ by more than 0.2 and level < 3, each
+ * quadrant's sample is replaced by value(quadrant, level + 1). Written as three nested
+ * levels because OpenCL C has no recursion. */
+float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
+                     float size, RayCounter* counter) {
+    float q = size * 0.25f;
+    return 0.25f * (samplePixel(scene, params, i, j, x0 + q, y0 + q, counter) +
+                    samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter) +
+                    samplePixel(scene, params, i, j, x0 + q, y0 + 3.0f * q, counter) +
+                    samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter));
+}
+
+float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
+                     float size, RayCounter* counter) {
+    float q = size * 0.25f, h = size * 0.5f;
+    float3 a = samplePixel(scene, params, i, j, x0 + q, y0 + q, counter);
+    float3 b = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter);
+    float3 c = samplePixel(scene, params, i, j, x0 + q, y0 + 3.0f * q, counter);
+    float3 d = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter);
+    if (contrast(a, b, c, d) > 0.2f) {
+        a = courseSquare3(scene, params, i, j, x0, y0, h, counter);
+        b = courseSquare3(scene, params, i, j, x0 + h, y0, h, counter);
+        c = courseSquare3(scene, params, i, j, x0, y0 + h, h, counter);
+        d = courseSquare3(scene, params, i, j, x0 + h, y0 + h, h, counter);
+    }
+    return 0.25f * (a + b + c + d);
+}
+
+float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, RayCounter* counter) {
+    float3 a = samplePixel(scene, params, i, j, 0.25f, 0.25f, counter);
+    float3 b = samplePixel(scene, params, i, j, 0.75f, 0.25f, counter);
+    float3 c = samplePixel(scene, params, i, j, 0.25f, 0.75f, counter);
+    float3 d = samplePixel(scene, params, i, j, 0.75f, 0.75f, counter);
+    if (contrast(a, b, c, d) > 0.2f) {
+        a = courseSquare2(scene, params, i, j, 0.0f, 0.0f, 0.5f, counter);
+        b = courseSquare2(scene, params, i, j, 0.5f, 0.0f, 0.5f, counter);
+        c = courseSquare2(scene, params, i, j, 0.0f, 0.5f, 0.5f, counter);
+        d = courseSquare2(scene, params, i, j, 0.5f, 0.5f, 0.5f, counter);
+    }
+    return 0.25f * (a + b + c + d);
+}
+
+/* Stratified jittered samples: an n×n grid (n = floor(sqrt(samples))), one uniformly
+ * placed sample per cell, averaged (a box filter over the pixel). */
+float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, RayCounter* counter) {
+    int n = max(1, (int)floor(sqrt((float)params->mode.w)));
+    uint pixel = (uint)(j * params->image.x + i);
+    uint seed = (uint)params->counts.w;
+    float3 sum = (float3)(0.0f);
+    for (int s = 0; s < n * n; ++s) {
+        float sx = ((float)(s % n) + rayRandom(pixel, (uint)s, 0u, seed)) / (float)n;
+        float sy = ((float)(s / n) + rayRandom(pixel, (uint)s, 1u, seed)) / (float)n;
+        sum += samplePixel(scene, params, i, j, sx, sy, counter);
+    }
+    return sum / (float)(n * n);
+}
+
+/* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y). */
+__kernel void renderTile(RayRenderParams params, __global const RayBvhNode* nodes,
+                         __global const RayPrimitive* primitives, __global const RayMaterial* materials,
+                         __global const RayLight* lights, __global const RayTexture* textures,
+                         __global const uchar4* texels, __global float4* image, __global uint4* rayCounts) {
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= params.tile.x || y >= params.tile.y) return;
+    int i = params.image.z + x, j = params.image.w + y;
+    if (i >= params.image.x || j >= params.image.y) return;
+
+    SceneBuffers scene = {nodes, primitives, materials, lights, textures, texels};
+    RayCounter counter = {0u, 0u, 0u};
+    float3 color;
+    switch (params.mode.x) {
+        case RAY_AA_COURSE: color = coursePixel(&scene, &params, i, j, &counter); break;
+        case RAY_AA_STRATIFIED:
+        case RAY_AA_ADAPTIVE: color = stratifiedPixel(&scene, &params, i, j, &counter); break;
+        default: /* unclamped, for float outputs */
+            color = traceCameraRay(&scene, &params, cameraRay(&params, i, j, 0.5f, 0.5f), &counter);
+    }
+    int pixel = j * params.image.x + i;
+    image[pixel] = (float4)(color, 1.0f);
+    rayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);
+}

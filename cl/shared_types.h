@@ -1,0 +1,139 @@
+/* The buffer layouts shared by the host (C++) and the kernel (OpenCL C).
+ *
+ * This header is the single definition of every structure that crosses the host/device
+ * boundary. The host includes it from C++ (with the small shim below) and checks sizes and
+ * offsets with static_assert in host/scene_packing.cpp; the kernel sources are compiled with
+ * this header prepended.
+ *
+ * Rules that keep the two compilers in agreement:
+ *  - fields are float4 / int4 only (16-byte aligned, 16-byte sized): no float3, whose size
+ *    is 16 in OpenCL C but 12 in a C++ struct of three floats, and no bare scalars that
+ *    could be padded differently;
+ *  - integers that ride along with floats go in an int4, never bit-cast into a float's
+ *    lane (a denormal bit pattern may be flushed by some devices).
+ */
+#ifndef RAY_SHARED_TYPES_H
+#define RAY_SHARED_TYPES_H
+
+#ifndef __OPENCL_VERSION__
+#include <cstdint>
+namespace ray::gpu {
+struct alignas(16) float4 {
+    float x = 0, y = 0, z = 0, w = 0;
+};
+struct alignas(16) int4 {
+    int32_t x = 0, y = 0, z = 0, w = 0;
+};
+#define RAY_STRUCT(name) struct name
+#define RAY_END_STRUCT(name)
+#else
+#define RAY_STRUCT(name) typedef struct name
+#define RAY_END_STRUCT(name) name
+#endif
+
+/* Values of RayPrimitive.info.x; equal to ray::PrimitiveType on the host. */
+#define RAY_PRIM_CUBE 0
+#define RAY_PRIM_SPHERE 1
+#define RAY_PRIM_CYLINDER 2
+#define RAY_PRIM_CONE 3
+#define RAY_PRIM_TORUS 4
+#define RAY_PRIM_MESH 5
+
+/* Values of RayLight.info.x; equal to ray::LightType on the host. */
+#define RAY_LIGHT_POINT 0
+#define RAY_LIGHT_DIRECTIONAL 1
+#define RAY_LIGHT_SPOT 2
+#define RAY_LIGHT_AREA 3
+
+/* Values of RayRenderParams.mode.x; equal to ray::AntialiasMode on the host. */
+#define RAY_AA_OFF 0
+#define RAY_AA_COURSE 1
+#define RAY_AA_STRATIFIED 2
+#define RAY_AA_ADAPTIVE 3
+
+/* Bits of RayRenderParams.mode.z: the feature switches of the command line. */
+#define RAY_FEATURE_SHADOWS 1
+#define RAY_FEATURE_REFLECTIONS 2
+#define RAY_FEATURE_REFRACTION 4
+#define RAY_FEATURE_TEXTURES 8
+#define RAY_FEATURE_DOF 16
+#define RAY_FEATURE_BILINEAR 32
+
+/* A node of the flattened two-wide BVH: 64 bytes, one cache line.
+ *
+ * A node stores the bounds of its two children rather than its own, so one fetch tests
+ * both children (and decides which to visit first) with a handful of float4 operations:
+ * the lanes of xBounds are (left.min.x, right.min.x, left.max.x, right.max.x), so the slab
+ * distances of both children come from one subtract and one multiply per axis.
+ *
+ * links: (leftIndex, leftCount, rightIndex, rightCount). A count of 0 means the index is
+ * that of an inner node; a count > 0 means a leaf holding primitives
+ * [index, index + count) of the primitive buffer, which is stored in BVH order. An absent
+ * child (a scene of one primitive) has index -1 and empty bounds (min > max). Node 0 is the
+ * root. */
+RAY_STRUCT(RayBvhNode) {
+    float4 xBounds;
+    float4 yBounds;
+    float4 zBounds;
+    int4 links;
+} RAY_END_STRUCT(RayBvhNode);
+
+/* A primitive instance: 64 bytes.
+ * worldToObject: rows of the 3×4 world-to-object transform (translation in .w). The normal
+ * transform (inverse transpose of object-to-world) is the transpose of its 3×3 part, so it
+ * needs no storage of its own.
+ * info: (type RAY_PRIM_*, material index, mesh index or -1, unused). */
+RAY_STRUCT(RayPrimitive) {
+    float4 worldToObject[3];
+    int4 info;
+} RAY_END_STRUCT(RayPrimitive);
+
+/* A material: 128 bytes. Colors in .xyz; scalars ride in the spare .w lanes. */
+RAY_STRUCT(RayMaterial) {
+    float4 diffuse;      /* w: blend */
+    float4 ambient;      /* w: shininess */
+    float4 specular;     /* w: index of refraction */
+    float4 reflective;
+    float4 transparent;
+    float4 emissive;
+    float4 repeats;      /* texture repeat u, v; bump-map repeat u, v */
+    int4 maps;           /* texture index, bump-map index (-1: none), unused, unused */
+} RAY_END_STRUCT(RayMaterial);
+
+/* A light: 112 bytes. */
+RAY_STRUCT(RayLight) {
+    int4 info;            /* type RAY_LIGHT_*, area samples per side, unused, unused */
+    float4 color;
+    float4 position;
+    float4 direction;     /* unit length: where a directional, spot or area light points */
+    float4 attenuation;   /* c1, c2, c3 of 1/(c1 + c2 d + c3 d²) */
+    float4 spot;          /* cos(outer), cos(inner), outer (rad), inner (rad) */
+    float4 area;          /* width, height, unused, unused */
+} RAY_END_STRUCT(RayLight);
+
+/* A texture in the texel buffer: texels [offset, offset + width·height) of uchar4 (RGBA8,
+ * row 0 at the top), values v/255 exactly as the course reads them. */
+RAY_STRUCT(RayTexture) {
+    int4 info;  /* offset in texels, width, height, unused */
+} RAY_END_STRUCT(RayTexture);
+
+/* Everything else a launch needs: 176 bytes, passed by value. */
+RAY_STRUCT(RayRenderParams) {
+    float4 eye;          /* camera position */
+    float4 right;        /* U · w: the view plane's half-width axis (SPEC §3) */
+    float4 up;           /* V · h: its half-height axis */
+    float4 forward;      /* unit look direction */
+    float4 lens;         /* aperture (diameter), focal length, unused, unused */
+    float4 globals;      /* ka, kd, ks, kt */
+    float4 limits;       /* weight threshold, ray offset epsilon, unused, unused */
+    int4 image;          /* width, height, tile x0, tile y0 */
+    int4 mode;           /* antialias RAY_AA_*, max depth, feature bits RAY_FEATURE_*, samples */
+    int4 counts;         /* lights, primitives, nodes, seed */
+    int4 tile;           /* tile width, tile height, unused, unused */
+} RAY_END_STRUCT(RayRenderParams);
+
+#ifndef __OPENCL_VERSION__
+}  /* namespace ray::gpu */
+#endif
+
+#endif

@@ -1,0 +1,51 @@
+// OpenCL platforms and devices: listing, choosing, and building the kernel with an on-disk
+// cache of compiled program binaries.
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace ray {
+
+struct OpenClDevice {
+    int index = 0;  // position in the list --list-devices prints
+    cl::Platform platform;
+    cl::Device device;
+    std::string name, platformName, platformVersion, driverVersion;
+    bool isGpu = false, isCpu = false;
+    unsigned computeUnits = 0;
+    uint64_t globalMemory = 0, maxAllocation = 0;
+
+    std::string description() const;  // "NAME (PLATFORM)"
+};
+
+// Every device of every platform; empty when there is no OpenCL platform at all.
+std::vector<OpenClDevice> enumerateOpenClDevices();
+
+// The devices a --device value names: auto (a GPU if there is one, else a CPU device),
+// cpu, gpu, all, or an index. Throws DeviceError with advice when none fits.
+std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector);
+
+void printOpenClDevices(std::ostream& out);
+
+struct KernelProgram {
+    cl::Context context;
+    cl::Program program;
+    double buildSeconds = 0;
+    bool fromCache = false;
+};
+
+// Builds the embedded kernel for the device with the given options, reusing a cached
+// binary when the source, options, device and driver are the same. The cache lives in
+// $RAY_CACHE_DIR, else $XDG_CACHE_HOME/ray, else ~/.cache/ray; a cache that cannot be
+// written is skipped silently. Throws DeviceError with the build log on failure.
+KernelProgram buildKernelProgram(const OpenClDevice& device, const std::string& options);
+
+// Describes an OpenCL error code ("CL_OUT_OF_RESOURCES (-5)").
+std::string openClErrorName(cl_int code);
+
+}  // namespace ray

@@ -1,0 +1,133 @@
+#include "opencl_renderer.h"
+
+#include <chrono>
+
+#include "renderer.h"
+#include "scene_packing.h"
+
+namespace ray {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string mebibytes(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
+
+// Refuses, before any upload, a scene whose buffers exceed what the device allows.
+void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t imageBytes) {
+    struct Buffer {
+        const char* what;
+        size_t bytes;
+    };
+    const Buffer buffers[] = {{"BVH nodes", packed.nodes.size() * sizeof(gpu::RayBvhNode)},
+                              {"primitives", packed.primitives.size() * sizeof(gpu::RayPrimitive)},
+                              {"textures", packed.texels.size()},
+                              {"image", imageBytes}};
+    const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
+    for (const Buffer& b : buffers) {
+        if (b.bytes > device.maxAllocation)
+            throw DeviceError("the scene's " + std::string(b.what) + " need a " + mebibytes(b.bytes) +
+                              " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
+                              device.description() + " allows in one allocation" + advice);
+    }
+    uint64_t total = packed.totalBytes() + imageBytes;
+    if (total > device.globalMemory)
+        throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
+                          mebibytes(device.globalMemory) + " of " + device.description() + advice);
+}
+
+// OpenCL refuses zero-sized buffers; an empty table gets one unused element.
+template <typename T>
+cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data) {
+    static const T placeholder{};
+    const void* source = data.empty() ? static_cast<const void*>(&placeholder) : data.data();
+    size_t bytes = std::max<size_t>(1, data.size()) * sizeof(T);
+    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(source));
+}
+
+std::string buildOptions(const RenderSettings& settings) {
+    // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
+    // the intersection code relies on IEEE infinities.
+    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(settings.maxDepth + 1);
+}
+
+}  // namespace
+
+Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
+                   const OpenClRenderOptions& options, RenderStats* stats) {
+    PackedScene packed = packScene(scene);
+    const size_t pixels = size_t(settings.width) * size_t(settings.height);
+    checkDeviceLimits(device, packed, pixels * sizeof(cl_float4));
+
+    KernelProgram program = buildKernelProgram(device, buildOptions(settings));
+    Image image(settings.width, settings.height);
+    RenderStats local;
+    try {
+        const cl::Context& context = program.context;
+        cl::CommandQueue queue(context, device.device);
+        cl::Buffer nodes = uploadBuffer(context, packed.nodes);
+        cl::Buffer primitives = uploadBuffer(context, packed.primitives);
+        cl::Buffer materials = uploadBuffer(context, packed.materials);
+        cl::Buffer lights = uploadBuffer(context, packed.lights);
+        cl::Buffer textures = uploadBuffer(context, packed.textures);
+        cl::Buffer texels = uploadBuffer(context, packed.texels);
+        cl::Buffer pixelsOut(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
+        cl::Buffer counts(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint4));
+
+        cl::Kernel kernel(program.program, "renderTile");
+        gpu::RayRenderParams params = makeRenderParams(scene, settings, packed);
+        kernel.setArg(1, nodes);
+        kernel.setArg(2, primitives);
+        kernel.setArg(3, materials);
+        kernel.setArg(4, lights);
+        kernel.setArg(5, textures);
+        kernel.setArg(6, texels);
+        kernel.setArg(7, pixelsOut);
+        kernel.setArg(8, counts);
+
+        auto renderStart = Clock::now();
+        const int tile = std::max(8, options.tileSize);
+        const int tilesX = (settings.width + tile - 1) / tile, tilesY = (settings.height + tile - 1) / tile;
+        int done = 0;
+        for (int ty = 0; ty < tilesY; ++ty) {
+            for (int tx = 0; tx < tilesX; ++tx) {
+                if (options.cancel && options.cancel->load()) throw DeviceError("render interrupted");
+                params.image.z = tx * tile;
+                params.image.w = ty * tile;
+                params.tile = {std::min(tile, settings.width - tx * tile), std::min(tile, settings.height - ty * tile), 0, 0};
+                kernel.setArg(0, sizeof(params), &params);
+                queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(size_t(params.tile.x), size_t(params.tile.y)));
+                queue.finish();
+                if (options.progress) options.progress(double(++done) / double(tilesX * tilesY));
+            }
+        }
+        std::vector<cl_float4> rgba(pixels);
+        std::vector<cl_uint4> rayCounts(pixels);
+        queue.enqueueReadBuffer(pixelsOut, CL_TRUE, 0, pixels * sizeof(cl_float4), rgba.data());
+        queue.enqueueReadBuffer(counts, CL_TRUE, 0, pixels * sizeof(cl_uint4), rayCounts.data());
+        local.renderSeconds = secondsSince(renderStart);
+
+        for (size_t p = 0; p < pixels; ++p) {
+            for (int c = 0; c < 3; ++c) image.rgb[p * 3 + size_t(c)] = rgba[p].s[c];
+            local.primaryRays += rayCounts[p].s[0];
+            local.shadowRays += rayCounts[p].s[1];
+            local.secondaryRays += rayCounts[p].s[2];
+        }
+    } catch (const cl::Error& e) {
+        std::string what = openClErrorName(e.err());
+        std::string advice = (e.err() == CL_MEM_OBJECT_ALLOCATION_FAILURE || e.err() == CL_OUT_OF_RESOURCES ||
+                              e.err() == CL_OUT_OF_HOST_MEMORY)
+                                 ? "the device ran out of memory; try a smaller image or scene, or --device ref"
+                                 : "try another device (ray --list-devices) or --device ref";
+        throw DeviceError(device.description() + ": " + e.what() + " failed with " + what + "; " + advice);
+    }
+    local.device = device.description();
+    local.bvhBuildSeconds = packed.bvhBuildSeconds;
+    local.kernelBuildSeconds = program.buildSeconds;
+    if (stats) *stats = local;
+    return image;
+}
+
+}  // namespace ray

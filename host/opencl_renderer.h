@@ -1,0 +1,27 @@
+// The fast path: renders a packed scene with the OpenCL kernel, tile by tile.
+#pragma once
+
+#include <atomic>
+#include <functional>
+
+#include "image.h"
+#include "opencl_device.h"
+#include "render_settings.h"
+#include "render_stats.h"
+#include "scene.h"
+
+namespace ray {
+
+struct OpenClRenderOptions {
+    // Side of the square tiles launched one at a time: short launches keep GPU watchdogs
+    // quiet and let the progress bar move.
+    int tileSize = 128;
+    std::function<void(double)> progress;
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+// Throws DeviceError (build failure, device limits, out of memory) and InputError.
+Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
+                   const OpenClRenderOptions& options, RenderStats* stats);
+
+}  // namespace ray
