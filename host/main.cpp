@@ -70,7 +70,7 @@ int run(const CliOptions& options) {
     double loadSeconds = secondsSince(loadStart);
 
     ProgressBar progress(!options.quiet);
-    RenderJob job{scene, options.settings, options.device};
+    RenderJob job{scene, options.settings, options.device, {}};
     job.progress = [&](double f) { progress.update(f); };
     RenderOutput result = render(job);
     progress.finish();
