@@ -10,6 +10,15 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
 #include "cli.h"
 #include "image.h"
 
@@ -67,6 +76,61 @@ inline Image differenceImage(const Image& a, const Image& b) {
     for (size_t i = 0; i < d.rgb.size() && i < b.rgb.size(); ++i)
         d.rgb[i] = std::min(1.0f, 4.0f * float(std::abs(quantize8(a.rgb[i]) - quantize8(b.rgb[i]))) / 255.0f);
     return d;
+}
+
+struct CommandResult {
+    int exitCode = -1;    // -1: killed by a signal or the timeout
+    bool timedOut = false;
+    double seconds = 0;
+    std::string output;   // stdout and stderr together
+};
+
+// Runs the `ray` binary with the arguments, killing it after timeoutSeconds.
+inline CommandResult runRay(const std::vector<std::string>& args, double timeoutSeconds = 60,
+                            const std::vector<std::string>& extraEnvironment = {}) {
+    static int counter = 0;
+    std::filesystem::path log = outputDir() / ("ray_output_" + std::to_string(getpid()) + "_" + std::to_string(counter++) + ".txt");
+    std::vector<std::string> argvStrings{RAY_TEST_BINARY};
+    argvStrings.insert(argvStrings.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : argvStrings) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    std::vector<std::string> envStrings;
+    for (char** e = environ; *e; ++e) envStrings.emplace_back(*e);
+    envStrings.insert(envStrings.end(), extraEnvironment.begin(), extraEnvironment.end());
+    std::vector<char*> envp;
+    for (auto& e : envStrings) envp.push_back(e.data());
+    envp.push_back(nullptr);
+
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    pid_t pid = 0;
+    CommandResult result;
+    auto start = std::chrono::steady_clock::now();
+    int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) return result;
+    int status = 0;
+    while (true) {
+        pid_t done = waitpid(pid, &status, WNOHANG);
+        result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (done == pid) break;
+        if (result.seconds > timeoutSeconds) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            result.timedOut = true;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (!result.timedOut && WIFEXITED(status)) result.exitCode = WEXITSTATUS(status);
+    std::ifstream in(log);
+    result.output.assign(std::istreambuf_iterator<char>(in), {});
+    std::filesystem::remove(log);
+    return result;
 }
 
 // A row of ../shared/cs123/reference/INDEX.tsv: a course render and how to reproduce it.

@@ -1,0 +1,89 @@
+// The whole course corpus through the `ray` command: every scene renders at 64×48 or fails
+// with a clear error and exit status 2, within a minute, on the reference renderer and on
+// the OpenCL CPU device alike.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Scenes that cannot render, and a fragment of the error each must give.
+const std::map<std::string, std::string> kExpectedErrors = {
+    {"dragon.xml", "dragon.obj' not found"},
+    {"mesh.xml", "dragon.obj' not found"},
+    {"piano.xml", "piano.obj' not found"},
+    {"PenroseTriangle.xml", "unknown primitive 'triangle'"},
+};
+
+// Torus and mesh primitives come with the geometry issue; until then such scenes are a
+// clear "not supported yet" error.
+bool notSupportedYet(const std::string& output) { return output.find("not supported yet") != std::string::npos; }
+
+void renderCorpus(const std::string& device) {
+    auto shared = ray::test::sharedDir();
+    if (!shared) {
+        ray::test::skip("../shared/cs123 is absent");
+        return;
+    }
+    std::vector<fs::path> scenes;
+    for (const auto& entry : fs::directory_iterator(*shared / "cs123" / "scenes"))
+        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
+    std::sort(scenes.begin(), scenes.end());
+    REQUIRE(scenes.size() == 215);
+
+    const fs::path out = ray::test::outputDir() / ("corpus_" + device);
+    fs::create_directories(out);
+    int rendered = 0, expectedFailures = 0, unsupported = 0;
+    double slowest = 0;
+    std::string slowestScene;
+    for (const fs::path& scene : scenes) {
+        const std::string name = scene.filename().string();
+        const fs::path image = out / (scene.stem().string() + ".png");
+        fs::remove(image);
+        ray::test::CommandResult r =
+            ray::test::runRay({scene.string(), "64", "48", "--device", device, "--quiet", "-o", image.string()}, 60);
+        INFO(name << " (exit " << r.exitCode << ", " << r.seconds << " s):\n" << r.output);
+        REQUIRE_FALSE(r.timedOut);
+        if (r.seconds > slowest) slowest = r.seconds, slowestScene = name;
+        auto expected = kExpectedErrors.find(name);
+        if (expected != kExpectedErrors.end()) {
+            CHECK(r.exitCode == 2);
+            CHECK(r.output.find(expected->second) != std::string::npos);
+            CHECK(r.output.find(name + ":") != std::string::npos);  // names the file and line
+            CHECK_FALSE(fs::exists(image));
+            ++expectedFailures;
+        } else if (r.exitCode == 2 && notSupportedYet(r.output)) {
+            CHECK_FALSE(fs::exists(image));
+            ++unsupported;
+        } else {
+            CHECK(r.exitCode == 0);
+            CHECK(fs::exists(image));
+            ++rendered;
+        }
+    }
+    std::cout << device << ": " << rendered << " rendered, " << expectedFailures << " expected errors, "
+              << unsupported << " not supported yet; slowest " << slowestScene << " " << slowest << " s\n";
+    CHECK(rendered + expectedFailures + unsupported == int(scenes.size()));
+}
+
+}  // namespace
+
+TEST_CASE("every course scene renders on the reference renderer or fails clearly", "[corpus][render]") {
+    renderCorpus("ref");
+}
+
+TEST_CASE("every course scene renders on the OpenCL CPU device or fails clearly", "[corpus][render][kernel]") {
+    ray::test::CommandResult probe = ray::test::runRay({"--list-devices"});
+    if (probe.output.find("CPU,") == std::string::npos) {
+        ray::test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    renderCorpus("cpu");
+}
