@@ -1,0 +1,52 @@
+// Where in a pixel the renderers take their samples, and how the samples become the
+// pixel's color (SPEC §3). Free of ray tracing: the caller supplies the color of a sample
+// at offsets (sx, sy) ∈ [0, 1)² within the pixel (x to the right, y down), and any
+// renderer can reuse these patterns.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "math.h"
+#include "render_settings.h"
+
+namespace ray {
+
+// The color seen through offset (sx, sy) of the pixel.
+using PixelSampleFunction = std::function<Vec3(double sx, double sy)>;
+
+// --aa off: one sample at the pixel centre, returned as it is.
+Vec3 sampleCenter(const PixelSampleFunction& sample);
+
+// Counts for the tests: how many samples were traced, and how many of them make up the
+// pixel (a subdivided square's own four samples are traced and then replaced).
+struct CourseSampleCount {
+    int traced = 0;  // 4, 4 + 16, … at most 4 + 16 + 64
+    int used = 0;    // 4 to 64
+};
+
+// --aa course: value(pixel, 1), where value(square, level) takes the four samples at the
+// centres of the square's quadrants, each clamped to [0, 1] per channel; if level < 3 and
+// they spread by more than 0.2 (max − min in the channel where that is largest), each
+// quadrant's sample is replaced by value(quadrant, level + 1); the result is the mean of
+// the four. Deterministic; the result is in [0, 1].
+Vec3 sampleCourse(const PixelSampleFunction& sample, CourseSampleCount* count = nullptr);
+
+// --aa stratified: one sample jittered within each cell of a k×k grid, k = floor(√samples)
+// (a count that is not a square is rounded down to one). Cell c (row c / k, column c % k)
+// is jittered by sampleRandom(pixel, c, 0 for x / 1 for y, seed) (random.h), exactly as the
+// kernel does. Samples are clamped to [0, 1] per channel, as the course mode does, and
+// averaged (a box filter).
+Vec3 sampleStratified(const PixelSampleFunction& sample, int samples, uint32_t pixelIndex, uint32_t seed);
+
+// k = floor(√samples), at least 1.
+int stratifiedGridSide(int samples);
+// The offsets of stratified sample `index` in a k×k grid (as sampleStratified).
+void stratifiedOffset(int index, int side, uint32_t pixelIndex, uint32_t seed, double& sx, double& sy);
+
+// Dispatches on settings.antialias. pixelIndex = y·width + x names the pixel for the
+// stochastic modes. The adaptive mode (stochastic refinement) is a feature of its own and
+// samples as stratified here until it exists.
+Vec3 samplePixel(const RenderSettings& settings, uint32_t pixelIndex, const PixelSampleFunction& sample);
+
+}  // namespace ray
