@@ -98,7 +98,11 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
                 params.image.w = ty * tile;
                 params.tile = {std::min(tile, settings.width - tx * tile), std::min(tile, settings.height - ty * tile), 0, 0};
                 kernel.setArg(0, sizeof(params), &params);
-                queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(size_t(params.tile.x), size_t(params.tile.y)));
+                const size_t groupX = size_t(options.workGroupSize), groupY = size_t(options.workGroupSize);
+                auto roundUp = [](size_t n, size_t m) { return (n + m - 1) / m * m; };
+                queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                           cl::NDRange(roundUp(size_t(params.tile.x), groupX), roundUp(size_t(params.tile.y), groupY)),
+                                           cl::NDRange(groupX, groupY));
                 queue.finish();
                 if (options.progress) options.progress(double(++done) / double(tilesX * tilesY));
             }

@@ -16,6 +16,9 @@ struct OpenClRenderOptions {
     // Side of the square tiles launched one at a time: short launches keep GPU watchdogs
     // quiet and let the progress bar move.
     int tileSize = 128;
+    // Work-group side. Left to the driver, PoCL picks groups of one work-item, whose
+    // per-group overhead dominates; 8×8 suits CPUs and GPUs alike.
+    int workGroupSize = 8;
     std::function<void(double)> progress;
     const std::atomic<bool>* cancel = nullptr;
 };

@@ -1,0 +1,307 @@
+// ray_bench: renders a fixed set of scenes with `ray` on every OpenCL device and on the host
+// reference renderer, and reports speed, ray counts, build times and memory side by side.
+// See bench/README.md. Not a test: nothing here runs under CTest.
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_process.h"
+#include "primitive_count.h"
+#include "ray_runs.h"
+#include "report.h"
+#include "sphere_scenes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace bench;
+using Clock = std::chrono::steady_clock;
+
+const char* const kUsage = R"(usage: ray_bench [options]
+
+Renders chess, recursiveSpheres10, ray_killer, recursiveCones4 (from the course corpus)
+and generated scenes of 10^2..10^6 spheres with `ray --aa off`, depth 4, on each OpenCL
+device (a cold then a warm kernel cache) and on the reference renderer; prints a table
+and writes JSON.
+
+options:
+  --quick               256x192 instead of 1024x768 (a smoke run of a minute or two)
+  --out FILE            JSON results (default: bench/results.json in the source tree)
+  --scenes DIR          the course's scenes folder (default: ../shared/cs123/scenes beside
+                        the checkout, or $RAY_SHARED_DIR/cs123/scenes)
+  --ray PATH            the ray binary (default: ../ray next to this program)
+  --ref-timeout S       kill a reference run after S seconds (default 120)
+  --ref-max-prims N     run the reference only on scenes of at most N primitives
+                        (default 10000000)
+  --keep                keep the temporary folder (scenes, logs, statistics)
+  --write-scenes DIR    only write the generated sphere scenes into DIR, then exit
+  -h, --help            this text
+)";
+
+constexpr const char* kCorpusScenes[] = {"chess", "recursiveSpheres10", "ray_killer", "recursiveCones4"};
+constexpr int kFewestSphereLevels = 2;  // 10^2 spheres
+constexpr int kMostSphereLevels = 6;    // 10^6 spheres
+// OpenCL runs get a limit too, only so that a hung driver cannot hang the bench.
+constexpr double kOpenClTimeoutSeconds = 600;
+
+struct BenchOptions {
+    bool quick = false;
+    bool keep = false;
+    fs::path out = fs::path(BENCH_SOURCE_DIR) / "results.json";
+    fs::path scenesDir;
+    fs::path rayBinary;
+    fs::path writeScenesTo;  // --write-scenes: generate, run nothing
+    double referenceTimeoutSeconds = 120;
+    uint64_t referenceMaxPrimitives = 10'000'000;
+};
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+fs::path defaultScenesDir() {
+    if (const char* shared = std::getenv("RAY_SHARED_DIR"); shared && *shared)
+        return fs::path(shared) / "cs123" / "scenes";
+    return fs::path(RAY_SOURCE_DIR) / ".." / "shared" / "cs123" / "scenes";
+}
+
+// ray_bench lives in <build>/bench/, ray in <build>/.
+fs::path defaultRayBinary() {
+    return fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "ray";
+}
+
+double parseNumber(const std::string& text, const std::string& option) {
+    char* end = nullptr;
+    double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || value < 0)
+        throw UsageError(option + " needs a number >= 0, not '" + text + "'");
+    return value;
+}
+
+BenchOptions parseOptions(int argc, char** argv) {
+    BenchOptions options;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
+            return argv[++i];
+        };
+        if (arg == "-h" || arg == "--help") {
+            std::cout << kUsage;
+            std::exit(0);
+        } else if (arg == "--quick") options.quick = true;
+        else if (arg == "--keep") options.keep = true;
+        else if (arg == "--out") options.out = value();
+        else if (arg == "--scenes") options.scenesDir = value();
+        else if (arg == "--ray") options.rayBinary = value();
+        else if (arg == "--write-scenes") options.writeScenesTo = value();
+        else if (arg == "--ref-timeout") options.referenceTimeoutSeconds = parseNumber(value(), arg);
+        else if (arg == "--ref-max-prims") options.referenceMaxPrimitives = uint64_t(parseNumber(value(), arg));
+        else throw UsageError("unknown option '" + arg + "'");
+    }
+    if (options.scenesDir.empty()) options.scenesDir = defaultScenesDir();
+    if (options.rayBinary.empty()) options.rayBinary = defaultRayBinary();
+    return options;
+}
+
+fs::path makeTemporaryFolder() {
+    std::string pattern = (fs::temp_directory_path() / "ray_bench.XXXXXX").string();
+    if (!mkdtemp(pattern.data()))
+        throw std::runtime_error("cannot make a temporary folder: " + std::string(std::strerror(errno)));
+    return pattern;
+}
+
+void addCorpusScenes(const fs::path& scenesDir, std::vector<BenchScene>& scenes) {
+    if (!fs::is_directory(scenesDir)) {
+        std::cerr << "ray_bench: no course scenes at " << scenesDir.string()
+                  << " (give --scenes DIR); running the generated scenes only\n";
+        return;
+    }
+    for (const char* name : kCorpusScenes) {
+        fs::path file = scenesDir / (std::string(name) + ".xml");
+        if (!fs::exists(file)) {
+            std::cerr << "ray_bench: skipping " << name << ": " << file.string() << " is absent\n";
+            continue;
+        }
+        scenes.push_back({name, file, countPrimitives(file), 0});
+    }
+}
+
+void addSphereScenes(const fs::path& folder, std::vector<BenchScene>& scenes) {
+    for (int levels = kFewestSphereLevels; levels <= kMostSphereLevels; ++levels) {
+        std::string name = "spheres_1e" + std::to_string(levels);
+        fs::path file = folder / (name + ".xml");
+        writeSphereScene(file, levels);
+        scenes.push_back({name, file, countPrimitives(file), levels});
+    }
+}
+
+std::string primitivesText(const BenchScene& scene) {
+    return scene.primitives ? std::to_string(*scene.primitives) : "?";
+}
+
+// The reference renderer has a BVH of its own, so it is fast enough for every scene here
+// (10^6 spheres at 1024x768 in seconds); the cap only spares it scenes whose
+// double-precision copy would not fit in memory, and the time limit catches the rest.
+bool referenceShouldRun(const BenchScene& scene, const BenchOptions& options, std::string& whyNot) {
+    if (!scene.primitives || *scene.primitives <= options.referenceMaxPrimitives) return true;
+    whyNot = "skipped (" + std::to_string(*scene.primitives) + " prims > " +
+             std::to_string(options.referenceMaxPrimitives) + ")";
+    return false;
+}
+
+class BenchRunner {
+public:
+    BenchRunner(const BenchOptions& options, const fs::path& workDir, BenchResults& results)
+        : options_(options), workDir_(workDir), results_(results) {}
+
+    void runAll() {
+        size_t total = countPlannedRuns();
+        for (const BenchScene& scene : results_.scenes)
+            for (const BenchDevice& device : results_.devices) {
+                if (device.isReference()) runReference(scene, device, total);
+                else runOpenCl(scene, device, total);
+            }
+    }
+
+private:
+    size_t countPlannedRuns() const {
+        size_t openCl = results_.devices.size() - 1;  // every device but the reference
+        return results_.scenes.size() * (2 * openCl + 1);
+    }
+
+    RayInvocation invocation(const fs::path& cacheDir, double timeoutSeconds) const {
+        return {options_.rayBinary, workDir_, cacheDir, results_.size, timeoutSeconds};
+    }
+
+    // Cold, then warm with the same (now filled) caches.
+    void runOpenCl(const BenchScene& scene, const BenchDevice& device, size_t total) {
+        fs::path cacheDir = workDir_ / ("cache." + scene.name + "." + device.label);
+        fs::remove_all(cacheDir);
+        fs::create_directories(cacheDir);
+        for (Phase phase : {Phase::Cold, Phase::Warm})
+            record(runRay(invocation(cacheDir, kOpenClTimeoutSeconds), scene, device, phase), total);
+    }
+
+    void runReference(const BenchScene& scene, const BenchDevice& device, size_t total) {
+        std::string whyNot;
+        if (referenceShouldRun(scene, options_, whyNot)) {
+            RayInvocation limited = invocation({}, options_.referenceTimeoutSeconds);
+            record(runRay(limited, scene, device, Phase::Reference), total);
+            return;
+        }
+        RunRecord skipped;
+        skipped.scene = &scene;
+        skipped.device = &device;
+        skipped.status = whyNot;
+        record(skipped, total);
+    }
+
+    void record(const RunRecord& run, size_t total) {
+        results_.runs.push_back(run);
+        std::cerr << "[" << results_.runs.size() << "/" << total << "] " << run.scene->name << " on "
+                  << run.device->label << " (" << phaseName(run.phase) << "): ";
+        if (run.ok())
+            std::cerr << "render " << run.stats->renderSeconds << " s, wall " << run.wallSeconds << " s\n";
+        else
+            std::cerr << run.status << "\n";
+    }
+
+    const BenchOptions& options_;
+    fs::path workDir_;
+    BenchResults& results_;
+};
+
+// The bench runs a private copy of `ray`, so that a rebuild of the original while it runs
+// (the kernel is embedded in the binary) can neither fail a run halfway through the set nor
+// make a warm run miss the cache its cold run filled. A copy taken mid-link fails to run;
+// then it is taken again.
+fs::path snapshotRayBinary(const fs::path& original, const fs::path& workDir) {
+    const fs::path copy = workDir / "ray";
+    constexpr int kAttempts = 30;
+    for (int attempt = 1; attempt <= kAttempts; ++attempt) {
+        std::error_code error;
+        fs::copy_file(original, copy, fs::copy_options::overwrite_existing, error);
+        if (!error) {
+            ChildCommand version;
+            version.argv = {copy.string(), "--version"};
+            version.log = workDir / "version.txt";
+            version.timeoutSeconds = 30;
+            if (runChild(version).succeeded()) return copy;
+        }
+        std::this_thread::sleep_for(std::chrono::seconds(2));
+    }
+    throw std::runtime_error("cannot take a working copy of " + original.string());
+}
+
+BenchResults prepareResults(const BenchOptions& options, const fs::path& workDir) {
+    BenchResults results;
+    if (options.quick) results.size = {256, 192, 4};
+    results.quick = options.quick;
+    results.rayBinary = options.rayBinary.string();
+    results.scenesDir = options.scenesDir.string();
+    results.referenceTimeoutSeconds = options.referenceTimeoutSeconds;
+    results.referenceMaxPrimitives = options.referenceMaxPrimitives;
+    addCorpusScenes(options.scenesDir, results.scenes);
+    fs::path generated = workDir / "scenes";
+    fs::create_directories(generated);
+    addSphereScenes(generated, results.scenes);
+    results.devices = listOpenClDevices(options.rayBinary, workDir);
+    results.devices.push_back({"ref", "ref", "the host reference renderer"});
+    return results;
+}
+
+int runBench(BenchOptions options) {
+    if (access(options.rayBinary.c_str(), X_OK) != 0)
+        throw UsageError("no ray binary at " + options.rayBinary.string() + " (build it, or give --ray PATH)");
+    auto start = Clock::now();
+    const fs::path workDir = makeTemporaryFolder();
+    const fs::path originalRay = options.rayBinary;
+    options.rayBinary = snapshotRayBinary(originalRay, workDir);
+    BenchResults results = prepareResults(options, workDir);
+    results.rayBinary = originalRay.string();
+    BenchRunner(options, workDir, results).runAll();
+    results.totalWallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+    printRunTable(results, std::cout);
+    printSphereScaling(results, std::cout);
+    writeResultsJson(results, options.out);
+    std::cout << "\nwrote " << options.out.string() << "\n";
+    if (options.keep) std::cout << "kept " << workDir.string() << "\n";
+    else fs::remove_all(workDir);
+    return 0;
+}
+
+int writeScenesOnly(const fs::path& folder) {
+    fs::create_directories(folder);
+    std::vector<BenchScene> scenes;
+    addSphereScenes(folder, scenes);
+    for (const BenchScene& scene : scenes)
+        std::cout << scene.file.string() << ": " << primitivesText(scene) << " primitives\n";
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        BenchOptions options = parseOptions(argc, argv);
+        if (!options.writeScenesTo.empty()) return writeScenesOnly(options.writeScenesTo);
+        return runBench(options);
+    } catch (const UsageError& e) {
+        std::cerr << "ray_bench: " << e.what() << "\n(see ray_bench --help)\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "ray_bench: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,168 @@
+#include "ray_runs.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <regex>
+#include <sstream>
+
+#include "child_process.h"
+
+namespace bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string readText(const fs::path& file) {
+    std::ifstream in(file);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// The text right after `"key":`, or nullptr. The statistics file is flat and written by
+// ray itself, so finding the key is all the parsing it needs.
+const char* valueOf(const std::string& json, const std::string& key) {
+    size_t at = json.find("\"" + key + "\":");
+    if (at == std::string::npos) return nullptr;
+    const char* value = json.c_str() + at + key.size() + 3;
+    while (*value == ' ') ++value;
+    return value;
+}
+
+bool readNumber(const std::string& json, const std::string& key, double& out) {
+    const char* value = valueOf(json, key);
+    if (!value) return false;
+    char* end = nullptr;
+    out = std::strtod(value, &end);
+    return end != value;
+}
+
+template <typename Integer>
+bool readInteger(const std::string& json, const std::string& key, Integer& out) {
+    double value = 0;
+    if (!readNumber(json, key, value)) return false;
+    out = Integer(value);
+    return true;
+}
+
+std::string readString(const std::string& json, const std::string& key) {
+    const char* value = valueOf(json, key);
+    if (!value || *value != '"') return {};
+    std::string text;
+    for (++value; *value && *value != '"'; ++value) {
+        if (*value == '\\' && value[1]) ++value;
+        text += *value;
+    }
+    return text;
+}
+
+std::string fileStem(const BenchScene& scene, const BenchDevice& device, Phase phase) {
+    return scene.name + "." + device.label + "." + phaseName(phase);
+}
+
+std::vector<std::string> rayArguments(const RayInvocation& invocation, const BenchScene& scene,
+                                      const BenchDevice& device, const fs::path& statsFile) {
+    const RenderSize& size = invocation.size;
+    return {invocation.rayBinary.string(),
+            scene.file.string(),
+            std::to_string(size.width),
+            std::to_string(size.height),
+            std::to_string(size.depth),
+            "--aa", "off",
+            "--device", device.argument,
+            "--quiet",
+            "--stats-json", statsFile.string(),
+            "-o", (invocation.workDir / "image.png").string()};
+}
+
+// ray reads RAY_CACHE_DIR; the OpenCL drivers keep caches of their own (PoCL's, NVIDIA's),
+// which would make a "cold" build warm, so they are pointed into the same fresh folder.
+std::vector<std::pair<std::string, std::string>> cacheEnvironment(const fs::path& cacheDir) {
+    if (cacheDir.empty()) return {};
+    return {{"RAY_CACHE_DIR", (cacheDir / "ray").string()},
+            {"POCL_CACHE_DIR", (cacheDir / "pocl").string()},
+            {"CUDA_CACHE_PATH", (cacheDir / "cuda").string()}};
+}
+
+}  // namespace
+
+const char* phaseName(Phase phase) {
+    switch (phase) {
+        case Phase::Cold: return "cold";
+        case Phase::Warm: return "warm";
+        case Phase::Reference: return "ref";
+    }
+    return "?";
+}
+
+std::optional<RayStats> readStatsJson(const fs::path& file) {
+    std::string json = readText(file);
+    RayStats s;
+    bool complete = readInteger(json, "width", s.width) && readInteger(json, "height", s.height) &&
+                    readInteger(json, "samples", s.samples) && readInteger(json, "depth", s.depth) &&
+                    readInteger(json, "primary_rays", s.primaryRays) &&
+                    readInteger(json, "shadow_rays", s.shadowRays) &&
+                    readInteger(json, "secondary_rays", s.secondaryRays) &&
+                    readInteger(json, "total_rays", s.totalRays) &&
+                    readNumber(json, "load_seconds", s.loadSeconds) &&
+                    readNumber(json, "bvh_build_seconds", s.bvhBuildSeconds) &&
+                    readNumber(json, "kernel_build_seconds", s.kernelBuildSeconds) &&
+                    readNumber(json, "render_seconds", s.renderSeconds) &&
+                    readNumber(json, "mrays_per_second", s.mraysPerSecond);
+    if (!complete) return std::nullopt;
+    s.device = readString(json, "device");
+    return s;
+}
+
+RunRecord runRay(const RayInvocation& invocation, const BenchScene& scene, const BenchDevice& device,
+                 Phase phase) {
+    const std::string stem = fileStem(scene, device, phase);
+    const fs::path statsFile = invocation.workDir / (stem + ".stats.json");
+    const fs::path logFile = invocation.workDir / (stem + ".log");
+    fs::remove(statsFile);
+
+    ChildCommand command;
+    command.argv = rayArguments(invocation, scene, device, statsFile);
+    command.environment = cacheEnvironment(invocation.cacheDir);
+    command.log = logFile;
+    command.timeoutSeconds = invocation.timeoutSeconds;
+    ChildOutcome outcome = runChild(command);
+
+    RunRecord record{&scene, &device, phase, outcome.describe(), std::nullopt, outcome.wallSeconds,
+                     outcome.peakMiB};
+    if (outcome.succeeded()) {
+        record.stats = readStatsJson(statsFile);
+        if (!record.stats) record.status = "no statistics";
+    }
+    if (!record.ok() && !outcome.timedOut)
+        std::cerr << "  " << stem << ": " << record.status << "; its output ends with:\n" << tailOf(logFile, 6);
+    return record;
+}
+
+std::vector<BenchDevice> listOpenClDevices(const fs::path& rayBinary, const fs::path& workDir) {
+    const fs::path listing = workDir / "devices.txt";
+    ChildCommand command;
+    command.argv = {rayBinary.string(), "--list-devices"};
+    command.log = listing;
+    command.timeoutSeconds = 60;
+    ChildOutcome outcome = runChild(command);
+    if (!outcome.succeeded()) {
+        std::cerr << "ray_bench: `ray --list-devices` failed (" << outcome.describe()
+                  << "); only the reference renderer will run\n" << tailOf(listing, 6);
+        return {};
+    }
+    // Device lines are "N: name"; the indented lines under them describe it.
+    static const std::regex deviceLine(R"(^(\d+): (.*)$)");
+    std::vector<BenchDevice> devices;
+    std::ifstream in(listing);
+    for (std::string line; std::getline(in, line);) {
+        std::smatch match;
+        if (std::regex_match(line, match, deviceLine))
+            devices.push_back({match[1].str(), "cl" + match[1].str(), match[2].str()});
+    }
+    return devices;
+}
+
+}  // namespace bench
