@@ -1,6 +1,7 @@
 #include "opencl_renderer.h"
 
 #include <chrono>
+#include <deque>
 
 #include "renderer.h"
 #include "scene_packing.h"
@@ -90,23 +91,38 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
         auto renderStart = Clock::now();
         const int tile = std::max(8, options.tileSize);
         const int tilesX = (settings.width + tile - 1) / tile, tilesY = (settings.height + tile - 1) / tile;
+        const int tileCount = tilesX * tilesY;
+        const size_t group = size_t(options.workGroupSize);
+        auto roundUp = [](size_t n, size_t m) { return (n + m - 1) / m * m; };
+        // A few tiles stay queued ahead of the one being waited for, so the device never
+        // idles between launches, while cancelling still takes effect within a few tiles.
+        constexpr size_t kTilesInFlight = 4;
+        std::deque<cl::Event> inFlight;
         int done = 0;
-        for (int ty = 0; ty < tilesY; ++ty) {
-            for (int tx = 0; tx < tilesX; ++tx) {
-                if (options.cancel && options.cancel->load()) throw DeviceError("render interrupted");
-                params.image.z = tx * tile;
-                params.image.w = ty * tile;
-                params.tile = {std::min(tile, settings.width - tx * tile), std::min(tile, settings.height - ty * tile), 0, 0};
-                kernel.setArg(0, sizeof(params), &params);
-                const size_t groupX = size_t(options.workGroupSize), groupY = size_t(options.workGroupSize);
-                auto roundUp = [](size_t n, size_t m) { return (n + m - 1) / m * m; };
-                queue.enqueueNDRangeKernel(kernel, cl::NullRange,
-                                           cl::NDRange(roundUp(size_t(params.tile.x), groupX), roundUp(size_t(params.tile.y), groupY)),
-                                           cl::NDRange(groupX, groupY));
+        auto waitForOldest = [&] {
+            inFlight.front().wait();
+            inFlight.pop_front();
+            if (options.progress) options.progress(double(++done) / double(tileCount));
+        };
+        for (int t = 0; t < tileCount; ++t) {
+            if (options.cancel && options.cancel->load()) {
                 queue.finish();
-                if (options.progress) options.progress(double(++done) / double(tilesX * tilesY));
+                throw DeviceError("render interrupted");
             }
+            const int tx = t % tilesX, ty = t / tilesX;
+            params.image.z = tx * tile;
+            params.image.w = ty * tile;
+            params.tile = {std::min(tile, settings.width - tx * tile), std::min(tile, settings.height - ty * tile), 0, 0};
+            kernel.setArg(0, sizeof(params), &params);  // captured at enqueue time
+            cl::Event event;
+            queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                       cl::NDRange(roundUp(size_t(params.tile.x), group), roundUp(size_t(params.tile.y), group)),
+                                       cl::NDRange(group, group), nullptr, &event);
+            queue.flush();
+            inFlight.push_back(event);
+            if (inFlight.size() >= kTilesInFlight) waitForOldest();
         }
+        while (!inFlight.empty()) waitForOldest();
         std::vector<cl_float4> rgba(pixels);
         std::vector<cl_uint4> rayCounts(pixels);
         queue.enqueueReadBuffer(pixelsOut, CL_TRUE, 0, pixels * sizeof(cl_float4), rgba.data());

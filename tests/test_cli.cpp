@@ -1,0 +1,190 @@
+// The `ray` command as a user meets it: arguments, exit statuses, messages, outputs.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli.h"
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using ray::test::runRay;
+using Catch::Matchers::Contains;
+
+std::string scene(const std::string& name) { return (ray::test::scenesDir() / name).string(); }
+
+fs::path freshOutput(const std::string& name) {
+    fs::path file = ray::test::outputDir() / "cli" / name;
+    fs::create_directories(file.parent_path());
+    fs::remove(file);
+    return file;
+}
+
+std::string readText(const fs::path& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace
+
+TEST_CASE("positional arguments follow the course demo", "[cli]") {
+    using ray::parseCommandLine;
+    auto o = parseCommandLine({"a.xml"});
+    CHECK(o.settings.width == 1024);
+    CHECK(o.settings.height == 768);
+    CHECK(o.settings.maxDepth == 4);
+    o = parseCommandLine({"a.xml", "320", "240"});
+    CHECK(o.settings.width == 320);
+    CHECK(o.settings.height == 240);
+    o = parseCommandLine({"a.xml", "320", "240", "7"});
+    CHECK(o.settings.maxDepth == 7);
+    o = parseCommandLine({"a.xml", "2"});
+    CHECK(o.settings.maxDepth == 2);
+    CHECK(ray::outputPathFor(parseCommandLine({"dir/My Scene.xml"})) == fs::path("My Scene.png"));
+    CHECK(o.settings.antialias == ray::AntialiasMode::Course);
+}
+
+TEST_CASE("bad arguments are refused with a reason", "[cli]") {
+    using ray::parseCommandLine;
+    using ray::UsageError;
+    CHECK_THROWS_AS(parseCommandLine({}), UsageError);
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "0", "10"}), Contains("width must be between 1"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "10", "abc"}), Contains("height must be a whole number"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "10", "10", "-1"}), Contains("depth"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--aa", "fast"}), Contains("--aa must be"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--bogus"}), Contains("unknown option '--bogus'"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--output"}), Contains("--output needs a value"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--device", "tpu"}), Contains("--device"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--samples", "8"}), Contains("--aa stratified"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "1", "2", "3", "4"}), Contains("too many arguments"));
+}
+
+TEST_CASE("help and version exit 0", "[cli]") {
+    auto help = runRay({"--help"});
+    CHECK(help.exitCode == 0);
+    CHECK_THAT(help.output, Contains("usage: ray <scene.xml>"));
+    auto version = runRay({"--version"});
+    CHECK(version.exitCode == 0);
+    CHECK_THAT(version.output, Contains("ray "));
+}
+
+TEST_CASE("a bad argument exits 2 and points at --help", "[cli]") {
+    auto r = runRay({scene("shadows.xml"), "--aa", "sideways"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("see ray --help"));
+}
+
+TEST_CASE("a scene that does not exist or does not parse exits 2, writing nothing", "[cli]") {
+    fs::path out = freshOutput("missing.png");
+    auto r = runRay({"/nonexistent/scene.xml", "-o", out.string(), "--device", "ref"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("/nonexistent/scene.xml"));
+    CHECK_FALSE(fs::exists(out));
+
+    fs::path broken = ray::test::outputDir() / "cli" / "broken.xml";
+    std::ofstream(broken) << "<scenefile>\n<object type=\"tree\" name=\"root\">\n<transblock>\n</scenefile>\n";
+    r = runRay({broken.string(), "-o", out.string(), "--device", "ref"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("broken.xml:"));
+    CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("an unknown output format is refused before rendering", "[cli]") {
+    auto r = runRay({scene("shadows.xml"), "-o", (ray::test::outputDir() / "out.xyz").string()});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("extension"));
+    r = runRay({scene("shadows.xml"), "-o", "/nonexistent-folder/out.png"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("does not exist"));
+}
+
+TEST_CASE("an existing output survives a failed render untouched", "[cli]") {
+    fs::path out = freshOutput("keep.png");
+    std::ofstream(out) << "precious";
+    auto r = runRay({"/nonexistent/scene.xml", "-o", out.string(), "--device", "ref"});
+    CHECK(r.exitCode == 2);
+    CHECK(readText(out) == "precious");
+}
+
+TEST_CASE("renders write the image and statistics", "[cli]") {
+    for (std::string device : {"ref", "cpu"}) {
+        DYNAMIC_SECTION(device) {
+            fs::path out = freshOutput("stats_" + device + ".png");
+            fs::path json = freshOutput("stats_" + device + ".json");
+            auto r = runRay({scene("shadows.xml"), "64", "48", "2", "--device", device, "--quiet", "-o", out.string(),
+                             "--stats", "--stats-json", json.string()});
+            if (device == "cpu" && r.exitCode == 3) {
+                ray::test::skip("no OpenCL CPU device");
+                return;
+            }
+            REQUIRE(r.exitCode == 0);
+            ray::Image image = ray::readImage(out);
+            CHECK(image.width == 64);
+            CHECK(image.height == 48);
+            CHECK_THAT(r.output, Contains("Mrays/s"));
+            std::string stats = readText(json);
+            for (const char* key : {"\"width\": 64", "\"height\": 48", "\"depth\": 2", "\"device\"", "\"primary_rays\"",
+                                    "\"shadow_rays\"", "\"secondary_rays\"", "\"total_rays\"", "\"load_seconds\"",
+                                    "\"bvh_build_seconds\"", "\"kernel_build_seconds\"", "\"render_seconds\"",
+                                    "\"mrays_per_second\""})
+                CHECK_THAT(stats, Contains(key));
+        }
+    }
+}
+
+TEST_CASE("float outputs keep values above 1", "[cli]") {
+    fs::path out = freshOutput("bright.exr");
+    auto r = runRay({scene("light_point.xml"), "32", "24", "--aa", "off", "--device", "ref", "--quiet", "-o", out.string()});
+    REQUIRE(r.exitCode == 0);
+    ray::Image image = ray::readImage(out);
+    REQUIRE(image.width == 32);
+}
+
+TEST_CASE("no OpenCL platform is a clear message naming PoCL and the reference renderer", "[cli]") {
+    // The ICD loader reads its vendor list from this folder: an empty one means no platform.
+    fs::path empty = ray::test::outputDir() / "no_icds";
+    fs::create_directories(empty);
+    auto r = runRay({scene("shadows.xml"), "32", "24", "--device", "cpu", "-o", (empty / "x.png").string()}, 60,
+                    {"OCL_ICD_VENDORS=" + empty.string()});
+    CHECK(r.exitCode == 3);
+    CHECK_THAT(r.output, Contains("no OpenCL platform"));
+    CHECK_THAT(r.output, Contains("pocl"));
+    CHECK_THAT(r.output, Contains("--device ref"));
+    auto list = runRay({"--list-devices"}, 60, {"OCL_ICD_VENDORS=" + empty.string()});
+    CHECK(list.exitCode == 0);
+    CHECK_THAT(list.output, Contains("no OpenCL platform"));
+}
+
+TEST_CASE("an OpenCL device index that does not exist is a device error", "[cli]") {
+    auto r = runRay({scene("shadows.xml"), "32", "24", "--device", "99", "-o", (ray::test::outputDir() / "x.png").string()});
+    CHECK(r.exitCode == 3);
+    CHECK_THAT(r.output, Contains("--list-devices"));
+}
+
+TEST_CASE("the second run of a scene reuses the cached kernel", "[cli][kernel]") {
+    fs::path cache = ray::test::outputDir() / "kernel_cache";
+    fs::remove_all(cache);
+    std::vector<std::string> env{"RAY_CACHE_DIR=" + cache.string()};
+    fs::path json = freshOutput("cache.json");
+    std::vector<std::string> args{scene("shadows.xml"), "16", "12", "--device", "cpu", "--quiet",
+                                  "-o", (ray::test::outputDir() / "cache.png").string(), "--stats-json", json.string()};
+    auto cold = runRay(args, 120, env);
+    if (cold.exitCode == 3) {
+        ray::test::skip("no OpenCL CPU device");
+        return;
+    }
+    REQUIRE(cold.exitCode == 0);
+    REQUIRE(fs::exists(cache));
+    CHECK(std::distance(fs::directory_iterator(cache), fs::directory_iterator()) == 1);
+    auto warm = runRay(args, 120, env);
+    REQUIRE(warm.exitCode == 0);
+    std::string stats = readText(json);
+    // Warm: the binary comes from the cache; a build from source takes ~1 s on PoCL.
+    auto at = stats.find("\"kernel_build_seconds\": ");
+    REQUIRE(at != std::string::npos);
+    double seconds = std::stod(stats.substr(at + 24));
+    CHECK(seconds < 0.5);
+}
