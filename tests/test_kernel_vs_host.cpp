@@ -3,6 +3,7 @@
 // OpenCL CPU device (PoCL here).
 #include <catch2/catch.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -24,7 +25,7 @@ constexpr int kWidth = 160, kHeight = 120;
 std::optional<OpenClDevice> cpuDevice() {
     try {
         return selectOpenClDevices("cpu").front();
-    } catch (const DeviceError& e) {
+    } catch (const DeviceError&) {
         return std::nullopt;
     }
 }
@@ -42,6 +43,9 @@ void compareKernelWithHost(const OpenClDevice& device, const fs::path& sceneFile
     test::ImageDifference d = test::compare8bit(kernel, host, 3);
     INFO(label << ": " << d.fractionWithin * 100 << "% within 3/255, mean error " << d.meanAbsError
                << "/255, max " << d.maxError);
+    std::printf("%-40s %8.3f%% within 3/255, mean error %.4f/255, max %d\n", label.c_str(), d.fractionWithin * 100,
+                d.meanAbsError, d.maxError);
+    std::fflush(stdout);
     bool ok = d.fractionWithin >= 0.99 && d.meanAbsError <= 1.0;
     if (!ok) {
         fs::path dir = test::outputDir() / "kernel_vs_host";
@@ -86,7 +90,7 @@ TEST_CASE("kernel matches host on the course scenes with reference renders", "[k
     for (const test::ReferenceCase& c : test::readReferenceIndex(course / "reference" / "INDEX.tsv")) {
         SECTION(c.scene) {
             RenderSettings settings = test::settingsFromOptions(c.options, kWidth, kHeight);
-            compareKernelWithHost(*device, course / c.scene, settings, fs::path(c.scene).stem().string());
+            compareKernelWithHost(*device, course / c.scene, settings, "course_" + fs::path(c.scene).stem().string());
         }
     }
 }
