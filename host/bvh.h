@@ -42,6 +42,9 @@ constexpr int kBvhMaxDepth = 64;
 struct BvhBuildOptions {
     int maxLeafSize = 4;
     int bins = 16;
+    // The most inner nodes on any root-to-leaf path, capped at kBvhMaxDepth; it holds for
+    // up to 2^maxDepth primitives. Lowered only by the tests of that guard.
+    int maxDepth = kBvhMaxDepth;
 };
 
 // Builds the hierarchy over the boxes (one per primitive). An empty input gives a root
