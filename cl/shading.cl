@@ -108,6 +108,7 @@ float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, 
     float3 sum = (float3)(0.0f);
     float3 shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
     bool shadows = (params->mode.z & RAY_FEATURE_SHADOWS) != 0;
+    bool hasSpecular = specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f;
     for (int i = 0; i < params->counts.x; ++i) {
         RayLight light = scene->lights[i];
         float3 towardLight;
@@ -129,9 +130,12 @@ float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, 
             if (attenuation <= 0.0f) continue;
         }
         if (shadows && inShadow(scene, params, shadowOrigin, towardLight, distance, counter)) continue;
-        float3 reflected = 2.0f * nDotL * normal - towardLight;
-        float highlight = pow(fmax(dot(reflected, towardEye), 0.0f), shininess);
-        sum += attenuation * light.color.xyz * (diffuse * nDotL + specular * highlight);
+        float3 lit = diffuse * nDotL;
+        if (hasSpecular) { /* pow is costly, and most course materials have no highlight */
+            float3 reflected = 2.0f * nDotL * normal - towardLight;
+            lit += specular * pow(fmax(dot(reflected, towardEye), 0.0f), shininess);
+        }
+        sum += attenuation * light.color.xyz * lit;
     }
     return sum;
 }
