@@ -23,7 +23,7 @@ inline bool anyAbove(float3 v, float threshold) {
 }
 
 /* Traces frame's ray, shades the hit and records the rays it spawns. */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, RayCounter* counter) {
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, PixelTrace* counter) {
     frame->color = (float3)(0.0f);
     frame->childCount = 0;
     frame->nextChild = 0;
@@ -62,7 +62,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. */
-float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, RayCounter* counter) {
+float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
     Frame stack[RAY_MAX_FRAMES];
     int top = 0;
     stack[0].depth = 0;
@@ -90,17 +90,39 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
     }
 }
 
-/* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). */
-inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy) {
+/* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). With depth of field
+ * the eye moves to a point of the lens disk (in the plane of U and V) picked by lens ∈
+ * [0, 1)², and the ray aims at the point the pinhole ray reaches at the focal distance. */
+inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens) {
     float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
     float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
     Ray ray = {params->eye.xyz, normalize(u * params->right.xyz + v * params->up.xyz + params->forward.xyz)};
+    float lensRadius = params->lens.x;
+    if (lensRadius > 0.0f) {
+        float3 focus = ray.origin + params->lens.y * ray.direction;
+        float r = lensRadius * sqrt(lens.x), phi = 2.0f * M_PI_F * lens.y;
+        ray.origin += r * cos(phi) * normalize(params->right.xyz) + r * sin(phi) * normalize(params->up.xyz);
+        ray.direction = normalize(focus - ray.origin);
+    }
     return ray;
 }
 
+/* One sample of the pixel, unclamped; draws the lens position from random dimensions 2
+ * and 3 of the sample's number (0 and 1 are the stratified jitter). */
+inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
+                          PixelTrace* counter) {
+    uint k = counter->nextSample++;
+    float2 lens = (float2)(0.0f);
+    if (params->lens.x > 0.0f) {
+        uint seed = (uint)params->counts.w;
+        lens = (float2)(rayRandom(counter->pixel, k, 2u, seed), rayRandom(counter->pixel, k, 3u, seed));
+    }
+    return traceCameraRay(scene, params, cameraRay(params, i, j, sx, sy, lens), counter);
+}
+
 inline float3 samplePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
-                          RayCounter* counter) {
-    return clamp(traceCameraRay(scene, params, cameraRay(params, i, j, sx, sy), counter), 0.0f, 1.0f);
+                          PixelTrace* counter) {
+    return clamp(traceSample(scene, params, i, j, sx, sy, counter), 0.0f, 1.0f);
 }
 
 inline float contrast(float3 a, float3 b, float3 c, float3 d) {
@@ -113,7 +135,7 @@ inline float contrast(float3 a, float3 b, float3 c, float3 d) {
  * quadrant's sample is replaced by value(quadrant, level + 1). Written as three nested
  * levels because OpenCL C has no recursion. */
 float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
-                     float size, RayCounter* counter) {
+                     float size, PixelTrace* counter) {
     float q = size * 0.25f;
     return 0.25f * (samplePixel(scene, params, i, j, x0 + q, y0 + q, counter) +
                     samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter) +
@@ -122,7 +144,7 @@ float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, i
 }
 
 float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
-                     float size, RayCounter* counter) {
+                     float size, PixelTrace* counter) {
     float q = size * 0.25f, h = size * 0.5f;
     float3 a = samplePixel(scene, params, i, j, x0 + q, y0 + q, counter);
     float3 b = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter);
@@ -137,7 +159,7 @@ float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, i
     return 0.25f * (a + b + c + d);
 }
 
-float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, RayCounter* counter) {
+float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
     float3 a = samplePixel(scene, params, i, j, 0.25f, 0.25f, counter);
     float3 b = samplePixel(scene, params, i, j, 0.75f, 0.25f, counter);
     float3 c = samplePixel(scene, params, i, j, 0.25f, 0.75f, counter);
@@ -153,9 +175,9 @@ float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int
 
 /* Stratified jittered samples: an n×n grid (n = floor(sqrt(samples))), one uniformly
  * placed sample per cell, averaged (a box filter over the pixel). */
-float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, RayCounter* counter) {
+float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
     int n = max(1, (int)floor(sqrt((float)params->mode.w)));
-    uint pixel = (uint)(j * params->image.x + i);
+    uint pixel = counter->pixel;
     uint seed = (uint)params->counts.w;
     float3 sum = (float3)(0.0f);
     for (int s = 0; s < n * n; ++s) {
@@ -177,14 +199,14 @@ __kernel void renderTile(RayRenderParams params, __global const RayBvhNode* node
     if (i >= params.image.x || j >= params.image.y) return;
 
     SceneBuffers scene = {nodes, primitives, materials, lights, textures, texels};
-    RayCounter counter = {0u, 0u, 0u};
+    PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u};
     float3 color;
     switch (params.mode.x) {
         case RAY_AA_COURSE: color = coursePixel(&scene, &params, i, j, &counter); break;
         case RAY_AA_STRATIFIED:
         case RAY_AA_ADAPTIVE: color = stratifiedPixel(&scene, &params, i, j, &counter); break;
         default: /* unclamped, for float outputs */
-            color = traceCameraRay(&scene, &params, cameraRay(&params, i, j, 0.5f, 0.5f), &counter);
+            color = traceSample(&scene, &params, i, j, 0.5f, 0.5f, &counter);
     }
     int pixel = j * params.image.x + i;
     image[pixel] = (float4)(color, 1.0f);

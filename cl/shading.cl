@@ -9,10 +9,14 @@ typedef struct {
     __global const uchar4* texels;
 } SceneBuffers;
 
-/* Rays counted by kind, summed on the host from one record per pixel. */
+/* What one work-item carries while it traces its pixel: rays counted by kind (summed on
+ * the host from one record per pixel), and the number of the pixel's next sample, which
+ * seeds its random numbers (samples are numbered in the order the sampling pattern takes
+ * them, as the reference renderer does). */
 typedef struct {
     uint primary, shadow, secondary;
-} RayCounter;
+    uint pixel, nextSample;
+} PixelTrace;
 
 inline float fractional(float x) { return x - floor(x); }
 
@@ -95,7 +99,7 @@ inline float spotFactor(const RayLight* light, float3 towardLight) {
 }
 
 inline bool inShadow(const SceneBuffers* scene, const RayRenderParams* params, float3 origin, float3 towardLight,
-                     float distance, RayCounter* counter) {
+                     float distance, PixelTrace* counter) {
     counter->shadow++;
     Ray shadowRay = {origin, towardLight};
     Hit blocker;
@@ -104,7 +108,7 @@ inline bool inShadow(const SceneBuffers* scene, const RayRenderParams* params, f
 
 /* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4). */
 float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, float3 p, float3 normal,
-                      float3 towardEye, float3 diffuse, float3 specular, float shininess, RayCounter* counter) {
+                      float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
     float3 sum = (float3)(0.0f);
     float3 shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
     bool shadows = (params->mode.z & RAY_FEATURE_SHADOWS) != 0;

@@ -123,7 +123,7 @@ RAY_STRUCT(RayRenderParams) {
     float4 right;        /* U · w: the view plane's half-width axis (SPEC §3) */
     float4 up;           /* V · h: its half-height axis */
     float4 forward;      /* unit look direction */
-    float4 lens;         /* aperture (diameter), focal length, unused, unused */
+    float4 lens;         /* lens radius (0: pinhole), focal distance, unused, unused */
     float4 globals;      /* ka, kd, ks, kt */
     float4 limits;       /* weight threshold, ray offset epsilon, unused, unused */
     int4 image;          /* width, height, tile x0, tile y0 */

@@ -139,7 +139,12 @@ gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& 
     p.right = toFloat4(right * w);
     p.up = toFloat4(up * h);
     p.forward = toFloat4(forward);
-    p.lens = {float(camera.aperture), float(camera.focalLength), 0, 0};
+    // Depth of field: the lens radius (0: a pinhole), and the distance that stays sharp;
+    // an unset focal length focuses where the camera looks (|look|, the focus point for a
+    // camera given by <focus>), as the reference renderer does.
+    double lensRadius = s.depthOfField ? camera.aperture / 2 : 0;
+    double focalDistance = camera.focalLength > 0 ? camera.focalLength : length(camera.look);
+    p.lens = {float(lensRadius), float(focalDistance), 0, 0};
     const GlobalCoefficients& g = scene.globals;
     p.globals = {float(g.ka), float(g.kd), float(g.ks), float(g.kt)};
     p.limits = {float(s.weightThreshold), kKernelRayOffset, 0, 0};

@@ -94,3 +94,28 @@ TEST_CASE("kernel matches host on the course scenes with reference renders", "[k
         }
     }
 }
+
+TEST_CASE("kernel matches host with stratified sampling and depth of field", "[kernel][kvh]") {
+    auto device = cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    // Both renderers draw the same jitter and lens samples (cl/random.h), so the images
+    // agree as closely as the deterministic modes do.
+    RenderSettings settings = test::settingsFromOptions("--aa stratified --samples 9 --seed 7", kWidth, kHeight);
+    SECTION("showpiece.xml") {
+        compareKernelWithHost(*device, test::scenesDir() / "showpiece.xml", settings, "stratified_showpiece");
+    }
+    auto shared = test::sharedDir();
+    if (!shared) {
+        test::skip("../shared/cs123 is absent: no depth-of-field scenes");
+        return;
+    }
+    for (const char* scene : {"dof.xml", "dof-mirror_depth.xml"}) {
+        SECTION(scene) {
+            compareKernelWithHost(*device, *shared / "cs123" / "scenes" / scene, settings,
+                                  std::string("dof_") + fs::path(scene).stem().string());
+        }
+    }
+}
