@@ -3,62 +3,19 @@
 // OpenCL CPU device (PoCL here).
 #include <catch2/catch.hpp>
 
-#include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "opencl_device.h"
-#include "opencl_renderer.h"
-#include "reference_renderer.h"
-#include "renderer.h"
-#include "scene_loader.h"
-#include "test_support.h"
-
-namespace {
+#include "kernel_comparison.h"
 
 namespace fs = std::filesystem;
 using namespace ray;
+using test::compareKernelWithHost;
+using test::cpuDevice;
 
 constexpr int kWidth = 160, kHeight = 120;
-
-std::optional<OpenClDevice> cpuDevice() {
-    try {
-        return selectOpenClDevices("cpu").front();
-    } catch (const DeviceError&) {
-        return std::nullopt;
-    }
-}
-
-// Renders the scene both ways and holds the kernel to ≥ 99% of pixels within 3/255 and a
-// mean error ≤ 1/255. A failure leaves both images and their difference in the test
-// output folder.
-void compareKernelWithHost(const OpenClDevice& device, const fs::path& sceneFile, const RenderSettings& settings,
-                           const std::string& label) {
-    LoadOptions load;
-    load.warn = [](const std::string&) {};
-    Scene scene = loadScene(sceneFile, load);
-    Image host = renderReference(scene, settings);
-    Image kernel = renderOpenCl(device, scene, settings, {}, nullptr);
-    test::ImageDifference d = test::compare8bit(kernel, host, 3);
-    INFO(label << ": " << d.fractionWithin * 100 << "% within 3/255, mean error " << d.meanAbsError
-               << "/255, max " << d.maxError);
-    std::printf("%-40s %8.3f%% within 3/255, mean error %.4f/255, max %d\n", label.c_str(), d.fractionWithin * 100,
-                d.meanAbsError, d.maxError);
-    std::fflush(stdout);
-    bool ok = d.fractionWithin >= 0.99 && d.meanAbsError <= 1.0;
-    if (!ok) {
-        fs::path dir = test::outputDir() / "kernel_vs_host";
-        fs::create_directories(dir);
-        writeImage(kernel, dir / (label + "_kernel.png"));
-        writeImage(host, dir / (label + "_host.png"));
-        writeImage(test::differenceImage(kernel, host), dir / (label + "_difference.png"));
-        UNSCOPED_INFO("images written to " << dir.string());
-    }
-    CHECK(ok);
-}
-
-}  // namespace
 
 TEST_CASE("kernel matches host on every bundled scene", "[kernel][kvh]") {
     auto device = cpuDevice();

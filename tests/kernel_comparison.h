@@ -1,0 +1,58 @@
+// Comparing the OpenCL kernel with the host reference renderer, for the kernel-versus-host
+// tests of every feature.
+#pragma once
+
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "opencl_device.h"
+#include "opencl_renderer.h"
+#include "reference_renderer.h"
+#include "renderer.h"
+#include "scene_loader.h"
+#include "test_support.h"
+
+namespace ray::test {
+
+// The first OpenCL CPU device (PoCL here), or nullopt: callers then skip().
+inline std::optional<OpenClDevice> cpuDevice() {
+    try {
+        return selectOpenClDevices("cpu").front();
+    } catch (const DeviceError&) {
+        return std::nullopt;
+    }
+}
+
+// Renders the scene both ways and holds the kernel to >= 99% of pixels within 3/255 and a
+// mean error <= 1/255, printing the figures. A failure leaves both images and their
+// difference in the test output folder, named after `label`.
+inline void compareKernelWithHost(const OpenClDevice& device, const std::filesystem::path& sceneFile,
+                                  const RenderSettings& settings, const std::string& label) {
+    namespace fs = std::filesystem;
+    LoadOptions load;
+    load.warn = [](const std::string&) {};
+    Scene scene = loadScene(sceneFile, load);
+    Image host = renderReference(scene, settings);
+    Image kernel = renderOpenCl(device, scene, settings, {}, nullptr);
+    ImageDifference d = compare8bit(kernel, host, 3);
+    std::printf("%-40s %8.3f%% within 3/255, mean error %.4f/255, max %d\n", label.c_str(), d.fractionWithin * 100,
+                d.meanAbsError, d.maxError);
+    std::fflush(stdout);
+    bool ok = d.fractionWithin >= 0.99 && d.meanAbsError <= 1.0;
+    if (!ok) {
+        fs::path dir = outputDir() / "kernel_vs_host";
+        fs::create_directories(dir);
+        writeImage(kernel, dir / (label + "_kernel.png"));
+        writeImage(host, dir / (label + "_host.png"));
+        writeImage(differenceImage(kernel, host), dir / (label + "_difference.png"));
+        UNSCOPED_INFO("images written to " << dir.string());
+    }
+    INFO(label << ": " << d.fractionWithin * 100 << "% within 3/255, mean error " << d.meanAbsError << "/255");
+    CHECK(ok);
+}
+
+}  // namespace ray::test
