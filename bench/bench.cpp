@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "child_process.h"
+#include "mesh_scenes.h"
 #include "primitive_count.h"
 #include "ray_runs.h"
 #include "report.h"
@@ -44,6 +46,12 @@ options:
                         (default 10000000)
   --keep                keep the temporary folder (scenes, logs, statistics)
   --write-scenes DIR    only write the generated sphere scenes into DIR, then exit
+  --meshes              only the mesh rows: generated UV spheres of 10^3..10^6 triangles
+                        and the course's three meshes (frostmourne, pdiddy, xyzrgb_dragon)
+  --features            only the feature rows: bundled scenes of spot and area lights,
+                        refraction, depth of field, the antialiasing modes and motion
+                        blur, each
+                        beside the plain scene it extends (see bench/README.md)
   -h, --help            this text
 )";
 
@@ -55,6 +63,8 @@ constexpr double kOpenClTimeoutSeconds = 600;
 
 struct BenchOptions {
     bool quick = false;
+    bool featuresOnly = false;  // --features
+    bool meshesOnly = false;    // --meshes
     bool keep = false;
     fs::path out = fs::path(BENCH_SOURCE_DIR) / "results.json";
     fs::path scenesDir;
@@ -100,6 +110,8 @@ BenchOptions parseOptions(int argc, char** argv) {
             std::exit(0);
         } else if (arg == "--quick") options.quick = true;
         else if (arg == "--keep") options.keep = true;
+        else if (arg == "--features") options.featuresOnly = true;
+        else if (arg == "--meshes") options.meshesOnly = true;
         else if (arg == "--out") options.out = value();
         else if (arg == "--scenes") options.scenesDir = value();
         else if (arg == "--ray") options.rayBinary = value();
@@ -132,8 +144,72 @@ void addCorpusScenes(const fs::path& scenesDir, std::vector<BenchScene>& scenes)
             std::cerr << "ray_bench: skipping " << name << ": " << file.string() << " is absent\n";
             continue;
         }
-        scenes.push_back({name, file, countPrimitives(file), 0});
+        scenes.push_back({name, file, countPrimitives(file), 0, {}});
     }
+}
+
+// The feature rows (issue 4): each a bundled scene with the options that switch the
+// feature on, next to the plain scene or setting it is measured against.
+void addFeatureScenes(std::vector<BenchScene>& scenes) {
+    const fs::path bundled = fs::path(RAY_SOURCE_DIR) / "scenes";
+    struct Feature {
+        const char* name;
+        const char* file;
+        std::vector<std::string> options;
+    };
+    const Feature features[] = {
+        {"plain_shadows", "shadows.xml", {"--aa", "off"}},
+        {"spot_light", "light_spot.xml", {"--aa", "off"}},
+        {"area_light_16", "light_area.xml", {"--aa", "off"}},
+        {"area_light_64", "light_area.xml", {"--aa", "off", "--area-samples", "64"}},
+        {"refraction_off", "refraction.xml", {"--aa", "off", "--no-refraction"}},
+        {"refraction", "refraction.xml", {"--aa", "off"}},
+        {"dof_off", "depth_of_field.xml", {"--aa", "off", "--no-dof"}},
+        {"dof_16", "depth_of_field.xml", {"--aa", "stratified", "--samples", "16"}},
+        {"aa_course", "shadows.xml", {"--aa", "course"}},
+        {"aa_stratified_16", "shadows.xml", {"--aa", "stratified", "--samples", "16"}},
+        {"aa_adaptive_16", "shadows.xml", {"--aa", "adaptive", "--samples", "16"}},
+        {"motion_off", "motion_blur.xml", {"--aa", "stratified", "--samples", "16", "--shutter", "0"}},
+        {"motion_16", "motion_blur.xml", {"--aa", "stratified", "--samples", "16"}},
+    };
+    for (const Feature& f : features) {
+        fs::path file = bundled / f.file;
+        if (!fs::exists(file)) {
+            std::cerr << "ray_bench: skipping " << f.name << ": " << file.string() << " is absent\n";
+            continue;
+        }
+        scenes.push_back({f.name, file, countPrimitives(file), 0, f.options});
+    }
+}
+
+// The mesh rows (issue 5): UV spheres of 10^3..10^6 triangles, one mesh each (the
+// scaling of the per-mesh BVH: its build seconds, Mrays/s and peak memory), then the
+// course's three models: frostmourne.xml and pdiddy.xml (monsterdance.obj) as the course
+// has them, xyzrgb_dragon.obj (in no course scene) alone in a scene written here.
+void addMeshScenes(const fs::path& scenesDir, const fs::path& folder, std::vector<BenchScene>& scenes) {
+    for (int power = 3; power <= 6; ++power) {
+        std::string name = "uvsphere_1e" + std::to_string(power);
+        fs::path file = folder / (name + ".xml");
+        uint64_t triangles = writeUvSphereScene(file, folder / (name + ".obj"), uint64_t(std::pow(10.0, power)));
+        std::cerr << "ray_bench: " << name << " has " << triangles << " triangles\n";
+        scenes.push_back({name, file, countPrimitives(file), 0, {}});
+    }
+    for (const char* name : {"frostmourne", "pdiddy"}) {
+        fs::path file = scenesDir / (std::string(name) + ".xml");
+        if (!fs::exists(file)) {
+            std::cerr << "ray_bench: skipping " << name << ": " << file.string() << " is absent\n";
+            continue;
+        }
+        scenes.push_back({name, file, countPrimitives(file), 0, {}});
+    }
+    fs::path dragon = scenesDir.parent_path() / "mesh" / "xyzrgb_dragon.obj";
+    if (!fs::exists(dragon)) {
+        std::cerr << "ray_bench: skipping xyzrgb_dragon: " << dragon.string() << " is absent\n";
+        return;
+    }
+    fs::path file = folder / "xyzrgb_dragon.xml";
+    writeSingleMeshScene(file, dragon);
+    scenes.push_back({"xyzrgb_dragon", file, countPrimitives(file), 0, {}});
 }
 
 void addSphereScenes(const fs::path& folder, std::vector<BenchScene>& scenes) {
@@ -141,7 +217,7 @@ void addSphereScenes(const fs::path& folder, std::vector<BenchScene>& scenes) {
         std::string name = "spheres_1e" + std::to_string(levels);
         fs::path file = folder / (name + ".xml");
         writeSphereScene(file, levels);
-        scenes.push_back({name, file, countPrimitives(file), levels});
+        scenes.push_back({name, file, countPrimitives(file), levels, {}});
     }
 }
 
@@ -251,10 +327,14 @@ BenchResults prepareResults(const BenchOptions& options, const fs::path& workDir
     results.scenesDir = options.scenesDir.string();
     results.referenceTimeoutSeconds = options.referenceTimeoutSeconds;
     results.referenceMaxPrimitives = options.referenceMaxPrimitives;
-    addCorpusScenes(options.scenesDir, results.scenes);
     fs::path generated = workDir / "scenes";
     fs::create_directories(generated);
-    addSphereScenes(generated, results.scenes);
+    if (!options.featuresOnly && !options.meshesOnly) {
+        addCorpusScenes(options.scenesDir, results.scenes);
+        addSphereScenes(generated, results.scenes);
+    }
+    if (!options.featuresOnly) addMeshScenes(options.scenesDir, generated, results.scenes);
+    if (!options.meshesOnly) addFeatureScenes(results.scenes);
     results.devices = listOpenClDevices(options.rayBinary, workDir);
     results.devices.push_back({"ref", "ref", "the host reference renderer"});
     return results;

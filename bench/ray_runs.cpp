@@ -65,16 +65,13 @@ std::string fileStem(const BenchScene& scene, const BenchDevice& device, Phase p
 std::vector<std::string> rayArguments(const RayInvocation& invocation, const BenchScene& scene,
                                       const BenchDevice& device, const fs::path& statsFile) {
     const RenderSize& size = invocation.size;
-    return {invocation.rayBinary.string(),
-            scene.file.string(),
-            std::to_string(size.width),
-            std::to_string(size.height),
-            std::to_string(size.depth),
-            "--aa", "off",
-            "--device", device.argument,
-            "--quiet",
-            "--stats-json", statsFile.string(),
-            "-o", (invocation.workDir / "image.png").string()};
+    std::vector<std::string> args = {invocation.rayBinary.string(), scene.file.string(), std::to_string(size.width),
+                                     std::to_string(size.height), std::to_string(size.depth)};
+    if (scene.rayOptions.empty()) args.insert(args.end(), {"--aa", "off"});
+    else args.insert(args.end(), scene.rayOptions.begin(), scene.rayOptions.end());
+    args.insert(args.end(), {"--device", device.argument, "--quiet", "--stats-json", statsFile.string(), "-o",
+                             (invocation.workDir / "image.png").string()});
+    return args;
 }
 
 // ray reads RAY_CACHE_DIR; the OpenCL drivers keep caches of their own (PoCL's, NVIDIA's),

@@ -31,6 +31,9 @@ struct BenchScene {
     std::filesystem::path file;
     std::optional<uint64_t> primitives;    // nullopt when it could not be counted
     int sphereLevels = 0;                  // k for the generated 10^k-sphere scenes, else 0
+    // Sampling and feature options for ray; empty means "--aa off" (the feature rows set
+    // their own, e.g. "--aa adaptive --samples 16").
+    std::vector<std::string> rayOptions;
 };
 
 struct BenchDevice {

@@ -13,6 +13,7 @@
 typedef struct {
     float3 origin;
     float3 direction; /* unit length in world space */
+    float time;       /* shutter time of the ray's camera sample (motion blur); 0: the scene at rest */
 } Ray;
 
 /* Which part of a primitive was hit; decides the texture mapping (SPEC §5). */
@@ -27,6 +28,7 @@ typedef struct {
     int part;
     float3 objectPoint;
     float3 objectNormal; /* outward, unnormalized */
+    float2 barycentric;  /* meshes: the weights of the triangle's corners 1 and 2 (part: the triangle) */
 } Hit;
 
 inline float3 transformPoint(__global const float4* m, float3 p) {
@@ -143,18 +145,35 @@ inline void intersectCone(float3 o, float3 d, float* best, int* part, float3* no
     intersectCap(o, d, -0.5f, PART_BOTTOM, best, part, normal);
 }
 
-/* Intersects one primitive, updating hit when it is nearer than hit->t. */
-inline void intersectPrimitive(__global const RayPrimitive* prim, int index, Ray ray, Hit* hit) {
-    float3 o = transformPoint(prim->worldToObject, ray.origin);
+/* The torus and meshes: cl/torus_mesh.cl. */
+void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
+void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
+                   float3 d, float* best, int* part, float3* normal, float2* barycentric);
+
+/* Intersects one primitive, updating hit when it is nearer than hit->t.
+ * Motion blur: at time t the instance is translated by t·motion (motions[index], world
+ * space), which is the same as moving the ray's origin back by it. The host sets every
+ * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
+inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const RayTriangle* triangles,
+                               __global const float4* motions, __global const RayPrimitive* prim, int index, Ray ray,
+                               Hit* hit) {
+    float3 origin = ray.origin;
+    if (ray.time != 0.0f) origin -= ray.time * motions[index].xyz;
+    float3 o = transformPoint(prim->worldToObject, origin);
     float3 d = transformVector(prim->worldToObject, ray.direction);
     float best = hit->t;
     int part = 0;
     float3 normal = (float3)(0.0f);
+    float2 barycentric = (float2)(0.0f);
     switch (prim->info.x) {
         case RAY_PRIM_CUBE: intersectCube(o, d, &best, &part, &normal); break;
         case RAY_PRIM_SPHERE: intersectSphere(o, d, &best, &part, &normal); break;
         case RAY_PRIM_CYLINDER: intersectCylinder(o, d, &best, &part, &normal); break;
         case RAY_PRIM_CONE: intersectCone(o, d, &best, &part, &normal); break;
+        case RAY_PRIM_TORUS: intersectTorus(o, d, &best, &part, &normal); break;
+        case RAY_PRIM_MESH:
+            intersectMesh(nodes, triangles, prim->info.w, o, d, &best, &part, &normal, &barycentric);
+            break;
         default: break;
     }
     if (best < hit->t) {
@@ -163,6 +182,7 @@ inline void intersectPrimitive(__global const RayPrimitive* prim, int index, Ray
         hit->part = part;
         hit->objectPoint = o + best * d;
         hit->objectNormal = normal;
+        hit->barycentric = barycentric;
     }
 }
 
@@ -189,8 +209,9 @@ inline float3 safeInverse(float3 d) {
 
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays). Returns whether anything was hit. */
-bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* prims, Ray ray, float tMax,
-              bool anyHit, Hit* hit) {
+bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* prims,
+              __global const RayTriangle* triangles, __global const float4* motions, Ray ray, float tMax, bool anyHit,
+              Hit* hit) {
     hit->t = tMax;
     hit->primitive = -1;
     float3 inverseDirection = safeInverse(ray.direction);
@@ -211,7 +232,7 @@ bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* pri
             float t = c == 0 ? entry.x : entry.y;
             if (index < 0 || !(t < hit->t)) continue;
             if (count > 0) {
-                for (int i = index; i < index + count; ++i) intersectPrimitive(&prims[i], i, ray, hit);
+                for (int i = index; i < index + count; ++i) intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, hit);
                 if (anyHit && hit->primitive >= 0) return true;
             } else {
                 innerChild[inner] = index;

@@ -1,5 +1,5 @@
 /* The kernel: one work-item per pixel. A pixel's samples (SPEC §3) each trace a tree of
- * rays (reflection now; refraction adds a second branch) with an explicit stack, since
+ * rays (a reflected and a refracted branch per hit) with an explicit stack, since
  * OpenCL C has no recursion. */
 
 #ifndef RAY_MAX_FRAMES
@@ -15,11 +15,37 @@ typedef struct {
     float3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
     Ray children[2];
     float3 childWeights[2];
+    MediumStack media;          /* the media this frame's ray travels through */
+    MediumStack childMedia[2];  /* and those of its children (cl/optics.cl) */
     int childCount, nextChild, depth;
 } Frame;
 
 inline bool anyAbove(float3 v, float threshold) {
     return v.x >= threshold || v.y >= threshold || v.z >= threshold;
+}
+
+/* The kt·Ot branch (SPEC §4): the ray refracted by Snell's law into the medium beyond the
+ * surface, or, under total internal reflection, the mirrored ray, which stays in the
+ * medium it came from. normal faces the incoming direction d. */
+void addRefractedChild(Frame* frame, float3 d, float3 p, float3 normal, bool entering, float materialIor,
+                       float3 weight, float epsilon) {
+    MediumStack beyond;
+    float n1 = iorBefore(&frame->media, entering, materialIor);
+    float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
+    float3 transmitted;
+    Ray child;
+    if (refractDirection(d, normal, n1, n2, &transmitted)) {
+        child.origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
+        child.direction = transmitted;
+        frame->childMedia[frame->childCount] = beyond;
+    } else {
+        child.origin = offsetFromSurface(p, normal, epsilon);
+        child.direction = d - 2.0f * dot(d, normal) * normal;
+        frame->childMedia[frame->childCount] = frame->media;
+    }
+    frame->children[frame->childCount] = child;
+    frame->childWeights[frame->childCount] = weight;
+    frame->childCount++;
 }
 
 /* Traces frame's ray, shades the hit and records the rays it spawns. */
@@ -28,20 +54,30 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     frame->childCount = 0;
     frame->nextChild = 0;
     Hit hit;
-    if (!traceBvh(scene->nodes, scene->primitives, ray, RAY_INFINITY, false, &hit)) return;
+    if (!traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, RAY_INFINITY, false, &hit))
+        return;
 
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
     RayMaterial m = scene->materials[prim->info.y];
     float3 p = ray.origin + hit.t * ray.direction;
+    if (prim->info.x == RAY_PRIM_MESH) hit.objectNormal = meshShadingNormal(scene->triangleShading, hit.part, hit.barycentric);
+    float2 uv = hitUv(scene, prim->info.x, &hit);
+    if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) /* bump maps follow the textures switch */
+        hit.objectNormal = bumpedObjectNormal(scene, m.maps.y, uv, m.repeats.zw,
+                                              objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
+                                              hit.objectNormal);
     float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
-    if (dot(normal, ray.direction) > 0.0f) normal = -normal; /* face the incoming ray */
+    bool entering = dot(normal, ray.direction) < 0.0f; /* the object normal points outward */
+    if (!entering) normal = -normal; /* face the incoming ray */
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
 
     float3 diffuse = k.y * m.diffuse.xyz;
     if ((features & RAY_FEATURE_TEXTURES) && m.maps.x >= 0) {
-        float2 uv = surfaceUv(prim->info.x, hit.part, hit.objectPoint);
-        float3 t = sampleTexture(scene, m.maps.x, uv, m.repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
+        float3 t = (features & RAY_FEATURE_TRILINEAR)
+                       ? sampleTrilinear(scene, m.maps.x, uv, m.repeats.xy,
+                                         textureFootprint(scene, params, prim, hit.part, hit.t, ray.direction, normal))
+                       : sampleTexture(scene, m.maps.x, uv, m.repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
         float blend = m.diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
@@ -54,10 +90,16 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     if ((features & RAY_FEATURE_REFLECTIONS) && anyAbove(frame->pathWeight * reflectWeight, params->limits.x) &&
         anyAbove(reflectWeight, 1e-30f)) {
         Ray reflected = {offsetFromSurface(p, normal, params->limits.y),
-                         ray.direction - 2.0f * dot(ray.direction, normal) * normal};
+                         ray.direction - 2.0f * dot(ray.direction, normal) * normal, ray.time};
         frame->children[frame->childCount] = reflected;
         frame->childWeights[frame->childCount] = reflectWeight;
+        frame->childMedia[frame->childCount] = frame->media;
         frame->childCount++;
+    }
+    float3 transmitWeight = k.w * m.transparent.xyz;
+    if ((features & RAY_FEATURE_REFRACTION) && anyAbove(frame->pathWeight * transmitWeight, params->limits.x) &&
+        anyAbove(transmitWeight, 1e-30f)) {
+        addRefractedChild(frame, ray.direction, p, normal, entering, m.specular.w, transmitWeight, params->limits.y);
     }
 }
 
@@ -68,6 +110,7 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
     stack[0].depth = 0;
     stack[0].pathWeight = (float3)(1.0f);
     stack[0].weightInParent = (float3)(1.0f);
+    stack[0].media.count = 0; /* the camera is in air */
     counter->primary++;
     shadeFrame(scene, params, &stack[0], ray, counter);
     while (true) {
@@ -78,8 +121,11 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
             child->depth = frame->depth + 1;
             child->weightInParent = frame->childWeights[c];
             child->pathWeight = frame->pathWeight * frame->childWeights[c];
+            child->media = frame->childMedia[c];
             counter->secondary++;
-            shadeFrame(scene, params, child, frame->children[c], counter);
+            Ray childRay = frame->children[c];
+            childRay.time = ray.time; /* every ray of the tree sees the scene at its camera sample's time */
+            shadeFrame(scene, params, child, childRay, counter);
             ++top;
             continue;
         }
@@ -93,10 +139,10 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
 /* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). With depth of field
  * the eye moves to a point of the lens disk (in the plane of U and V) picked by lens ∈
  * [0, 1)², and the ray aims at the point the pinhole ray reaches at the focal distance. */
-inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens) {
+inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
     float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
     float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
-    Ray ray = {params->eye.xyz, normalize(u * params->right.xyz + v * params->up.xyz + params->forward.xyz)};
+    Ray ray = {params->eye.xyz, normalize(u * params->right.xyz + v * params->up.xyz + params->forward.xyz), time};
     float lensRadius = params->lens.x;
     if (lensRadius > 0.0f) {
         float3 focus = ray.origin + params->lens.y * ray.direction;
@@ -108,16 +154,20 @@ inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, 
 }
 
 /* One sample of the pixel, unclamped; draws the lens position from random dimensions 2
- * and 3 of the sample's number (0 and 1 are the stratified jitter). */
+ * and 3 of the sample's number (0 and 1 are the stratified jitter), and its shutter time
+ * from dimension 4: shutter (params->lens.z, 0 when nothing moves) times that number. */
 inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
                           PixelTrace* counter) {
     uint k = counter->nextSample++;
+    counter->sample = k;
     float2 lens = (float2)(0.0f);
     if (params->lens.x > 0.0f) {
         uint seed = (uint)params->counts.w;
         lens = (float2)(rayRandom(counter->pixel, k, 2u, seed), rayRandom(counter->pixel, k, 3u, seed));
     }
-    return traceCameraRay(scene, params, cameraRay(params, i, j, sx, sy, lens), counter);
+    float shutter = params->lens.z;
+    counter->time = shutter > 0.0f ? shutter * rayRandom(counter->pixel, k, 4u, (uint)params->counts.w) : 0.0f;
+    return traceCameraRay(scene, params, cameraRay(params, i, j, sx, sy, lens, counter->time), counter);
 }
 
 inline float3 samplePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
@@ -188,23 +238,57 @@ float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params,
     return sum / (float)(n * n);
 }
 
+/* The sample of cell `cell` of a side×side grid, jittered by the random numbers of sample
+ * number `number` (host/course_sampling.cpp jitteredCell). */
+inline float3 jitteredSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, int cell, int side,
+                             uint number, PixelTrace* counter) {
+    uint seed = (uint)params->counts.w;
+    float sx = ((float)(cell % side) + rayRandom(counter->pixel, number, 0u, seed)) / (float)side;
+    float sy = ((float)(cell / side) + rayRandom(counter->pixel, number, 1u, seed)) / (float)side;
+    return samplePixel(scene, params, i, j, sx, sy, counter);
+}
+
+/* --aa adaptive (host/course_sampling.h sampleAdaptive): 2×2 jittered samples; where they
+ * spread by more than RAY_ADAPTIVE_CONTRAST, a k×k jittered grid more (sample numbers 4..);
+ * the mean of every sample taken. */
+#define RAY_ADAPTIVE_CONTRAST 0.1f
+float3 adaptivePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
+    int samples = params->mode.w;
+    if (samples <= 4) return stratifiedPixel(scene, params, i, j, counter);
+    float3 a = jitteredSample(scene, params, i, j, 0, 2, 0u, counter);
+    float3 b = jitteredSample(scene, params, i, j, 1, 2, 1u, counter);
+    float3 c = jitteredSample(scene, params, i, j, 2, 2, 2u, counter);
+    float3 d = jitteredSample(scene, params, i, j, 3, 2, 3u, counter);
+    float3 sum = a + b + c + d;
+    int count = 4;
+    if (contrast(a, b, c, d) > RAY_ADAPTIVE_CONTRAST) {
+        int side = max(1, (int)floor(sqrt((float)samples)));
+        for (int cell = 0; cell < side * side; ++cell)
+            sum += jitteredSample(scene, params, i, j, cell, side, (uint)(4 + cell), counter);
+        count += side * side;
+    }
+    return sum / (float)count;
+}
+
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y). */
 __kernel void renderTile(RayRenderParams params, __global const RayBvhNode* nodes,
                          __global const RayPrimitive* primitives, __global const RayMaterial* materials,
                          __global const RayLight* lights, __global const RayTexture* textures,
-                         __global const uchar4* texels, __global float4* image, __global uint4* rayCounts) {
+                         __global const uchar4* texels, __global float4* image, __global uint4* rayCounts,
+                         __global const RayTriangle* triangles, __global const RayTriangleShading* triangleShading,
+                         __global const float4* motions) {
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= params.tile.x || y >= params.tile.y) return;
     int i = params.image.z + x, j = params.image.w + y;
     if (i >= params.image.x || j >= params.image.y) return;
 
-    SceneBuffers scene = {nodes, primitives, materials, lights, textures, texels};
-    PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u};
+    SceneBuffers scene = {nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions};
+    PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u, 0u, 0.0f};
     float3 color;
     switch (params.mode.x) {
         case RAY_AA_COURSE: color = coursePixel(&scene, &params, i, j, &counter); break;
-        case RAY_AA_STRATIFIED:
-        case RAY_AA_ADAPTIVE: color = stratifiedPixel(&scene, &params, i, j, &counter); break;
+        case RAY_AA_STRATIFIED: color = stratifiedPixel(&scene, &params, i, j, &counter); break;
+        case RAY_AA_ADAPTIVE: color = adaptivePixel(&scene, &params, i, j, &counter); break;
         default: /* unclamped, for float outputs */
             color = traceSample(&scene, &params, i, j, 0.5f, 0.5f, &counter);
     }

@@ -7,6 +7,9 @@ typedef struct {
     __global const RayLight* lights;
     __global const RayTexture* textures;
     __global const uchar4* texels;
+    __global const RayTriangle* triangles;
+    __global const RayTriangleShading* triangleShading;
+    __global const float4* motions; /* per primitive: world-space motion (motion blur) */
 } SceneBuffers;
 
 /* What one work-item carries while it traces its pixel: rays counted by kind (summed on
@@ -16,6 +19,8 @@ typedef struct {
 typedef struct {
     uint primary, shadow, secondary;
     uint pixel, nextSample;
+    uint sample; /* the number of the sample being traced: area lights draw from it */
+    float time;  /* its shutter time in [0, 1] (motion blur) */
 } PixelTrace;
 
 inline float fractional(float x) { return x - floor(x); }
@@ -48,7 +53,8 @@ inline float2 surfaceUv(int type, int part, float3 p) {
             if (part == PART_TOP) return cubeFaceUv(2, p);
             if (part == PART_BOTTOM) return cubeFaceUv(3, p);
             return (float2)(aroundY(p), p.y + 0.5f);
-        default: return (float2)(0.0f, 0.0f);
+        case RAY_PRIM_TORUS: return (float2)(aroundY(p), torusV(p));
+        default: return (float2)(0.0f, 0.0f); /* meshes: hitUv */
     }
 }
 
@@ -57,10 +63,10 @@ inline float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
     return (float3)(c.x, c.y, c.z) * (1.0f / 255.0f);
 }
 
-/* The texture color at (u, v) with the material's repeats: nearest texel (the course's
+/* The color at (u, v) with the material's repeats of the image (or mipmap level) whose
+ * texels start at info.x and measure info.y × info.z: nearest texel (the course's
  * behaviour) or bilinear between the four nearest texel centres, wrapping around. */
-float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, float2 repeats, bool bilinear) {
-    int4 info = scene->textures[textureIndex].info; /* offset, width, height */
+float3 sampleTextureLevel(const SceneBuffers* scene, int4 info, float2 uv, float2 repeats, bool bilinear) {
     float s = fractional(uv.x * repeats.x);
     float t = fractional(uv.y * repeats.y);
     float x = s * (float)info.y, y = (1.0f - t) * (float)info.z;
@@ -77,6 +83,11 @@ float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, flo
     float3 top = mix(texel(scene, info, x0, y0), texel(scene, info, x1, y0), ax);
     float3 bottom = mix(texel(scene, info, x0, y1), texel(scene, info, x1, y1), ax);
     return mix(top, bottom, ay);
+}
+
+/* The same on a texture's full-size image. */
+float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, float2 repeats, bool bilinear) {
+    return sampleTextureLevel(scene, scene->textures[textureIndex].info, uv, repeats, bilinear);
 }
 
 /* Where a secondary or shadow ray starts: off the surface along the normal (facing the
@@ -101,45 +112,68 @@ inline float spotFactor(const RayLight* light, float3 towardLight) {
 inline bool inShadow(const SceneBuffers* scene, const RayRenderParams* params, float3 origin, float3 towardLight,
                      float distance, PixelTrace* counter) {
     counter->shadow++;
-    Ray shadowRay = {origin, towardLight};
+    Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
     Hit blocker;
-    return traceBvh(scene->nodes, scene->primitives, shadowRay, distance, true, &blocker);
+    return traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, shadowRay, distance, true,
+                    &blocker);
 }
 
-/* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4). */
+/* One light (or one sample of an area light) seen from p: f_att · S · I_L · [D·max(N·L, 0)
+ * + ks·Os·max(R·V, 0)^n], where the light sits at `position` (unused for a directional
+ * light) and carries `intensity` (I_L, divided among an area light's samples). */
+float3 lightContribution(const SceneBuffers* scene, const RayRenderParams* params, const RayLight* light,
+                         float3 position, float3 intensity, float3 p, float3 shadowOrigin, float3 normal,
+                         float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
+    float3 towardLight;
+    float distance, attenuation = 1.0f;
+    if (light->info.x == RAY_LIGHT_DIRECTIONAL) {
+        towardLight = -light->direction.xyz;
+        distance = RAY_INFINITY;
+    } else {
+        float3 toLight = position - p;
+        distance = length(toLight);
+        towardLight = toLight / distance;
+        float4 c = light->attenuation;
+        attenuation = fmin(1.0f, 1.0f / (c.x + c.y * distance + c.z * distance * distance));
+    }
+    float nDotL = dot(normal, towardLight);
+    if (nDotL <= 0.0f) return (float3)(0.0f);
+    if (light->info.x == RAY_LIGHT_SPOT) {
+        attenuation *= spotFactor(light, towardLight);
+        if (attenuation <= 0.0f) return (float3)(0.0f);
+    }
+    if ((params->mode.z & RAY_FEATURE_SHADOWS) && inShadow(scene, params, shadowOrigin, towardLight, distance, counter))
+        return (float3)(0.0f);
+    float3 lit = diffuse * nDotL;
+    if (specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f) { /* pow is costly, and most course materials have no highlight */
+        float3 reflected = 2.0f * nDotL * normal - towardLight;
+        lit += specular * pow(fmax(dot(reflected, towardEye), 0.0f), shininess);
+    }
+    return attenuation * intensity * lit;
+}
+
+/* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4); an
+ * area light is the sum over its n² jittered point samples (cl/optics.cl), each with 1/n²
+ * of its intensity and a shadow ray of its own. */
 float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, float3 p, float3 normal,
                       float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
     float3 sum = (float3)(0.0f);
     float3 shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
-    bool shadows = (params->mode.z & RAY_FEATURE_SHADOWS) != 0;
-    bool hasSpecular = specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f;
+    uint seed = (uint)params->counts.w;
     for (int i = 0; i < params->counts.x; ++i) {
         RayLight light = scene->lights[i];
-        float3 towardLight;
-        float distance, attenuation = 1.0f;
-        if (light.info.x == RAY_LIGHT_DIRECTIONAL) {
-            towardLight = -light.direction.xyz;
-            distance = RAY_INFINITY;
-        } else {
-            float3 toLight = light.position.xyz - p;
-            distance = length(toLight);
-            towardLight = toLight / distance;
-            float4 c = light.attenuation;
-            attenuation = fmin(1.0f, 1.0f / (c.x + c.y * distance + c.z * distance * distance));
+        if (light.info.x != RAY_LIGHT_AREA) {
+            sum += lightContribution(scene, params, &light, light.position.xyz, light.color.xyz, p, shadowOrigin, normal,
+                                     towardEye, diffuse, specular, shininess, counter);
+            continue;
         }
-        float nDotL = dot(normal, towardLight);
-        if (nDotL <= 0.0f) continue;
-        if (light.info.x == RAY_LIGHT_SPOT) {
-            attenuation *= spotFactor(&light, towardLight);
-            if (attenuation <= 0.0f) continue;
+        int cells = max(1, light.info.y) * max(1, light.info.y);
+        float3 intensity = light.color.xyz / (float)cells;
+        for (int c = 0; c < cells; ++c) {
+            float3 position = areaLightPoint(&light, i, c, counter->pixel, counter->sample, seed);
+            sum += lightContribution(scene, params, &light, position, intensity, p, shadowOrigin, normal, towardEye,
+                                     diffuse, specular, shininess, counter);
         }
-        if (shadows && inShadow(scene, params, shadowOrigin, towardLight, distance, counter)) continue;
-        float3 lit = diffuse * nDotL;
-        if (hasSpecular) { /* pow is costly, and most course materials have no highlight */
-            float3 reflected = 2.0f * nDotL * normal - towardLight;
-            lit += specular * pow(fmax(dot(reflected, towardEye), 0.0f), shininess);
-        }
-        sum += attenuation * light.color.xyz * lit;
     }
     return sum;
 }

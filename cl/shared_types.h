@@ -58,6 +58,7 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_TEXTURES 8
 #define RAY_FEATURE_DOF 16
 #define RAY_FEATURE_BILINEAR 32
+#define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/texture_filtering.h */
 
 /* A node of the flattened two-wide BVH: 64 bytes, one cache line.
  *
@@ -82,11 +83,34 @@ RAY_STRUCT(RayBvhNode) {
  * worldToObject: rows of the 3×4 world-to-object transform (translation in .w). The normal
  * transform (inverse transpose of object-to-world) is the transpose of its 3×3 part, so it
  * needs no storage of its own.
- * info: (type RAY_PRIM_*, material index, mesh index or -1, unused). */
+ * info: (type RAY_PRIM_*, material index, mesh index or -1, the mesh's root node or -1). */
 RAY_STRUCT(RayPrimitive) {
     float4 worldToObject[3];
     int4 info;
 } RAY_END_STRUCT(RayPrimitive);
+
+/* A mesh triangle for intersection: 48 bytes. Corner p0 and the edges e1 = p1 − p0,
+ * e2 = p2 − p0 (.w unused), in the mesh's object space. Each mesh's triangles are stored
+ * once, in the order of its own BVH, whose nodes follow the scene's in the node buffer
+ * (RayPrimitive.info.w is a mesh instance's root node there); leaves of a mesh's BVH index
+ * this buffer. */
+RAY_STRUCT(RayTriangle) {
+    float4 p0;
+    float4 e1;
+    float4 e2;
+} RAY_END_STRUCT(RayTriangle);
+
+/* What shading needs of a triangle, parallel to the triangle buffer: 80 bytes. The corner
+ * normals (the file's vn, or the face normal for every corner of a face without them) and
+ * texture coordinates ((0, 0) without vt). The .w lanes of n0, n1, n2 hold the unit
+ * direction in which u grows over the triangle (bump mapping; zero without vt). */
+RAY_STRUCT(RayTriangleShading) {
+    float4 n0;
+    float4 n1;
+    float4 n2;
+    float4 uv01; /* u0, v0, u1, v1 */
+    float4 uv2;  /* u2, v2, unused, unused */
+} RAY_END_STRUCT(RayTriangleShading);
 
 /* A material: 128 bytes. Colors in .xyz; scalars ride in the spare .w lanes. */
 RAY_STRUCT(RayMaterial) {
@@ -112,9 +136,11 @@ RAY_STRUCT(RayLight) {
 } RAY_END_STRUCT(RayLight);
 
 /* A texture in the texel buffer: texels [offset, offset + width·height) of uchar4 (RGBA8,
- * row 0 at the top), values v/255 exactly as the course reads them. */
+ * row 0 at the top), values v/255 exactly as the course reads them. With trilinear
+ * filtering its mipmap levels follow, back to back: level k is max(1, width >> k) ×
+ * max(1, height >> k) (host/texture_filtering.h); otherwise the level count is 1. */
 RAY_STRUCT(RayTexture) {
-    int4 info;  /* offset in texels, width, height, unused */
+    int4 info;  /* offset in texels, width, height, mipmap level count (≥ 1) */
 } RAY_END_STRUCT(RayTexture);
 
 /* Everything else a launch needs: 176 bytes, passed by value. */
@@ -123,9 +149,9 @@ RAY_STRUCT(RayRenderParams) {
     float4 right;        /* U · w: the view plane's half-width axis (SPEC §3) */
     float4 up;           /* V · h: its half-height axis */
     float4 forward;      /* unit look direction */
-    float4 lens;         /* lens radius (0: pinhole), focal distance, unused, unused */
+    float4 lens;         /* lens radius (0: pinhole), focal distance, shutter (0: no motion blur), unused */
     float4 globals;      /* ka, kd, ks, kt */
-    float4 limits;       /* weight threshold, ray offset epsilon, unused, unused */
+    float4 limits;       /* weight threshold, ray offset epsilon, pixel spread angle (trilinear), unused */
     int4 image;          /* width, height, tile x0, tile y0 */
     int4 mode;           /* antialias RAY_AA_*, max depth, feature bits RAY_FEATURE_*, samples */
     int4 counts;         /* lights, primitives, nodes, seed */

@@ -69,14 +69,12 @@ float floatAbove(double v) {
     return std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
-// Half-extents of the object-space box around each unit primitive (SPEC §2). The torus
-// (major radius 0.375, minor 0.125, around y) fits in [−.5,.5]×[−.125,.125]×[−.5,.5].
-// Meshes get the unit cube for now: their real bounds come with the mesh issue, which
-// loads the OBJ geometry.
-Vec3 objectHalfExtents(PrimitiveType type) {
-    if (type == PrimitiveType::Torus) return {0.5, 0.125, 0.5};
-    return {0.5, 0.5, 0.5};
-}
+// Half-extents of the object-space box around the primitive (SPEC §2): the unit cube's,
+// the torus's [−.5,.5]×[−.125,.125]×[−.5,.5], a mesh's own bounds
+// (PrimitiveInstance::objectLo/objectHi, set by the loader).
+Vec3 objectHalfExtents(const PrimitiveInstance& primitive) { return (primitive.objectHi - primitive.objectLo) * 0.5; }
+
+Vec3 objectCentre(const PrimitiveInstance& primitive) { return (primitive.objectHi + primitive.objectLo) * 0.5; }
 
 // Half-extent along world axis `row` of the transformed primitive.
 double worldHalfExtent(const PrimitiveInstance& primitive, int row) {
@@ -88,7 +86,7 @@ double worldHalfExtent(const PrimitiveInstance& primitive, int row) {
     }
     // The box around the 8 transformed corners of the object box (±h): each world
     // coordinate is Σ_j m_ij·(±h_j), largest when every sign matches m_ij's.
-    Vec3 h = objectHalfExtents(primitive.type);
+    Vec3 h = objectHalfExtents(primitive);
     return std::abs(m[0]) * h.x + std::abs(m[1]) * h.y + std::abs(m[2]) * h.z;
 }
 
@@ -97,10 +95,13 @@ double worldHalfExtent(const PrimitiveInstance& primitive, int row) {
 BoundingBox worldBounds(const PrimitiveInstance& primitive) {
     BoundingBox box;
     for (int i = 0; i < 3; ++i) {
-        double centre = primitive.objectToWorld.m[i][3];
+        double centre = primitive.objectToWorld.transformPoint(objectCentre(primitive))[i];
         double half = worldHalfExtent(primitive, i);
-        box.min[i] = floatBelow(centre - half);
-        box.max[i] = floatAbove(centre + half);
+        // A moving instance (motion blur) is swept linearly from its place at t = 0 to
+        // that plus its motion at t = 1: the union of the two boxes holds it at every time.
+        double moved = primitive.motion[i];
+        box.min[i] = floatBelow(centre - half + std::min(0.0, moved));
+        box.max[i] = floatAbove(centre + half + std::max(0.0, moved));
     }
     return box;
 }

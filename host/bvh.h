@@ -24,7 +24,8 @@ struct BoundingBox {
 };
 
 // The world-space box of a primitive instance, rounded outward to float so that it
-// contains the exact (double) primitive.
+// contains the exact (double) primitive; a moving one's covers its whole motion (the
+// union of its boxes at shutter times 0 and 1).
 BoundingBox worldBounds(const PrimitiveInstance& primitive);
 
 struct FlatBvh {

@@ -16,6 +16,11 @@ options:
                            4..64 samples) | stratified | adaptive
   --samples N              samples per pixel for stratified/adaptive (default 16)
   --seed N                 seed of the stochastic sampling (default 0)
+  --area-samples N         point samples per area light, a jittered k×k grid with
+                           k = floor(sqrt(N)) (default 16, at most 1024)
+  --shutter T              motion blur: the shutter stays open over the fraction T of the
+                           scene's <motion> (0..1; default 1, the whole motion; 0 renders
+                           the scene at rest). Every camera sample takes its own time
   --threshold T            stop a reflected/refracted branch whose weight is below T
                            in every channel (default 1/256)
   --device D               auto (default: a GPU, else a CPU OpenCL device) | cpu | gpu |
@@ -31,10 +36,16 @@ options:
   --quiet                  no progress and no warnings
   --stats                  print rays traced, Mrays/s and timings on stderr
   --stats-json FILE        write the same statistics as JSON
+  --max-primitives N       refuse scenes that flatten to more than N primitive
+                           instances (default 50000000; memory is checked as well)
+  --partial                on Ctrl-C (SIGINT) or SIGTERM, write the part rendered so far
+                           (unrendered pixels black) instead of nothing
   -h, --help               this text
   --version                the version
 
-exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure
+exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure,
+             130 interrupted by SIGINT, 143 by SIGTERM (the output file is left as it was,
+             unless --partial)
 )";
 
 namespace {
@@ -122,7 +133,12 @@ CliOptions parseCommandLine(const std::vector<std::string>& args) {
         else if (arg == "-o" || arg == "--output") options.output = value();
         else if (arg == "--aa") s.antialias = parseAntialias(value());
         else if (arg == "--samples") { s.samples = parseInt(value(), "--samples", 1, kMaxSamples); samplesGiven = true; }
+        else if (arg == "--area-samples") s.areaSamples = parseInt(value(), "--area-samples", 1, kMaxAreaSamples);
         else if (arg == "--seed") s.seed = uint32_t(parseInt(value(), "--seed", 0, 2147483647));
+        else if (arg == "--shutter") {
+            s.shutter = parseDouble(value(), "--shutter");
+            if (!(s.shutter >= 0 && s.shutter <= 1)) throw UsageError("--shutter must be between 0 and 1");
+        }
         else if (arg == "--threshold") {
             s.weightThreshold = parseDouble(value(), "--threshold");
             if (s.weightThreshold < 0 || s.weightThreshold > 1) throw UsageError("--threshold must be between 0 and 1");
@@ -140,6 +156,8 @@ CliOptions parseCommandLine(const std::vector<std::string>& args) {
         else if (arg == "--quiet" || arg == "-q") options.quiet = true;
         else if (arg == "--stats") options.stats = true;
         else if (arg == "--stats-json") options.statsJson = value();
+        else if (arg == "--partial") options.partial = true;
+        else if (arg == "--max-primitives") options.maxPrimitives = size_t(parseInt(value(), "--max-primitives", 1, 2147483647));
         else if (arg.size() > 1 && arg[0] == '-' && !(arg[1] >= '0' && arg[1] <= '9'))
             throw UsageError("unknown option '" + arg + "'");
         else positionals.push_back(arg);

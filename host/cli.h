@@ -20,6 +20,10 @@ struct CliOptions {
     bool quiet = false;
     bool stats = false;
     std::filesystem::path statsJson;
+    // On SIGINT/SIGTERM, write what was rendered so far instead of nothing (--partial).
+    bool partial = false;
+    // Refuse scenes that flatten to more primitive instances (--max-primitives).
+    size_t maxPrimitives = 50'000'000;
     bool listDevices = false;
     bool help = false;
     bool version = false;
@@ -42,5 +46,6 @@ extern const char* const kUsageText;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxDepth = 64;
 constexpr int kMaxSamples = 4096;
+constexpr int kMaxAreaSamples = 1024;  // 32 × 32: the random dimensions reserved per area light (optics.h)
 
 }  // namespace ray

@@ -72,12 +72,50 @@ Vec3 sampleStratified(const PixelSampleFunction& sample, int samples, uint32_t p
     return sum / double(side * side);
 }
 
+namespace {
+
+// The offsets of the sample in cell `cell` of a side×side grid, jittered by the random
+// numbers of sample number `number`.
+void jitteredCell(int cell, int side, uint32_t number, uint32_t pixelIndex, uint32_t seed, double& sx, double& sy) {
+    sx = (cell % side + sampleRandom(pixelIndex, number, 0, seed)) / side;
+    sy = (cell / side + sampleRandom(pixelIndex, number, 1, seed)) / side;
+}
+
+}  // namespace
+
+Vec3 sampleAdaptive(const PixelSampleFunction& sample, int samples, uint32_t pixelIndex, uint32_t seed, int* taken) {
+    if (samples <= 4) {
+        if (taken) *taken = stratifiedGridSide(samples) * stratifiedGridSide(samples);
+        return sampleStratified(sample, samples, pixelIndex, seed);
+    }
+    Vec3 first[4];
+    Vec3 sum;
+    for (int c = 0; c < 4; ++c) {
+        double sx, sy;
+        jitteredCell(c, 2, uint32_t(c), pixelIndex, seed, sx, sy);
+        first[c] = clamp01(sample(sx, sy));
+        sum += first[c];
+    }
+    int count = 4;
+    if (spread(first) > kAdaptiveContrast) {
+        const int side = stratifiedGridSide(samples);
+        for (int c = 0; c < side * side; ++c) {
+            double sx, sy;
+            jitteredCell(c, side, uint32_t(4 + c), pixelIndex, seed, sx, sy);
+            sum += clamp01(sample(sx, sy));
+        }
+        count += side * side;
+    }
+    if (taken) *taken = count;
+    return sum / double(count);
+}
+
 Vec3 samplePixel(const RenderSettings& settings, uint32_t pixelIndex, const PixelSampleFunction& sample) {
     switch (settings.antialias) {
         case AntialiasMode::Off: return sampleCenter(sample);
         case AntialiasMode::Course: return sampleCourse(sample);
-        case AntialiasMode::Stratified:
-        case AntialiasMode::Adaptive: return sampleStratified(sample, settings.samples, pixelIndex, settings.seed);
+        case AntialiasMode::Stratified: return sampleStratified(sample, settings.samples, pixelIndex, settings.seed);
+        case AntialiasMode::Adaptive: return sampleAdaptive(sample, settings.samples, pixelIndex, settings.seed);
     }
     return sampleCenter(sample);
 }

@@ -44,9 +44,18 @@ int stratifiedGridSide(int samples);
 // The offsets of stratified sample `index` in a k×k grid (as sampleStratified).
 void stratifiedOffset(int index, int side, uint32_t pixelIndex, uint32_t seed, double& sx, double& sy);
 
+// --aa adaptive: a first pass of 2×2 jittered samples (sample numbers 0..3); where they
+// spread by more than kAdaptiveContrast (max − min in the channel where that is largest,
+// after clamping to [0, 1]), a second pass adds a k×k jittered grid, k = floor(√samples),
+// with sample numbers 4.. (its cell c jittered by sampleRandom(pixel, 4 + c, 0 / 1, seed)).
+// The pixel is the mean of every sample taken (a box filter): 4 samples in flat regions,
+// 4 + k² at edges, in shadow penumbras and wherever area lights, depth of field or motion
+// blur make the first four disagree. With samples ≤ 4 it is plain stratified sampling.
+Vec3 sampleAdaptive(const PixelSampleFunction& sample, int samples, uint32_t pixelIndex, uint32_t seed,
+                    int* taken = nullptr);
+
 // Dispatches on settings.antialias. pixelIndex = y·width + x names the pixel for the
-// stochastic modes. The adaptive mode (stochastic refinement) is a feature of its own and
-// samples as stratified here until it exists.
+// stochastic modes.
 Vec3 samplePixel(const RenderSettings& settings, uint32_t pixelIndex, const PixelSampleFunction& sample);
 
 }  // namespace ray

@@ -2,11 +2,14 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <signal.h>
+#include <unistd.h>
 #include <iostream>
 
 #include "cli.h"
 #include "file_search.h"
 #include "image.h"
+#include "memory_limits.h"
 #include "progress.h"
 #include "reference_renderer.h"
 #include "render_stats.h"
@@ -20,6 +23,32 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitRuntime = 3;
+
+// Ctrl-C (SIGINT) and SIGTERM: ray exits with 128 + the signal's number, the shell's
+// convention (130 for Ctrl-C). Before the render nothing has been written, so the handler
+// exits at once; during it, the handler only sets gInterrupted (a lock-free atomic is
+// async-signal-safe), the renderers poll it and stop within about a second, and run()
+// writes the partial image or nothing. A signal while the finished image is being written
+// lets the write complete. SA_RESETHAND restores the default action, so a second Ctrl-C
+// kills at once.
+std::atomic<bool> gInterrupted{false};
+std::atomic<bool> gRendering{false};
+volatile std::sig_atomic_t gSignal = 0;
+
+extern "C" void onInterruptSignal(int signal) {
+    gSignal = signal;
+    if (!gRendering.load()) _exit(128 + signal);
+    gInterrupted.store(true);
+}
+
+void installInterruptHandlers() {
+    struct sigaction action {};
+    action.sa_handler = onInterruptSignal;
+    action.sa_flags = SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
 
 double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
@@ -41,6 +70,31 @@ void checkOutputPath(const std::filesystem::path& output) {
         throw UsageError("the output folder '" + folder.string() + "' does not exist");
 }
 
+// Refuses, before the BVH is built, an image this machine has not the memory for (the
+// CLI caps each side at kMaxImageSide, but 16384² floats alone need 3 GiB).
+void checkImageFitsInMemory(const CliOptions& options) {
+    const RenderSettings& s = options.settings;
+    const bool reference = options.device == "ref" || options.device == "reference";
+    const uint64_t perPixel = reference ? kHostBytesPerPixelReference : kHostBytesPerPixelOpenCl;
+    if (auto shortfall = hostMemoryShortfall(uint64_t(s.width) * uint64_t(s.height) * perPixel))
+        throw UsageError("a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image " + *shortfall +
+                         "; render a smaller image (the width and height arguments)");
+}
+
+// After SIGINT/SIGTERM: the output file is left as it was, or with --partial gets what was
+// rendered (unrendered pixels black).
+int finishInterrupted(const RenderOutput& result, const std::filesystem::path& output, const CliOptions& options) {
+    const int signal = gSignal ? int(gSignal) : SIGINT;
+    if (options.partial) {
+        writeImage(result.image, output);
+        std::cerr << "ray: interrupted; wrote the partial image to " << output.string() << "\n";
+    } else {
+        std::cerr << "ray: interrupted; " << output.string()
+                  << " was not written (--partial writes what was rendered)\n";
+    }
+    return 128 + signal;
+}
+
 int run(const CliOptions& options) {
     if (options.help) {
         std::cout << kUsageText;
@@ -54,6 +108,7 @@ int run(const CliOptions& options) {
         printDeviceList(std::cout);
         return 0;
     }
+    installInterruptHandlers();
     const std::filesystem::path output = outputPathFor(options);
     checkOutputPath(output);
 
@@ -62,6 +117,7 @@ int run(const CliOptions& options) {
     load.searchPaths = options.searchPaths;
     for (auto& p : searchPathsFromEnvironment()) load.searchPaths.push_back(p);
     load.strict = options.strict;
+    load.maxPrimitives = options.maxPrimitives;
     load.loadImages = options.settings.textures;
     load.warn = [&](const std::string& message) {
         if (!options.quiet) std::cerr << message << "\n";
@@ -69,12 +125,16 @@ int run(const CliOptions& options) {
     Scene scene = loadScene(options.scene, load);
     double loadSeconds = secondsSince(loadStart);
 
+    checkImageFitsInMemory(options);
     ProgressBar progress(!options.quiet);
     RenderJob job{scene, options.settings, options.device, {}};
     job.progress = [&](double f) { progress.update(f); };
+    job.cancel = &gInterrupted;
+    gRendering = true;
     RenderOutput result = render(job);
     progress.finish();
     result.stats.loadSeconds = loadSeconds;
+    if (result.interrupted) return finishInterrupted(result, output, options);
 
     writeImage(result.image, output);
     if (!options.quiet) std::cerr << "wrote " << output.string() << "\n";

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <deque>
 
+#include "memory_limits.h"
 #include "renderer.h"
 #include "scene_packing.h"
 
@@ -25,6 +26,7 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
     const Buffer buffers[] = {{"BVH nodes", packed.nodes.size() * sizeof(gpu::RayBvhNode)},
                               {"primitives", packed.primitives.size() * sizeof(gpu::RayPrimitive)},
                               {"textures", packed.texels.size()},
+                              {"mesh triangles", packed.triangleShading.size() * sizeof(gpu::RayTriangleShading)},
                               {"image", imageBytes}};
     const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
     for (const Buffer& b : buffers) {
@@ -33,10 +35,15 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
                               " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
                               device.description() + " allows in one allocation" + advice);
     }
-    uint64_t total = packed.totalBytes() + imageBytes;
+    // The colors and the ray counts: two buffers of imageBytes each.
+    uint64_t total = packed.totalBytes() + 2 * uint64_t(imageBytes);
     if (total > device.globalMemory)
         throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
                           mebibytes(device.globalMemory) + " of " + device.description() + advice);
+    // On the host: both buffers read back, and on a CPU device the device's memory too.
+    uint64_t hostBytes = 2 * uint64_t(imageBytes) + (device.isCpu ? total : 0);
+    if (auto shortfall = hostMemoryShortfall(hostBytes))
+        throw DeviceError("rendering on " + device.description() + " " + *shortfall + " on the host" + advice);
 }
 
 // OpenCL refuses zero-sized buffers; an empty table gets one unused element.
@@ -58,7 +65,7 @@ std::string buildOptions(const RenderSettings& settings) {
 
 Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
                    const OpenClRenderOptions& options, RenderStats* stats) {
-    PackedScene packed = packScene(scene);
+    PackedScene packed = packScene(scene, settings);
     const size_t pixels = size_t(settings.width) * size_t(settings.height);
     checkDeviceLimits(device, packed, pixels * sizeof(cl_float4));
 
@@ -74,6 +81,9 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
         cl::Buffer lights = uploadBuffer(context, packed.lights);
         cl::Buffer textures = uploadBuffer(context, packed.textures);
         cl::Buffer texels = uploadBuffer(context, packed.texels);
+        cl::Buffer triangles = uploadBuffer(context, packed.triangles);
+        cl::Buffer triangleShading = uploadBuffer(context, packed.triangleShading);
+        cl::Buffer motions = uploadBuffer(context, packed.motions);  // one placeholder when nothing moves
         cl::Buffer pixelsOut(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
         cl::Buffer counts(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_uint4));
 
@@ -87,6 +97,9 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
         kernel.setArg(6, texels);
         kernel.setArg(7, pixelsOut);
         kernel.setArg(8, counts);
+        kernel.setArg(9, triangles);
+        kernel.setArg(10, triangleShading);
+        kernel.setArg(11, motions);
 
         auto renderStart = Clock::now();
         const int tile = std::max(8, options.tileSize);
@@ -98,17 +111,16 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
         // idles between launches, while cancelling still takes effect within a few tiles.
         constexpr size_t kTilesInFlight = 4;
         std::deque<cl::Event> inFlight;
-        int done = 0;
+        int done = 0, launched = 0;
         auto waitForOldest = [&] {
             inFlight.front().wait();
             inFlight.pop_front();
             if (options.progress) options.progress(double(++done) / double(tileCount));
         };
         for (int t = 0; t < tileCount; ++t) {
-            if (options.cancel && options.cancel->load()) {
-                queue.finish();
-                throw DeviceError("render interrupted");
-            }
+            // Cancelled: stop launching; the tiles in flight finish (a kernel cannot be
+            // stopped) and the rest of the image stays black (cleared below).
+            if (options.cancel && options.cancel->load()) break;
             const int tx = t % tilesX, ty = t / tilesX;
             params.image.z = tx * tile;
             params.image.w = ty * tile;
@@ -120,6 +132,7 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
                                        cl::NDRange(group, group), nullptr, &event);
             queue.flush();
             inFlight.push_back(event);
+            ++launched;
             if (inFlight.size() >= kTilesInFlight) waitForOldest();
         }
         while (!inFlight.empty()) waitForOldest();
@@ -128,6 +141,15 @@ Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderS
         queue.enqueueReadBuffer(pixelsOut, CL_TRUE, 0, pixels * sizeof(cl_float4), rgba.data());
         queue.enqueueReadBuffer(counts, CL_TRUE, 0, pixels * sizeof(cl_uint4), rayCounts.data());
         local.renderSeconds = secondsSince(renderStart);
+        // The buffers are not initialised: pixels of tiles never launched are garbage.
+        for (int t = launched; t < tileCount; ++t) {
+            const int x0 = (t % tilesX) * tile, y0 = (t / tilesX) * tile;
+            for (int y = y0; y < std::min(y0 + tile, settings.height); ++y)
+                for (int x = x0; x < std::min(x0 + tile, settings.width); ++x) {
+                    rgba[size_t(y) * size_t(settings.width) + size_t(x)] = cl_float4{};
+                    rayCounts[size_t(y) * size_t(settings.width) + size_t(x)] = cl_uint4{};
+                }
+        }
 
         for (size_t p = 0; p < pixels; ++p) {
             for (int c = 0; c < 3; ++c) image.rgb[p * 3 + size_t(c)] = rgba[p].s[c];

@@ -20,6 +20,8 @@ struct OpenClRenderOptions {
     // per-group overhead dominates; 8×8 suits CPUs and GPUs alike.
     int workGroupSize = 8;
     std::function<void(double)> progress;
+    // Set to true to stop early: no more tiles are launched, the ones queued finish, and
+    // the image comes back with the tiles never launched black.
     const std::atomic<bool>* cancel = nullptr;
 };
 

@@ -41,8 +41,11 @@ int Aabb::longestAxis() const {
 Aabb worldBounds(const PrimitiveInstance& instance) {
     Aabb box;
     for (int corner = 0; corner < 8; ++corner) {
-        Vec3 p{corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, corner & 4 ? 0.5 : -0.5};
-        box.grow(instance.objectToWorld.transformPoint(p));
+        const Vec3 &lo = instance.objectLo, &hi = instance.objectHi;
+        Vec3 p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z};
+        Vec3 start = instance.objectToWorld.transformPoint(p);
+        box.grow(start);
+        box.grow(start + instance.motion);  // where the corner is at the end of the shutter
     }
     return padded(box);
 }
@@ -68,6 +71,8 @@ std::optional<double> intersectBox(const Aabb& box, const Vec3& origin, const Ve
 
 SceneIntersector::SceneIntersector(const Scene& scene, SceneSearch search)
     : primitives_(scene.primitives), search_(search) {
+    meshes_.reserve(scene.meshes.size());
+    for (const TriangleMesh& mesh : scene.meshes) meshes_.emplace_back(mesh);
     const int count = int(primitives_.size());
     std::vector<Aabb> boxes(count);
     std::vector<Vec3> centres(count);
@@ -114,11 +119,16 @@ int SceneIntersector::build(int begin, int end, const std::vector<Aabb>& boxes, 
     return index;
 }
 
-std::optional<ShapeHit> SceneIntersector::intersectPrimitive(int index, const Vec3& origin, const Vec3& direction,
-                                                             double tMin, double tMax) const {
+std::optional<ShapeHit> SceneIntersector::intersectPrimitive(int index, const Vec3& rayOrigin, const Vec3& direction,
+                                                             double tMin, double tMax, double time) const {
     // Object space through the inverse transform. The direction is not renormalized,
-    // so t means the same distance along the ray in both spaces.
+    // so t means the same distance along the ray in both spaces. An instance moved by
+    // time·motion is the same as the ray moved back by it.
     const PrimitiveInstance& instance = primitives_[index];
+    const Vec3 origin = rayOrigin - time * instance.motion;
+    if (instance.type == PrimitiveType::Mesh)
+        return meshes_[size_t(instance.mesh)].intersect(instance.worldToObject.transformPoint(origin),
+                                                        instance.worldToObject.transformVector(direction), tMin, tMax);
     return intersectUnitPrimitive(instance.type, instance.worldToObject.transformPoint(origin),
                                   instance.worldToObject.transformVector(direction), tMin, tMax);
 }
@@ -167,10 +177,10 @@ void SceneIntersector::traverse(const Vec3& origin, const Vec3& direction, doubl
 }
 
 std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const Vec3& direction, double tMin,
-                                                     double tMax) const {
+                                                     double tMax, double time) const {
     std::optional<SceneHit> best;
     traverse(origin, direction, tMin, tMax, [&](int primitive, double tLimit) {
-        if (auto hit = intersectPrimitive(primitive, origin, direction, tMin, tLimit)) {
+        if (auto hit = intersectPrimitive(primitive, origin, direction, tMin, tLimit, time)) {
             best = SceneHit{primitive, *hit};
             return hit->t;
         }
@@ -179,10 +189,11 @@ std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const V
     return best;
 }
 
-bool SceneIntersector::anyHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax) const {
+bool SceneIntersector::anyHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax,
+                              double time) const {
     bool found = false;
     traverse(origin, direction, tMin, tMax, [&](int primitive, double tLimit) {
-        if (intersectPrimitive(primitive, origin, direction, tMin, tLimit)) {
+        if (intersectPrimitive(primitive, origin, direction, tMin, tLimit, time)) {
             found = true;
             return -1.0;  // stop: one blocker is enough
         }

@@ -12,6 +12,7 @@
 
 #include "math.h"
 #include "scene.h"
+#include "mesh_intersector.h"
 #include "shapes.h"
 
 // In a namespace of their own: the kernel's BVH (bvh.h) has similar names.
@@ -35,8 +36,10 @@ struct Aabb {
     int longestAxis() const;
 };
 
-// The world-space box of an instance: every unit primitive fits in the cube [−0.5, 0.5]³,
-// so the box around that cube's eight transformed corners holds the primitive.
+// The world-space box of an instance: the box around the eight transformed corners of its
+// object-space box (PrimitiveInstance::objectLo/objectHi: the unit cube for most). A
+// moving instance's box covers its whole motion: the union of its boxes at t = 0 and t = 1
+// (a translation sweeps the box linearly, so the two ends bound every time between).
 Aabb worldBounds(const PrimitiveInstance& instance);
 
 // Where the entering ray meets the box within [tMin, tMax], or nothing.
@@ -55,10 +58,12 @@ public:
     // Keeps a reference to scene.primitives: the scene must outlive the intersector.
     explicit SceneIntersector(const Scene& scene, SceneSearch search = SceneSearch::Bvh);
 
-    // The nearest hit with tMin < t < tMax along origin + t·direction (world space).
-    std::optional<SceneHit> closestHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax) const;
+    // The nearest hit with tMin < t < tMax along origin + t·direction (world space), with
+    // the moving instances where they are at shutter time `time` (scene.h).
+    std::optional<SceneHit> closestHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax,
+                                       double time = 0) const;
     // Whether anything lies along the ray with tMin < t < tMax (shadow rays).
-    bool anyHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax) const;
+    bool anyHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax, double time = 0) const;
 
     // The box around every primitive (empty for an empty scene).
     const Aabb& sceneBounds() const { return sceneBounds_; }
@@ -72,7 +77,7 @@ private:
 
     int build(int begin, int end, const std::vector<Aabb>& boxes, const std::vector<Vec3>& centres);
     std::optional<ShapeHit> intersectPrimitive(int index, const Vec3& origin, const Vec3& direction, double tMin,
-                                               double tMax) const;
+                                               double tMax, double time) const;
     // Calls test(primitive index) for every primitive whose box the ray reaches before
     // the current tMax; test returns the new tMax (smaller after a hit), or a negative
     // value to stop the search.
@@ -80,6 +85,7 @@ private:
     void traverse(const Vec3& origin, const Vec3& direction, double tMin, double tMax, Test&& test) const;
 
     const std::vector<PrimitiveInstance>& primitives_;
+    std::vector<MeshIntersector> meshes_;  // one per Scene::meshes entry
     SceneSearch search_;
     std::vector<Node> nodes_;  // nodes_[0] is the root
     std::vector<int> order_;   // primitive indices, grouped by leaf

@@ -9,10 +9,13 @@
 #include <thread>
 #include <vector>
 
+#include "bump_mapping.h"
 #include "course_sampling.h"
+#include "optics.h"
 #include "random.h"
 #include "reference_bvh.h"
 #include "shapes.h"
+#include "texture_filtering.h"
 #include "texture_sampling.h"
 
 namespace ray {
@@ -89,8 +92,10 @@ private:
 struct SurfaceHit {
     Vec3 point;
     Vec3 normal;  // unit length, facing the incoming ray
+    bool entering = true;  // the ray meets the outside of the surface (the object normal points outward)
     UV uv;
     const Material* material = nullptr;
+    double textureFootprint = 0;  // in texture coordinates; trilinear filtering only (texture_filtering.h)
 };
 
 // Where a light's rays come from, seen from a surface point.
@@ -118,11 +123,11 @@ double spotFalloff(const Light& light, const Vec3& toLight) {
     return 1 - (3 * x * x - 2 * x * x * x);
 }
 
-LightPath pathToLight(const Light& light, const Vec3& point) {
+// The path to a light at `position` (a point or spot light's own, or one sample of an
+// area light's rectangle); a directional light ignores it.
+LightPath pathToLight(const Light& light, const Vec3& position, const Vec3& point) {
     if (light.type == LightType::Directional) return {normalize(-light.direction), INFINITY};
-    // Point and spot lights. Area lights are drawn as a point light at their centre
-    // for now: sampling their rectangle (soft shadows) comes with the area-light feature.
-    Vec3 offset = light.position - point;
+    Vec3 offset = position - point;
     double distance = length(offset);
     return {offset / distance, distance};
 }
@@ -139,6 +144,14 @@ Vec3 reflect(const Vec3& direction, const Vec3& normal) { return direction - 2 *
 
 bool belowThresholdEverywhere(const Vec3& weight, double threshold) { return maxComponent(weight) < threshold; }
 
+// Which camera sample a ray belongs to: area lights draw their jitter from its random
+// numbers (host/random.h), as the kernel does. time: its shutter time (motion blur), which
+// every ray of its tree, shadow rays included, shares.
+struct SampleId {
+    uint32_t pixel = 0, sample = 0;
+    double time = 0;
+};
+
 // Traces rays through one scene with one set of settings. Shared by the render threads:
 // everything it holds is read-only; each thread counts its rays in its own RayCounts.
 class Tracer {
@@ -148,48 +161,90 @@ public:
         Aabb bounds = intersector_.sceneBounds();
         bounds.grow(scene.camera.position);
         surfaceOffset_ = kSurfaceOffset * std::max(1e-6, length(bounds.hi - bounds.lo));
+        if (settings.textureFilter == TextureFilter::Trilinear) prepareTrilinear();
     }
 
-    Vec3 traceCameraRay(const Ray& ray, RayCounts& counts) const {
+    Vec3 traceCameraRay(const Ray& ray, const SampleId& id, RayCounts& counts) const {
         ++counts.primary;
-        return trace(ray, 0, Vec3{1, 1, 1}, counts);
+        return trace(ray, 0, Vec3{1, 1, 1}, MediumStack{}, id, counts);  // the camera is in air
     }
 
 private:
     // The color seen along the ray. depth: bounces so far; weight: the product of the
-    // reflection factors that will scale this color on its way to the camera.
-    Vec3 trace(const Ray& ray, int depth, const Vec3& weight, RayCounts& counts) const {
-        auto hit = intersector_.closestHit(ray.origin, ray.direction, 0, INFINITY);
+    // reflection and transmission factors that will scale this color on its way to the
+    // camera; media: what the ray travels through.
+    Vec3 trace(const Ray& ray, int depth, const Vec3& weight, const MediumStack& media, const SampleId& id,
+               RayCounts& counts) const {
+        auto hit = intersector_.closestHit(ray.origin, ray.direction, 0, INFINITY, id.time);
         if (!hit) return kBackground;
-        return shade(surfaceAt(*hit, ray), ray, depth, weight, counts);
+        return shade(surfaceAt(*hit, ray, id.time), ray, depth, weight, media, id, counts);
     }
 
-    SurfaceHit surfaceAt(const SceneHit& hit, const Ray& ray) const {
+    // The object-space normal, tilted by the material's bump map if it has one.
+    Vec3 shadingObjectNormal(const SceneHit& hit, const Ray& ray, double time) const {
+        const PrimitiveInstance& instance = scene_.primitives[hit.primitive];
+        const TextureMap& map = scene_.materials[instance.material].bumpMap;
+        if (!settings_.textures || map.image < 0 || scene_.images[map.image].empty()) return hit.local.normal;
+        Vec3 objectPoint =
+            instance.worldToObject.transformPoint(ray.origin - time * instance.motion + hit.local.t * ray.direction);
+        Vec3 tangent = instance.type == PrimitiveType::Mesh
+                           ? hit.local.tangent
+                           : objectTangent(instance.type, objectPoint, hit.local.normal);
+        HeightSlope slope = heightSlope(scene_.images[map.image], hit.local.uv.u, hit.local.uv.v, map.repeatU, map.repeatV);
+        return bumpedNormal(hit.local.normal, tangent, slope);
+    }
+
+    SurfaceHit surfaceAt(const SceneHit& hit, const Ray& ray, double time) const {
         const PrimitiveInstance& instance = scene_.primitives[hit.primitive];
         SurfaceHit surface;
         surface.point = ray.origin + hit.local.t * ray.direction;
         // Normals go to world space by the inverse transpose of object-to-world: the
         // transpose of world-to-object.
-        surface.normal = normalize(instance.worldToObject.transposeTransformVector(hit.local.normal));
-        if (dot(surface.normal, ray.direction) > 0) surface.normal = -surface.normal;
+        surface.normal = normalize(instance.worldToObject.transposeTransformVector(shadingObjectNormal(hit, ray, time)));
+        surface.entering = dot(surface.normal, ray.direction) < 0;
+        if (!surface.entering) surface.normal = -surface.normal;
         surface.uv = hit.local.uv;
         surface.material = &scene_.materials[instance.material];
+        if (settings_.textureFilter == TextureFilter::Trilinear) {
+            double density = instance.type == PrimitiveType::Mesh ? meshUvDensities_[size_t(instance.mesh)]
+                                                                  : primitiveUvDensity(instance.type);
+            surface.textureFootprint = textureFootprint(spreadAngle_, hit.local.t, ray.direction, surface.normal,
+                                                        instance.worldToObject, density);
+        }
         return surface;
     }
 
-    // I = ka·Oa + Oe + Σ lights + ks·Or·I_r (SPEC §4). Transparent materials render
-    // opaque here: the kt·Ot·I_t term comes with the refraction feature.
-    Vec3 shade(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, RayCounts& counts) const {
+    // I = ka·Oa + Oe + Σ lights + ks·Or·I_r + kt·Ot·I_t (SPEC §4).
+    Vec3 shade(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+               const SampleId& id, RayCounts& counts) const {
         const Material& material = *surface.material;
         const GlobalCoefficients& k = scene_.globals;
         Vec3 color = k.ka * material.ambient + material.emissive;
 
         Vec3 diffuse = diffuseColor(surface);
         Vec3 toEye = -ray.direction;
-        for (const Light& light : scene_.lights) color += directLight(light, surface, diffuse, toEye, counts);
+        for (size_t i = 0; i < scene_.lights.size(); ++i)
+            color += lightContribution(scene_.lights[i], int(i), surface, diffuse, toEye, id, counts);
 
-        color += reflection(surface, ray, depth, weight, counts);
+        color += reflection(surface, ray, depth, weight, media, id, counts);
+        color += refraction(surface, ray, depth, weight, media, id, counts);
         return color;
+    }
+
+    // A light's term; an area light's is the sum over its side × side jittered samples
+    // (optics.h), each a point light with 1/side² of the intensity and its own shadow ray.
+    Vec3 lightContribution(const Light& light, int index, const SurfaceHit& surface, const Vec3& diffuse,
+                           const Vec3& toEye, const SampleId& id, RayCounts& counts) const {
+        if (light.type != LightType::Area)
+            return directLight(light, light.position, light.color, surface, diffuse, toEye, id.time, counts);
+        const int side = areaLightGridSide(settings_);
+        const Vec3 intensity = light.color / double(side * side);
+        Vec3 sum;
+        for (int cell = 0; cell < side * side; ++cell) {
+            Vec3 position = areaLightPoint(light, index, cell, side, id.pixel, id.sample, settings_.seed);
+            sum += directLight(light, position, intensity, surface, diffuse, toEye, id.time, counts);
+        }
+        return sum;
     }
 
     // D = blend·T + (1 − blend)·kd·Od, T not scaled by kd; without a texture, kd·Od.
@@ -198,38 +253,42 @@ private:
         Vec3 plain = scene_.globals.kd * material.diffuse;
         const TextureMap& map = material.texture;
         if (!settings_.textures || map.image < 0 || scene_.images[map.image].empty()) return plain;
-        Vec3 texel = sampleTexture(scene_.images[map.image], surface.uv.u, surface.uv.v, map.repeatU, map.repeatV,
-                                   settings_.textureFilter);
+        Vec3 texel = settings_.textureFilter == TextureFilter::Trilinear
+                         ? sampleTrilinear(mipmaps_[size_t(map.image)], surface.uv.u, surface.uv.v, map.repeatU,
+                                           map.repeatV, surface.textureFootprint)
+                         : sampleTexture(scene_.images[map.image], surface.uv.u, surface.uv.v, map.repeatU,
+                                         map.repeatV, settings_.textureFilter);
         return material.blend * texel + (1 - material.blend) * plain;
     }
 
-    // f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]; nothing where N·L ≤ 0.
-    Vec3 directLight(const Light& light, const SurfaceHit& surface, const Vec3& diffuse, const Vec3& toEye,
-                     RayCounts& counts) const {
-        LightPath path = pathToLight(light, surface.point);
+    // f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] for a light at `position`
+    // with intensity I_L; nothing where N·L ≤ 0.
+    Vec3 directLight(const Light& light, const Vec3& position, const Vec3& intensity, const SurfaceHit& surface,
+                     const Vec3& diffuse, const Vec3& toEye, double time, RayCounts& counts) const {
+        LightPath path = pathToLight(light, position, surface.point);
         double lambert = dot(surface.normal, path.toLight);
         if (lambert <= 0) return {};
         double factor = lightFactor(light, path);
         if (factor <= 0) return {};
-        if (settings_.shadows && blocked(surface, path, counts)) return {};
+        if (settings_.shadows && blocked(surface, path, time, counts)) return {};
 
         const Material& material = *surface.material;
         Vec3 mirrored = reflect(-path.toLight, surface.normal);  // R: L reflected about N
         double highlight = std::pow(std::max(dot(mirrored, toEye), 0.0), material.shininess);
         Vec3 response = diffuse * lambert + scene_.globals.ks * material.specular * highlight;
-        return factor * light.color * response;
+        return factor * intensity * response;
     }
 
     // S = 0 when any surface lies between the point and the light.
-    bool blocked(const SurfaceHit& surface, const LightPath& path, RayCounts& counts) const {
+    bool blocked(const SurfaceHit& surface, const LightPath& path, double time, RayCounts& counts) const {
         ++counts.shadow;
         Vec3 origin = surface.point + surfaceOffset_ * surface.normal;  // N·L > 0: the lit side
-        return intersector_.anyHit(origin, path.toLight, 0, path.distance);
+        return intersector_.anyHit(origin, path.toLight, 0, path.distance, time);
     }
 
     // ks·Or·I_r with I_r clamped to [0, 1], while depth and weight allow (SPEC §4).
-    Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight,
-                    RayCounts& counts) const {
+    Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+                    const SampleId& id, RayCounts& counts) const {
         const Material& material = *surface.material;
         if (!settings_.reflections || material.reflective == Vec3{} || depth >= settings_.maxDepth) return {};
         Vec3 factor = scene_.globals.ks * material.reflective;
@@ -238,28 +297,50 @@ private:
 
         ++counts.secondary;
         Ray reflected{surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
-        return factor * clamp01(trace(reflected, depth + 1, branchWeight, counts));
+        return factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
+    }
+
+    // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4): the ray refracted by Snell's law
+    // into the medium beyond the surface, or under total internal reflection the mirrored
+    // ray, which stays in the medium it came from.
+    Vec3 refraction(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+                    const SampleId& id, RayCounts& counts) const {
+        const Material& material = *surface.material;
+        if (!settings_.refraction || material.transparent == Vec3{} || depth >= settings_.maxDepth) return {};
+        Vec3 factor = scene_.globals.kt * material.transparent;
+        Vec3 branchWeight = weight * factor;
+        if (belowThresholdEverywhere(branchWeight, settings_.weightThreshold)) return {};
+
+        ++counts.secondary;
+        double n1 = media.before(surface.entering, material.ior);
+        MediumStack beyond = media.beyond(surface.entering, material.ior);
+        Vec3 transmitted;
+        Ray child;
+        MediumStack childMedia = media;
+        if (refractDirection(ray.direction, surface.normal, n1, beyond.current(), transmitted)) {
+            child = {surface.point - surfaceOffset_ * surface.normal, transmitted};  // start on the far side
+            childMedia = beyond;
+        } else {
+            child = {surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
+        }
+        return factor * clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
+    }
+
+    // Mipmaps of every image, the meshes' UV densities and the pixel spread angle.
+    void prepareTrilinear() {
+        for (const Image& image : scene_.images) mipmaps_.push_back(buildMipPyramid(image));
+        for (const TriangleMesh& mesh : scene_.meshes) meshUvDensities_.push_back(meshUvDensity(mesh));
+        spreadAngle_ = pixelSpreadAngle(scene_.camera.heightAngleDegrees, settings_.height);
     }
 
     const Scene& scene_;
     const RenderSettings& settings_;
     SceneIntersector intersector_;
     double surfaceOffset_ = 0;
+    std::vector<MipPyramid> mipmaps_;      // trilinear filtering only
+    std::vector<double> meshUvDensities_;  // trilinear filtering only
+    double spreadAngle_ = 0;
 };
-
-// The primitives this renderer cannot draw yet make the scene an input error (exit 2).
-void requireSupportedPrimitives(const Scene& scene) {
-    for (PrimitiveType type : {PrimitiveType::Torus, PrimitiveType::Mesh}) {
-        size_t count = std::count_if(scene.primitives.begin(), scene.primitives.end(),
-                                     [&](const PrimitiveInstance& p) { return p.type == type; });
-        if (count == 0) continue;
-        std::string name = primitiveTypeName(type);
-        throw InputError(scene.sourceFile.string() + ": error: the scene has " + std::to_string(count) + " " + name +
-                         " primitive instance(s), and " + name +
-                         " primitives are not supported yet by this renderer; remove them or replace them with "
-                         "cubes, spheres, cylinders or cones");
-    }
-}
 
 // Renders rows handed out one at a time to `threads` threads.
 class RowRenderer {
@@ -303,10 +384,13 @@ private:
 
     void renderRow(int row, RayCounts& counts) {
         for (int column = 0; column < settings_.width; ++column) {
+            // Checked per pixel too: one row of a wide image at many samples can take seconds.
+            if (options_.cancel && options_.cancel->load()) return;
             uint32_t pixel = uint32_t(row) * uint32_t(settings_.width) + uint32_t(column);
             // Samples are numbered in the order the sampling pattern asks for them, which
             // is deterministic; the lens position of sample k comes from dimensions 2, 3
-            // of sampleRandom (0, 1 are the stratified pattern's jitter).
+            // of sampleRandom (0, 1 are the stratified pattern's jitter), its shutter
+            // time from dimension 4.
             uint32_t sampleIndex = 0;
             auto sample = [&](double sx, double sy) {
                 uint32_t k = sampleIndex++;
@@ -315,7 +399,9 @@ private:
                     lensX = sampleRandom(pixel, k, 2, settings_.seed);
                     lensY = sampleRandom(pixel, k, 3, settings_.seed);
                 }
-                return tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY), counts);
+                double time = settings_.shutter > 0 ? settings_.shutter * sampleRandom(pixel, k, 4, settings_.seed) : 0;
+                return tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY),
+                                              SampleId{pixel, k, time}, counts);
             };
             image_.set(column, row, samplePixel(settings_, pixel, sample));
         }
@@ -334,7 +420,6 @@ private:
 
 Image renderReference(const Scene& scene, const RenderSettings& settings, const ReferenceRenderOptions& options,
                       RayCounts* counts) {
-    requireSupportedPrimitives(scene);
     if (counts) *counts = {};
     if (settings.width <= 0 || settings.height <= 0) return Image(std::max(0, settings.width), std::max(0, settings.height));
     RowRenderer renderer(scene, settings, options);

@@ -30,10 +30,25 @@ struct RenderSettings {
     bool depthOfField = true;
     TextureFilter textureFilter = TextureFilter::Nearest;
     uint32_t seed = 0;
+    // Point samples per area light, on a k×k jittered grid (k = floor(√areaSamples)):
+    // 16 keeps the course's area-light penumbras smooth under course antialiasing.
+    int areaSamples = 16;
+    // Motion blur: camera sample k of a pixel sees the scene at time
+    // t = shutter · sampleRandom(pixel, k, 4, seed) (random.h), when every moving instance
+    // is translated by t·motion (scene.h PrimitiveInstance::motion). 1: the whole motion;
+    // 0: the scene at rest. Every antialiasing mode draws the time per camera sample.
+    double shutter = 1;
 };
+
+// k = floor(√areaSamples), at least 1: the side of an area light's sample grid.
+int areaLightGridSide(const RenderSettings& settings);
 
 // The course's antialiasing constants (SPEC §3).
 constexpr double kCourseAaContrast = 0.2;  // max − min spread that triggers subdivision
 constexpr int kCourseAaMaxLevel = 3;       // levels 1..3: at most 4³ = 64 samples a pixel
+// --aa adaptive refines a pixel whose first four samples spread by more than this (the
+// kernel's RAY_ADAPTIVE_CONTRAST): a tenth of the range, well above the 8-bit step, so
+// that the flat regions of an image stay at four samples.
+constexpr double kAdaptiveContrast = 0.1;
 
 }  // namespace ray

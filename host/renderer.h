@@ -1,6 +1,7 @@
 // Choosing a renderer (an OpenCL device or the host reference) and running it.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <iosfwd>
 #include <stdexcept>
@@ -24,11 +25,15 @@ struct RenderJob {
     const RenderSettings& settings;
     std::string device = "auto";  // auto | cpu | gpu | all | ref | <index>
     std::function<void(double)> progress;
+    // Set to true (e.g. from a signal handler) to stop early: the render returns within
+    // about a second with RenderOutput::interrupted set and unrendered pixels black.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct RenderOutput {
     Image image;
     RenderStats stats;
+    bool interrupted = false;  // stopped by RenderJob::cancel: the image is partial
 };
 
 // Renders on the device the job names. With "all" it renders on every device in turn and

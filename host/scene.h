@@ -12,6 +12,7 @@
 
 #include "image.h"
 #include "math.h"
+#include "mesh.h"
 
 namespace ray {
 
@@ -77,7 +78,14 @@ struct PrimitiveInstance {
     Affine worldToObject;
     PrimitiveType type = PrimitiveType::Cube;
     int material = 0;
-    int mesh = -1;  // index into Scene::meshFiles for PrimitiveType::Mesh
+    int mesh = -1;  // index into Scene::meshFiles (and Scene::meshes) for PrimitiveType::Mesh
+    // The object-space box holding the primitive: the unit cube [−0.5, 0.5]³ by default, the
+    // torus's own slimmer box, a mesh's bounds. Both BVHs box instances with it.
+    Vec3 objectLo{-0.5, -0.5, -0.5}, objectHi{0.5, 0.5, 0.5};
+    // Motion blur (the <motion> extension, scene_loader.cpp): the world-space displacement
+    // reached at the end of the shutter. At shutter time t ∈ [0, 1] the instance is
+    // translated by t·motion (objectToWorld is its place at t = 0); zero: it stands still.
+    Vec3 motion{0, 0, 0};
 };
 
 struct Scene {
@@ -90,8 +98,10 @@ struct Scene {
     // Textures and bump maps, each file loaded once however many materials name it.
     std::vector<Image> images;
     std::vector<std::filesystem::path> imageFiles;
-    // Resolved OBJ files named by mesh primitives (geometry comes with the mesh issue).
+    // Resolved OBJ files named by mesh primitives, and their triangles (meshes[i] read
+    // from meshFiles[i]), each stored once however many instances use it.
     std::vector<std::filesystem::path> meshFiles;
+    std::vector<TriangleMesh> meshes;
 };
 
 // Bad input: the message is complete ("scene.xml:12: error: ..."), ready to print.

@@ -31,6 +31,17 @@
 //  - Element names and keywords (object types, primitive names, light types) are matched
 //    ignoring case; tree names are matched exactly.
 //  - Inline subtrees may carry a name; it is ignored (masters name top-level trees only).
+//
+// Our extension, motion blur: <motion x="" y="" z=""/> in a <transblock> moves everything
+// in that block (primitives, subtrees, masters) by the translation (x, y, z) over the
+// shutter, expressed in the block's parent frame (the frame its transforms act in, so
+// its place among them does not matter). At shutter time t ∈ [0, 1] the block's contents
+// are translated by t·(x, y, z) in that frame; t = 0 is the static scene. Nested motions
+// compose: a primitive's world-space motion (PrimitiveInstance::motion) is the sum over
+// its enclosing blocks of each block's motion carried to world space by its parent's
+// linear transform, which is exactly the composition of the translations. Only
+// translation moves (no rotation or scale over time). A second <motion> in one block adds
+// to the first, with a warning.
 #include "scene_loader.h"
 
 #include <tinyxml2.h>
@@ -52,6 +63,8 @@
 #include <variant>
 
 #include "file_search.h"
+#include "memory_limits.h"
+#include "shapes.h"  // the torus radii, for its bounds
 
 namespace fs = std::filesystem;
 using tinyxml2::XMLAttribute;
@@ -236,6 +249,7 @@ using SceneItem = std::variant<PrimitiveNode, std::unique_ptr<TreeNode>, MasterR
 struct Block {
     Affine toParent;    // T1 · T2 · … · Tn
     Affine fromParent;  // its inverse, composed from the exact inverses of each Ti
+    Vec3 motion;        // <motion>: the end-of-shutter displacement, in the parent's frame
     std::vector<SceneItem> items;
 };
 
@@ -250,6 +264,7 @@ struct NamedTree {
     TreeNode tree;
     State state = State::Uncounted;
     uint64_t instances = 0;
+    int levels = 0;  // how deep trees and masters nest inside it (set by the count pass)
 };
 
 // ---------------------------------------------------------------------------------------
@@ -462,6 +477,10 @@ private:
                 block.items.push_back(parseObject(*child));
                 continue;
             }
+            if (sameName(child->Name(), "motion")) {
+                parseMotion(*child, block);
+                continue;
+            }
             std::optional<std::pair<Affine, Affine>> transform = parseTransform(*child);
             if (!transform) {
                 warnUnknown(*child, element);
@@ -471,6 +490,17 @@ private:
             block.fromParent = transform->second * block.fromParent;
         }
         return block;
+    }
+
+    // <motion x y z/> (our extension, see the header comment): the block's displacement
+    // at the end of the shutter, in the parent's frame. A second one in the same block adds
+    // to the first, with a warning (it is more likely a slip than a wish).
+    void parseMotion(const XMLElement& element, Block& block) const {
+        Vec3 displacement = triple(element);  // three finite numbers, or an error
+        if (block.motion != Vec3{})
+            diagnostics_.warning(element.GetLineNum(),
+                                 "a second <motion> in one <transblock>; the displacements add up");
+        block.motion += displacement;
     }
 
     // A transform element and its exact inverse; nullopt for other elements.
@@ -676,6 +706,11 @@ private:
 // ---------------------------------------------------------------------------------------
 // Pass 2: counting instances, resolving masters, finding cycles
 
+// How deep inline trees and masters may nest. Counting and flattening recurse once per
+// level; a chain of 100000 masters overflowed the stack (tests/data/limits/). tinyxml2
+// itself stops inline nesting at a few hundred XML levels.
+constexpr int kMaxNestingLevels = 1000;
+
 uint64_t saturatingAdd(uint64_t a, uint64_t b) {
     return a > std::numeric_limits<uint64_t>::max() - b ? std::numeric_limits<uint64_t>::max() : a + b;
 }
@@ -692,27 +727,44 @@ public:
     }
 
     uint64_t count(NamedTree& tree, int referenceLine) {
-        if (tree.state == NamedTree::State::Counted) return tree.instances;
+        if (tree.state == NamedTree::State::Counted) {
+            noteLevel(depth_ + tree.levels, referenceLine);  // a tree counted before, reached deeper
+            return tree.instances;
+        }
         if (tree.state == NamedTree::State::Counting) reportCycle(tree, referenceLine);
         tree.state = NamedTree::State::Counting;
         path_.push_back(&tree);
-        tree.instances = count(tree.tree);
+        const int entryDepth = depth_, deepestOutside = deepest_;
+        deepest_ = depth_;
+        tree.instances = count(tree.tree, referenceLine);
+        tree.levels = deepest_ - entryDepth;
+        deepest_ = std::max(deepest_, deepestOutside);
         path_.pop_back();
         tree.state = NamedTree::State::Counted;
         return tree.instances;
     }
 
 private:
-    uint64_t count(TreeNode& node) {
+    uint64_t count(TreeNode& node, int line) {
+        noteLevel(++depth_, line);
         uint64_t total = 0;
         for (Block& block : node.blocks)
-            for (SceneItem& item : block.items) total = saturatingAdd(total, count(item));
+            for (SceneItem& item : block.items) total = saturatingAdd(total, count(item, line));
+        --depth_;
         return total;
     }
 
-    uint64_t count(SceneItem& item) {
+    void noteLevel(int level, int line) {
+        deepest_ = std::max(deepest_, level);
+        if (level > kMaxNestingLevels)
+            diagnostics_.error(line, "trees and masters nest more than " + std::to_string(kMaxNestingLevels) +
+                                         " levels deep",
+                               "flatten the hierarchy (fewer levels of masters or nested trees)");
+    }
+
+    uint64_t count(SceneItem& item, int line) {
         if (std::holds_alternative<PrimitiveNode>(item)) return 1;
-        if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item)) return count(**subtree);
+        if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item)) return count(**subtree, line);
         MasterReference& master = std::get<MasterReference>(item);
         auto it = trees_.find(master.name);
         if (it == trees_.end())
@@ -745,6 +797,8 @@ private:
     const Diagnostics& diagnostics_;
     std::map<std::string, NamedTree>& trees_;
     std::vector<const NamedTree*> path_;  // the trees being counted, outermost first
+    int depth_ = 0;                        // tree levels entered on the current path
+    int deepest_ = 0;                      // the deepest level reached in the tree being counted
 };
 
 // ---------------------------------------------------------------------------------------
@@ -755,29 +809,42 @@ public:
     Flattener(const Diagnostics& diagnostics, const LoadOptions& options, Scene& scene)
         : diagnostics_(diagnostics), options_(options), scene_(scene) {}
 
-    void flatten(TreeNode& node, const Affine& toWorld, const Affine& toObject) {
+    // worldMotion: the enclosing blocks' end-of-shutter displacement, in world space. A
+    // block's own <motion> is in its parent's frame (toWorld), so it adds
+    // toWorld's linear part applied to it: translations compose exactly that way.
+    void flatten(TreeNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& worldMotion = {}) {
         for (Block& block : node.blocks) {
             Affine blockToWorld = toWorld * block.toParent;
             Affine blockToObject = block.fromParent * toObject;
+            Vec3 blockMotion = worldMotion + toWorld.transformVector(block.motion);
             for (SceneItem& item : block.items) {
                 if (auto* primitive = std::get_if<PrimitiveNode>(&item))
-                    addInstance(*primitive, blockToWorld, blockToObject);
+                    addInstance(*primitive, blockToWorld, blockToObject, blockMotion);
                 else if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item))
-                    flatten(**subtree, blockToWorld, blockToObject);
+                    flatten(**subtree, blockToWorld, blockToObject, blockMotion);
                 else
-                    flatten(std::get<MasterReference>(item).target->tree, blockToWorld, blockToObject);
+                    flatten(std::get<MasterReference>(item).target->tree, blockToWorld, blockToObject, blockMotion);
             }
         }
     }
 
 private:
-    void addInstance(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject) {
+    void addInstance(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& motion) {
         PrimitiveInstance& instance = scene_.primitives.emplace_back();
         instance.objectToWorld = toWorld;
         instance.worldToObject = toObject;
+        instance.motion = motion;
         instance.type = node.type;
         instance.material = materialOf(node);
         instance.mesh = meshOf(node);
+        if (node.type == PrimitiveType::Torus) {
+            instance.objectLo = {-kTorusMajorRadius - kTorusMinorRadius, -kTorusMinorRadius,
+                                 -kTorusMajorRadius - kTorusMinorRadius};
+            instance.objectHi = -1 * instance.objectLo;
+        } else if (node.type == PrimitiveType::Mesh) {
+            instance.objectLo = scene_.meshes[size_t(instance.mesh)].boundsLo;
+            instance.objectHi = scene_.meshes[size_t(instance.mesh)].boundsHi;
+        }
     }
 
     // One Material per primitive element, made on its first instance.
@@ -795,6 +862,7 @@ private:
         if (node.type != PrimitiveType::Mesh || node.sceneMesh >= 0) return node.sceneMesh;
         node.sceneMesh = indexOf(node.meshFile, meshIndex_, [&](const fs::path& file) {
             scene_.meshFiles.push_back(file);
+            scene_.meshes.push_back(loadObjMesh(file));  // an unreadable file is an InputError
             return int(scene_.meshFiles.size()) - 1;
         });
         return node.sceneMesh;
@@ -911,7 +979,13 @@ Scene loadSceneFromText(const std::string& xml, const fs::path& file, const Load
                           "the scene flattens to " + std::to_string(root->instances) +
                               " primitive instances, more than the limit of " +
                               std::to_string(options.maxPrimitives),
-                          "use fewer levels of masters, or raise the primitive limit");
+                          "use fewer levels of masters, or raise the limit with --max-primitives");
+    // Estimated from the count before a single instance is made (memory_limits.h).
+    if (auto shortfall = hostMemoryShortfall(root->instances * kHostBytesPerInstance))
+        diagnostics.error(root->line,
+                          "the scene flattens to " + std::to_string(root->instances) + " primitive instances, which " +
+                              *shortfall,
+                          "use fewer levels of masters or a machine with more memory");
 
     scene.primitives.reserve(root->instances);
     Flattener(diagnostics, options, scene).flatten(root->tree, Affine::identity(), Affine::identity());

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <utility>
 
+#include "polynomial.h"
+
 namespace ray {
 
 namespace {
@@ -228,6 +230,51 @@ std::optional<ShapeHit> intersectCone(const Vec3& origin, const Vec3& direction,
     return capOrSideHit(p, nearest.t(), nearest.surface(), sideNormal);
 }
 
+std::optional<ShapeHit> intersectTorus(const Vec3& origin, const Vec3& direction, double tMin, double tMax) {
+    constexpr double R = kTorusMajorRadius, r = kTorusMinorRadius;
+    // Work with a unit direction (s = t·|direction|) and start the ray where it enters the
+    // torus's bounding box: the quartic's coefficients then stay of the order of the torus
+    // itself, however far away the ray starts (the direct form loses every digit to the
+    // origin's distance, squared twice).
+    double scale = length(direction);
+    if (scale == 0) return std::nullopt;
+    Vec3 d = direction / scale;
+    double sLo = tMin * scale, sHi = tMax * scale;
+    const Vec3 half{R + r, r, R + r};
+    for (int axis = 0; axis < 3; ++axis) {
+        double padded = half[axis] * (1 + 1e-9);
+        if (d[axis] == 0) {
+            if (std::abs(origin[axis]) > padded) return std::nullopt;
+            continue;
+        }
+        double s0 = (-padded - origin[axis]) / d[axis], s1 = (padded - origin[axis]) / d[axis];
+        if (s0 > s1) std::swap(s0, s1);
+        sLo = std::max(sLo, s0);
+        sHi = std::min(sHi, s1);
+        if (sLo > sHi) return std::nullopt;
+    }
+    Vec3 o = origin + sLo * d;
+
+    // (|p|² + R² − r²)² = 4R²(x² + z²) along p = o + s·d, as a quartic in s (monic).
+    double k = dot(o, o) + R * R - r * r, m = dot(o, d);
+    double radialD = d.x * d.x + d.z * d.z, radialOD = o.x * d.x + o.z * d.z, radialO = o.x * o.x + o.z * o.z;
+    const double c[5] = {k * k - 4 * R * R * radialO, 4 * m * k - 8 * R * R * radialOD,
+                         4 * m * m + 2 * k - 4 * R * R * radialD, 4 * m, 1};
+    double roots[4];
+    int count = polynomialRootsInInterval(c, 4, 0, sHi - sLo, roots);
+    const double* root = std::find_if(roots, roots + count, [&](double s) { return sLo + s > tMin * scale; });
+    if (root == roots + count) return std::nullopt;
+
+    Vec3 p = o + *root * d;
+    double radial = std::sqrt(p.x * p.x + p.z * p.z);
+    Vec3 ringPoint = radial > 0 ? Vec3{p.x, 0, p.z} * (R / radial) : Vec3{R, 0, 0};
+    ShapeHit hit;
+    hit.t = (sLo + *root) / scale;
+    hit.normal = normalize(p - ringPoint);
+    hit.uv = {sphericalU(p), fract(std::atan2(p.y, radial - R) / (2 * kPi))};
+    return hit;
+}
+
 std::optional<ShapeHit> intersectUnitPrimitive(PrimitiveType type, const Vec3& origin, const Vec3& direction,
                                                double tMin, double tMax) {
     switch (type) {
@@ -235,7 +282,7 @@ std::optional<ShapeHit> intersectUnitPrimitive(PrimitiveType type, const Vec3& o
         case PrimitiveType::Sphere: return intersectSphere(origin, direction, tMin, tMax);
         case PrimitiveType::Cylinder: return intersectCylinder(origin, direction, tMin, tMax);
         case PrimitiveType::Cone: return intersectCone(origin, direction, tMin, tMax);
-        case PrimitiveType::Torus:
+        case PrimitiveType::Torus: return intersectTorus(origin, direction, tMin, tMax);
         case PrimitiveType::Mesh: return std::nullopt;
     }
     return std::nullopt;

@@ -23,15 +23,23 @@ struct ShapeHit {
     double t = 0;
     Vec3 normal;  // object space, unit length, pointing out of the solid
     UV uv;
+    Vec3 tangent;  // meshes: object-space direction of increasing u (bump mapping); zero: none
 };
 
 std::optional<ShapeHit> intersectCube(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 std::optional<ShapeHit> intersectSphere(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 std::optional<ShapeHit> intersectCylinder(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 std::optional<ShapeHit> intersectCone(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
+// The torus of SPEC §2: the ring of major radius kTorusMajorRadius around the y axis, in
+// the xz plane, swept by a circle of radius kTorusMinorRadius. Normal from the nearest
+// point of the ring; u as the sphere's around y, v = the angle around the tube / 2π,
+// measured from the outer equator and growing upward on the outside (v up as seen from
+// outside, as SPEC §5 asks of every mapping).
+constexpr double kTorusMajorRadius = 0.375, kTorusMinorRadius = 0.125;
+std::optional<ShapeHit> intersectTorus(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 
-// Dispatches on the type. Torus and mesh are not drawn yet: they return no hit (the
-// renderer refuses scenes that contain them before it traces anything).
+// Dispatches on the type. Meshes are not unit primitives: they return no hit here (the
+// reference BVH intersects them with their own mesh intersector).
 std::optional<ShapeHit> intersectUnitPrimitive(PrimitiveType type, const Vec3& origin, const Vec3& direction,
                                                double tMin, double tMax);
 

@@ -22,10 +22,6 @@ const std::map<std::string, std::string> kExpectedErrors = {
     {"PenroseTriangle.xml", "unknown primitive 'triangle'"},
 };
 
-// Torus and mesh primitives come with the geometry issue; until then such scenes are a
-// clear "not supported yet" error.
-bool notSupportedYet(const std::string& output) { return output.find("not supported yet") != std::string::npos; }
-
 void renderCorpus(const std::string& device) {
     auto shared = ray::test::sharedDir();
     if (!shared) {
@@ -40,7 +36,7 @@ void renderCorpus(const std::string& device) {
 
     const fs::path out = ray::test::outputDir() / ("corpus_" + device);
     fs::create_directories(out);
-    int rendered = 0, expectedFailures = 0, unsupported = 0;
+    int rendered = 0, expectedFailures = 0;
     double slowest = 0;
     std::string slowestScene;
     for (const fs::path& scene : scenes) {
@@ -59,18 +55,15 @@ void renderCorpus(const std::string& device) {
             CHECK(r.output.find(name + ":") != std::string::npos);  // names the file and line
             CHECK_FALSE(fs::exists(image));
             ++expectedFailures;
-        } else if (r.exitCode == 2 && notSupportedYet(r.output)) {
-            CHECK_FALSE(fs::exists(image));
-            ++unsupported;
         } else {
             CHECK(r.exitCode == 0);
             CHECK(fs::exists(image));
             ++rendered;
         }
     }
-    std::cout << device << ": " << rendered << " rendered, " << expectedFailures << " expected errors, "
-              << unsupported << " not supported yet; slowest " << slowestScene << " " << slowest << " s\n";
-    CHECK(rendered + expectedFailures + unsupported == int(scenes.size()));
+    std::cout << device << ": " << rendered << " rendered, " << expectedFailures << " expected errors; slowest "
+              << slowestScene << " " << slowest << " s\n";
+    CHECK(rendered + expectedFailures == int(scenes.size()));
 }
 
 }  // namespace

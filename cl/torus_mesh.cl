@@ -1,0 +1,204 @@
+/* The torus and triangle meshes (SPEC §2), in object space like the other primitives;
+ * declared in intersect.cl, which dispatches to them.
+ *
+ * No fast-math here either: the root isolation and the slab tests rely on exact IEEE
+ * comparisons. */
+
+#define TORUS_MAJOR 0.375f
+#define TORUS_MINOR 0.125f
+
+/* Derivative `order` (0 to 3) of the monic quartic s⁴ + c.w s³ + c.z s² + c.y s + c.x. */
+inline float quarticDerivative(float4 c, int order, float s) {
+    switch (order) {
+        case 0: return (((s + c.w) * s + c.z) * s + c.y) * s + c.x;
+        case 1: return ((4.0f * s + 3.0f * c.w) * s + 2.0f * c.z) * s + c.y;
+        case 2: return (12.0f * s + 6.0f * c.w) * s + 2.0f * c.z;
+        default: return 24.0f * s + 6.0f * c.w;
+    }
+}
+
+/* The one root of derivative `order` in [a, b], where it is monotone and changes sign
+ * (f(a) = fa): bisection until the interval cannot shrink in float. */
+float bisectQuartic(float4 c, int order, float a, float b, float fa) {
+    for (int i = 0; i < 64; ++i) {
+        float mid = 0.5f * (a + b);
+        if (mid <= a || mid >= b) break;
+        float fm = quarticDerivative(c, order, mid);
+        if (fm == 0.0f) return mid;
+        if ((fm < 0.0f) == (fa < 0.0f)) {
+            a = mid;
+            fa = fm;
+        } else {
+            b = mid;
+        }
+    }
+    return 0.5f * (a + b);
+}
+
+/* Isolation (host/polynomial.cpp does the same in double): given breakpoints b[0..n-1]
+ * (the interval's ends and, between them, the roots of derivative order + 1, ascending),
+ * derivative `order` is monotone between neighbours; writes its roots into out (between
+ * the ends out[0] = b[0] and out[count - 1] = b[n - 1], which the caller's next level
+ * needs) and returns the new breakpoint count. */
+int quarticBreakpoints(float4 c, int order, const float* b, int n, float* out) {
+    int count = 0;
+    out[count++] = b[0];
+    float fLo = quarticDerivative(c, order, b[0]);
+    for (int i = 0; i + 1 < n; ++i) {
+        float fB = quarticDerivative(c, order, b[i + 1]);
+        if (i + 2 < n && fB == 0.0f) out[count++] = b[i + 1];
+        else if (fLo != 0.0f && fB != 0.0f && (fLo < 0.0f) != (fB < 0.0f))
+            out[count++] = bisectQuartic(c, order, b[i], b[i + 1], fLo);
+        fLo = fB;
+    }
+    out[count++] = b[n - 1];
+    return count;
+}
+
+/* Ray–torus: (|p|² + R² − r²)² = 4R²(x² + z²). The ray is first moved to where it enters
+ * the torus's bounding box and given a unit direction, so that the quartic's coefficients
+ * are of the torus's own size (in the direct form, a distant origin's magnitude, raised to
+ * the fourth power, swamps the float mantissa). Its roots on the box's span are then
+ * isolated through the derivatives' roots and bisected: robust for grazing rays (two close
+ * roots) and rays through the hole (none) alike. */
+void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal) {
+    float scale = length(d);
+    if (scale == 0.0f) return;
+    float3 u = d / scale;
+    /* Slabs of the box [±(R + r), ±r, ±(R + r)], a little padded; s = t·|d|. */
+    float3 halfSize = (float3)(TORUS_MAJOR + TORUS_MINOR, TORUS_MINOR, TORUS_MAJOR + TORUS_MINOR) * 1.001f;
+    float3 inverse = safeInverse(u);
+    float3 s0 = (-halfSize - o) * inverse, s1 = (halfSize - o) * inverse;
+    float3 sNear = fmin(s0, s1), sFar = fmax(s0, s1);
+    float sLo = fmax(fmax(sNear.x, sNear.y), fmax(sNear.z, 0.0f));
+    float sHi = fmin(fmin(sFar.x, sFar.y), fmin(sFar.z, *best * scale));
+    if (!(sLo <= sHi)) return;
+    float3 q = o + sLo * u;
+
+    const float R2 = TORUS_MAJOR * TORUS_MAJOR;
+    float k = dot(q, q) + R2 - TORUS_MINOR * TORUS_MINOR, m = dot(q, u);
+    float radialD = u.x * u.x + u.z * u.z, radialOD = q.x * u.x + q.z * u.z, radialO = q.x * q.x + q.z * q.z;
+    float4 c = (float4)(k * k - 4.0f * R2 * radialO, 4.0f * m * k - 8.0f * R2 * radialOD,
+                        4.0f * m * m + 2.0f * k - 4.0f * R2 * radialD, 4.0f * m);
+    float span = sHi - sLo;
+
+    /* Breakpoints, level by level: the third derivative's root, then the second's, the
+     * first's; between the last breakpoints the quartic itself is monotone. */
+    float b3[3], b2[4], b1[5];
+    int n3 = 0;
+    b3[n3++] = 0.0f;
+    float apex = -0.25f * c.w;
+    if (apex > 0.0f && apex < span) b3[n3++] = apex;
+    b3[n3++] = span;
+    int n2 = quarticBreakpoints(c, 2, b3, n3, b2);
+    int n1 = quarticBreakpoints(c, 1, b2, n2, b1);
+
+    /* The first root of the quartic beyond s = 0 (t > 0). */
+    float fLo = quarticDerivative(c, 0, b1[0]);
+    float root = -1.0f;
+    for (int i = 0; i + 1 < n1 && root < 0.0f; ++i) {
+        float fB = quarticDerivative(c, 0, b1[i + 1]);
+        if (fB == 0.0f) root = b1[i + 1];
+        else if (fLo != 0.0f && (fLo < 0.0f) != (fB < 0.0f)) root = bisectQuartic(c, 0, b1[i], b1[i + 1], fLo);
+        if (root >= 0.0f && !(sLo + root > 0.0f)) root = -1.0f; /* at the origin itself */
+        fLo = fB;
+    }
+    if (root < 0.0f) return;
+    float t = (sLo + root) / scale;
+    if (!(t > 0.0f && t < *best)) return;
+    float3 p = q + root * u;
+    float radial = sqrt(p.x * p.x + p.z * p.z);
+    float3 ring = radial > 0.0f ? (float3)(p.x, 0.0f, p.z) * (TORUS_MAJOR / radial) : (float3)(TORUS_MAJOR, 0.0f, 0.0f);
+    *best = t;
+    *part = PART_SIDE;
+    *normal = p - ring; /* from the nearest point of the ring: outward */
+}
+
+/* The torus's v (SPEC §5): the angle around the tube / 2π, 0 on the outer equator,
+ * growing upward on the outside. */
+inline float torusV(float3 p) {
+    float radial = sqrt(p.x * p.x + p.z * p.z);
+    float v = atan2(p.y, radial - TORUS_MAJOR) / (2.0f * M_PI_F);
+    return v - floor(v);
+}
+
+/* Möller–Trumbore against one triangle (p0, e1 = p1 − p0, e2 = p2 − p0). */
+inline void intersectTriangle(__global const RayTriangle* triangle, int index, float3 o, float3 d, float* best,
+                              int* part, float3* normal, float2* barycentric) {
+    float3 p0 = triangle->p0.xyz, e1 = triangle->e1.xyz, e2 = triangle->e2.xyz;
+    float3 pv = cross(d, e2);
+    float det = dot(e1, pv);
+    if (det == 0.0f) return;
+    float inverseDet = 1.0f / det;
+    float3 tv = o - p0;
+    float b1 = dot(tv, pv) * inverseDet;
+    if (b1 < 0.0f || b1 > 1.0f) return;
+    float3 qv = cross(tv, e1);
+    float b2 = dot(d, qv) * inverseDet;
+    if (b2 < 0.0f || b1 + b2 > 1.0f) return;
+    float t = dot(e2, qv) * inverseDet;
+    if (t > 0.0f && t < *best) {
+        *best = t;
+        *part = index;
+        *normal = cross(e1, e2);
+        *barycentric = (float2)(b1, b2);
+    }
+}
+
+/* The mesh's own BVH (two-level: instances above, one tree per mesh below, the triangles
+ * stored once however many instances use them), walked as traceBvh walks the scene's; its
+ * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
+ * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
+void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
+                   float3 d, float* best, int* part, float3* normal, float2* barycentric) {
+    float3 inverseDirection = safeInverse(d);
+    int stack[RAY_BVH_STACK];
+    int top = 0;
+    int nodeIndex = root;
+    while (true) {
+        __global const RayBvhNode* node = &nodes[nodeIndex];
+        float2 entry = childEntryDistances(node, o, inverseDirection, *best);
+        int4 links = node->links;
+        int innerChild[2];
+        float innerEntry[2];
+        int inner = 0;
+        for (int c = 0; c < 2; ++c) {
+            int index = c == 0 ? links.x : links.z;
+            int count = c == 0 ? links.y : links.w;
+            float t = c == 0 ? entry.x : entry.y;
+            if (index < 0 || !(t < *best)) continue;
+            if (count > 0) {
+                for (int i = index; i < index + count; ++i)
+                    intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
+            } else {
+                innerChild[inner] = index;
+                innerEntry[inner] = t;
+                ++inner;
+            }
+        }
+        if (inner == 2) {
+            bool leftFirst = innerEntry[0] <= innerEntry[1];
+            if (top < RAY_BVH_STACK) stack[top++] = leftFirst ? innerChild[1] : innerChild[0];
+            nodeIndex = leftFirst ? innerChild[0] : innerChild[1];
+        } else if (inner == 1) {
+            nodeIndex = innerChild[0];
+        } else {
+            if (top == 0) break;
+            nodeIndex = stack[--top];
+        }
+    }
+}
+
+/* The shading normal of a mesh hit (object space): the corners' normals (the file's vn, or
+ * the face normal where it gave none) interpolated at the hit. */
+inline float3 meshShadingNormal(__global const RayTriangleShading* shading, int triangle, float2 b) {
+    __global const RayTriangleShading* s = &shading[triangle];
+    float3 n = (1.0f - b.x - b.y) * s->n0.xyz + b.x * s->n1.xyz + b.y * s->n2.xyz;
+    return dot(n, n) > 0.0f ? n : s->n0.xyz;
+}
+
+/* The texture coordinates of a mesh hit: the corners' vt interpolated, (0, 0) without. */
+inline float2 meshUv(__global const RayTriangleShading* shading, int triangle, float2 b) {
+    __global const RayTriangleShading* s = &shading[triangle];
+    return (1.0f - b.x - b.y) * s->uv01.xy + b.x * s->uv01.zw + b.y * s->uv2.xy;
+}

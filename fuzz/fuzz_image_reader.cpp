@@ -1,0 +1,21 @@
+// libFuzzer target: texture decoding. The bytes are written to a file that ray::readImage
+// (OpenImageIO) opens as it opens a texture; the extension-less name makes OpenImageIO
+// sniff the format from the contents, so one target reaches every decoder.
+//
+// Anything but a clean ImageError is a crash. Seeds: the course's images and our textures.
+#include <cstdint>
+
+#include "fuzz_support.h"
+#include "image.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    static const auto file = ray::fuzz::scratchFolder() / "texture";
+    ray::fuzz::writeBytes(file, data, size);
+    try {
+        ray::Image image = ray::readImage(file);
+        if (image.width <= 0 || image.height <= 0 || image.rgb.size() != size_t(image.width) * size_t(image.height) * 3)
+            __builtin_trap();  // readImage promises a whole image or an exception
+    } catch (const ray::ImageError&) {
+    }
+    return 0;
+}

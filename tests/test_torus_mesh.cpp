@@ -1,0 +1,149 @@
+// The torus (SPEC §2: hits, misses, grazing rays, rays through the hole, normals, UVs),
+// the polynomial root isolation under it, and triangle meshes (OBJ loading: polygons, vn,
+// vt; the mesh intersector; one mesh stored once for many instances).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "bump_mapping.h"
+#include "mesh.h"
+#include "mesh_intersector.h"
+#include "polynomial.h"
+#include "scene_loader.h"
+#include "scene_packing.h"
+#include "shapes.h"
+#include "test_support.h"
+
+using namespace ray;
+
+TEST_CASE("polynomial roots: isolated and bisected, close pairs included", "[torus]") {
+    // (x − 0.1)(x − 0.3)(x − 0.30001)(x − 2) = 0 on [0, 1]: three roots, two very close.
+    const double r[4] = {0.1, 0.3, 0.30001, 2};
+    double c[5] = {1, 0, 0, 0, 0};
+    for (double root : r) {  // multiply by (x − root)
+        for (int i = 4; i >= 1; --i) c[i] = c[i - 1] - root * c[i];
+        c[0] = -root * c[0];
+    }
+    double roots[4];
+    REQUIRE(polynomialRootsInInterval(c, 4, 0, 1, roots) == 3);
+    CHECK(roots[0] == Approx(0.1).margin(1e-12));
+    CHECK(roots[1] == Approx(0.3).margin(1e-9));
+    CHECK(roots[2] == Approx(0.30001).margin(1e-9));
+}
+
+TEST_CASE("torus: hits from outside, through the hole, grazing and misses", "[torus]") {
+    const double R = kTorusMajorRadius, r = kTorusMinorRadius;
+    SECTION("along x through the middle: the outer side first, normal outward") {
+        auto hit = intersectTorus({5, 0, 0}, {-1, 0, 0}, 0, INFINITY);
+        REQUIRE(hit);
+        CHECK(hit->t == Approx(5 - (R + r)).margin(1e-9));
+        CHECK(hit->normal.x == Approx(1).margin(1e-9));
+        CHECK(hit->uv.v == Approx(0).margin(1e-9));  // outer equator
+    }
+    SECTION("down the axis, through the hole: a miss") {
+        CHECK_FALSE(intersectTorus({0, 5, 0}, {0, -1, 0}, 0, INFINITY));
+    }
+    SECTION("down onto the tube from above: top of the tube, v = 1/4") {
+        auto hit = intersectTorus({R, 5, 0}, {0, -1, 0}, 0, INFINITY);
+        REQUIRE(hit);
+        CHECK(hit->t == Approx(5 - r).margin(1e-9));
+        CHECK(hit->normal.y == Approx(1).margin(1e-9));
+        CHECK(hit->uv.v == Approx(0.25).margin(1e-9));
+        CHECK(hit->uv.u == Approx(0).margin(1e-9));
+    }
+    SECTION("grazing the top of the tube: just above misses, just below hits near the tangent point") {
+        CHECK_FALSE(intersectTorus({-5, r + 1e-7, 0}, {1, 0, 0}, 0, INFINITY));
+        auto hit = intersectTorus({-5, r - 1e-7, 0}, {1, 0, 0}, 0, INFINITY);
+        REQUIRE(hit);
+        CHECK(hit->t == Approx(5 - R).margin(1e-3));
+        CHECK(hit->normal.y > 0.99);
+    }
+    SECTION("a ray through the hole in the ring's plane hits the far inner side") {
+        auto hit = intersectTorus({0, 0, 0}, {1, 0, 0}, 0, INFINITY);
+        REQUIRE(hit);
+        CHECK(hit->t == Approx(R - r).margin(1e-9));
+        CHECK(hit->normal.x == Approx(-1).margin(1e-9));
+        CHECK(hit->uv.v == Approx(0.5).margin(1e-9));
+    }
+    SECTION("from a far origin with an unnormalized direction, t keeps its units") {
+        auto hit = intersectTorus({1000, 0, 0}, {-2, 0, 0}, 0, INFINITY);
+        REQUIRE(hit);
+        CHECK(hit->t == Approx((1000 - R - r) / 2).epsilon(1e-12));
+    }
+    SECTION("from inside the tube, the hit is where the ray leaves") {
+        auto hit = intersectTorus({R, 0, 0}, {0, 1, 0}, 0, INFINITY);
+        REQUIRE(hit);
+        CHECK(hit->t == Approx(r).margin(1e-9));
+    }
+    SECTION("tMax cuts off hits beyond it") { CHECK_FALSE(intersectTorus({5, 0, 0}, {-1, 0, 0}, 0, 4)); }
+}
+
+TEST_CASE("OBJ loading: polygons are triangulated, vn and vt kept", "[mesh]") {
+    const char* obj =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+        "vn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "f 1/1/1 2/2/1 3/3/1 4/4/1\n"  // a quad: two triangles
+        "f 1 2 5\n";                   // no vn, no vt
+    TriangleMesh mesh = parseObjMesh(obj, "test.obj");
+    REQUIRE(mesh.triangles.size() == 3);
+    CHECK(mesh.boundsHi.z == 1);
+    // The quad's two triangles cover it (area 1); the plain face reads (0, 0) and its face
+    // normal. (The quad's vt interpolation is checked through the intersector below.)
+    double quadArea = length(cross(mesh.corner(0, 1) - mesh.corner(0, 0), mesh.corner(0, 2) - mesh.corner(0, 0))) / 2 +
+                      length(cross(mesh.corner(1, 1) - mesh.corner(1, 0), mesh.corner(1, 2) - mesh.corner(1, 0))) / 2;
+    CHECK(quadArea == Approx(1));
+    CHECK(mesh.shadingNormal(0, 0.2, 0.2).z == Approx(1));
+    CHECK(mesh.texCoordAt(2, 0.3, 0.3)[0] == 0);
+    Vec3 face = mesh.shadingNormal(2, 0.3, 0.3);
+    CHECK(std::abs(face.y) == Approx(1));
+
+    MeshIntersector intersector(mesh);
+    auto hit = intersector.intersect({0.25, 0.75, 5}, {0, 0, -1}, 0, INFINITY);
+    REQUIRE(hit);
+    CHECK(hit->t == Approx(5));
+    CHECK(hit->uv.u == Approx(0.25));
+    CHECK(hit->uv.v == Approx(0.75));
+    CHECK_FALSE(intersector.intersect({2, 2, 5}, {0, 0, -1}, 0, INFINITY));
+
+    CHECK_THROWS_AS(parseObjMesh("v 0 0 0\n", "empty.obj"), InputError);
+}
+
+TEST_CASE("a mesh used by several instances is stored once", "[mesh]") {
+    Scene scene = loadScene(test::scenesDir() / "mesh_vase.xml");
+    REQUIRE(scene.meshes.size() == 1);
+    int instances = 0;
+    for (const PrimitiveInstance& p : scene.primitives) instances += p.type == PrimitiveType::Mesh;
+    CHECK(instances == 3);
+    PackedScene packed = packScene(scene);
+    CHECK(packed.triangles.size() == scene.meshes[0].triangles.size());
+    CHECK(packed.triangleShading.size() == packed.triangles.size());
+}
+
+TEST_CASE("bump mapping: a flat map keeps the normal, a ramp tilts it by the documented scale", "[bump]") {
+    Image flat(8, 8);
+    for (float& c : flat.rgb) c = 0.5f;
+    HeightSlope none = heightSlope(flat, 0.3, 0.6, 1, 1);
+    CHECK(none.alongU == 0);
+    CHECK(none.alongV == 0);
+
+    // A gray ramp rising 0.25 per texel along u, away from the wrap-around seam; with the
+    // strength 2 the normal tilts by 45° against the rise.
+    Image ramp(8, 1);
+    for (int x = 0; x < 8; ++x)
+        for (int c = 0; c < 3; ++c) ramp.rgb[size_t(x) * 3 + size_t(c)] = 0.25f * float(x) / 2;
+    HeightSlope slope = heightSlope(ramp, 0.5, 0.5, 1, 1);
+    CHECK(slope.alongU == Approx(0.125));
+    Vec3 n = bumpedNormal({0, 0, 1}, {1, 0, 0}, {0.5, 0});
+    CHECK(n.x == Approx(-std::sqrt(0.5)));
+    CHECK(n.z == Approx(std::sqrt(0.5)));
+    // Along v the tilt goes against B = N × T.
+    Vec3 m = bumpedNormal({0, 0, 1}, {1, 0, 0}, {0, 0.5});
+    CHECK(m.y == Approx(-std::sqrt(0.5)));
+    // No tangent (a mesh without vt): unchanged.
+    Vec3 same = bumpedNormal({0, 0, 1}, {}, {0.5, 0.5});
+    CHECK(same.z == 1);
+    // Tangents follow SPEC §5: the sphere's u grows along (z, 0, −x); the +x face's along −z.
+    Vec3 t = objectTangent(PrimitiveType::Sphere, {0.5, 0, 0}, {1, 0, 0});
+    CHECK(t.z == Approx(-0.5));
+    CHECK(objectTangent(PrimitiveType::Cube, {0.5, 0, 0}, {1, 0, 0}).z == -1);
+}
