@@ -14,6 +14,7 @@
 #define RAY_U32 uint
 #define RAY_FN inline
 #else
+#include <cmath>
 #include <cstdint>
 #define RAY_U32 uint32_t
 #define RAY_FN inline
@@ -30,6 +31,18 @@ RAY_FN RAY_U32 rayHash(RAY_U32 v) {
 RAY_FN float rayRandom(RAY_U32 pixel, RAY_U32 sample, RAY_U32 dimension, RAY_U32 seed) {
     RAY_U32 h = rayHash(seed ^ rayHash(dimension ^ rayHash(sample ^ rayHash(pixel))));
     return (float)(h >> 8) * (1.0f / 16777216.0f);
+}
+
+/* The reconstruction filter of the stochastic antialiasing modes: a tent of radius one
+ * pixel around the pixel's centre, applied by filter importance sampling. A stratified
+ * coordinate u ∈ [0, 1) is warped by the tent's inverse distribution function into an
+ * offset in (-0.5, 1.5) (pixel units, 0.5 the centre), so samples are denser near the
+ * centre, reach half into the neighbouring pixels, and all weigh the same: smoother edges
+ * than a box filter, with no negative lobes to ring. Shared so that both renderers place
+ * their samples identically. */
+RAY_FN float rayTentOffset(float u) {
+    float t = u < 0.5f ? sqrt(2.0f * u) - 1.0f : 1.0f - sqrt(2.0f - 2.0f * u);
+    return 0.5f + t;
 }
 
 #ifndef __OPENCL_VERSION__

@@ -223,16 +223,16 @@ float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int
     return 0.25f * (a + b + c + d);
 }
 
-/* Stratified jittered samples: an n×n grid (n = floor(sqrt(samples))), one uniformly
- * placed sample per cell, averaged (a box filter over the pixel). */
+/* Stratified jittered samples: an n×n grid (n = floor(sqrt(samples))), one jittered sample
+ * per cell warped through the tent reconstruction filter (rayTentOffset), averaged. */
 float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
     int n = max(1, (int)floor(sqrt((float)params->mode.w)));
     uint pixel = counter->pixel;
     uint seed = (uint)params->counts.w;
     float3 sum = (float3)(0.0f);
     for (int s = 0; s < n * n; ++s) {
-        float sx = ((float)(s % n) + rayRandom(pixel, (uint)s, 0u, seed)) / (float)n;
-        float sy = ((float)(s / n) + rayRandom(pixel, (uint)s, 1u, seed)) / (float)n;
+        float sx = rayTentOffset(((float)(s % n) + rayRandom(pixel, (uint)s, 0u, seed)) / (float)n);
+        float sy = rayTentOffset(((float)(s / n) + rayRandom(pixel, (uint)s, 1u, seed)) / (float)n);
         sum += samplePixel(scene, params, i, j, sx, sy, counter);
     }
     return sum / (float)(n * n);
@@ -243,8 +243,8 @@ float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params,
 inline float3 jitteredSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, int cell, int side,
                              uint number, PixelTrace* counter) {
     uint seed = (uint)params->counts.w;
-    float sx = ((float)(cell % side) + rayRandom(counter->pixel, number, 0u, seed)) / (float)side;
-    float sy = ((float)(cell / side) + rayRandom(counter->pixel, number, 1u, seed)) / (float)side;
+    float sx = rayTentOffset(((float)(cell % side) + rayRandom(counter->pixel, number, 0u, seed)) / (float)side);
+    float sy = rayTentOffset(((float)(cell / side) + rayRandom(counter->pixel, number, 1u, seed)) / (float)side);
     return samplePixel(scene, params, i, j, sx, sy, counter);
 }
 

@@ -57,8 +57,8 @@ int stratifiedGridSide(int samples) {
 }
 
 void stratifiedOffset(int index, int side, uint32_t pixelIndex, uint32_t seed, double& sx, double& sy) {
-    sx = (index % side + sampleRandom(pixelIndex, uint32_t(index), 0, seed)) / side;
-    sy = (index / side + sampleRandom(pixelIndex, uint32_t(index), 1, seed)) / side;
+    sx = rayTentOffset(float((index % side + sampleRandom(pixelIndex, uint32_t(index), 0, seed)) / side));
+    sy = rayTentOffset(float((index / side + sampleRandom(pixelIndex, uint32_t(index), 1, seed)) / side));
 }
 
 Vec3 sampleStratified(const PixelSampleFunction& sample, int samples, uint32_t pixelIndex, uint32_t seed) {
@@ -77,8 +77,8 @@ namespace {
 // The offsets of the sample in cell `cell` of a side×side grid, jittered by the random
 // numbers of sample number `number`.
 void jitteredCell(int cell, int side, uint32_t number, uint32_t pixelIndex, uint32_t seed, double& sx, double& sy) {
-    sx = (cell % side + sampleRandom(pixelIndex, number, 0, seed)) / side;
-    sy = (cell / side + sampleRandom(pixelIndex, number, 1, seed)) / side;
+    sx = rayTentOffset(float((cell % side + sampleRandom(pixelIndex, number, 0, seed)) / side));
+    sy = rayTentOffset(float((cell / side + sampleRandom(pixelIndex, number, 1, seed)) / side));
 }
 
 }  // namespace

@@ -35,8 +35,10 @@ Vec3 sampleCourse(const PixelSampleFunction& sample, CourseSampleCount* count = 
 // --aa stratified: one sample jittered within each cell of a k×k grid, k = floor(√samples)
 // (a count that is not a square is rounded down to one). Cell c (row c / k, column c % k)
 // is jittered by sampleRandom(pixel, c, 0 for x / 1 for y, seed) (random.h), exactly as the
-// kernel does. Samples are clamped to [0, 1] per channel, as the course mode does, and
-// averaged (a box filter).
+// kernel does, then warped through the tent filter's inverse distribution (rayTentOffset in
+// cl/random.h: a tent of radius one pixel, by filter importance sampling, so the offsets
+// span (-0.5, 1.5)). Samples are clamped to [0, 1] per channel, as the course mode does,
+// and averaged with equal weights.
 Vec3 sampleStratified(const PixelSampleFunction& sample, int samples, uint32_t pixelIndex, uint32_t seed);
 
 // k = floor(√samples), at least 1.
@@ -48,7 +50,8 @@ void stratifiedOffset(int index, int side, uint32_t pixelIndex, uint32_t seed, d
 // spread by more than kAdaptiveContrast (max − min in the channel where that is largest,
 // after clamping to [0, 1]), a second pass adds a k×k jittered grid, k = floor(√samples),
 // with sample numbers 4.. (its cell c jittered by sampleRandom(pixel, 4 + c, 0 / 1, seed)).
-// The pixel is the mean of every sample taken (a box filter): 4 samples in flat regions,
+// Offsets go through the tent filter as in stratified sampling. The pixel is the mean of
+// every sample taken: 4 samples in flat regions,
 // 4 + k² at edges, in shadow penumbras and wherever area lights, depth of field or motion
 // blur make the first four disagree. With samples ≤ 4 it is plain stratified sampling.
 Vec3 sampleAdaptive(const PixelSampleFunction& sample, int samples, uint32_t pixelIndex, uint32_t seed,

@@ -619,21 +619,23 @@ TEST_CASE("off and stratified sampling", "[reference][sampling]") {
         REQUIRE(first == second);
         REQUIRE(first != otherSeed);
         REQUIRE(first.size() == 16);
+        // Each sample lies in the tent-warped image of its cell (the warp is monotonic).
+        auto cellLow = [](int cell) { return double(rayTentOffset(float(cell) / 4)); };
         for (int k = 0; k < 16; ++k) {
             INFO("sample " << k);
-            REQUIRE(int(first[k].first * 4) == k % 4);
-            REQUIRE(int(first[k].second * 4) == k / 4);
+            REQUIRE((first[k].first >= cellLow(k % 4) && first[k].first <= cellLow(k % 4 + 1)));
+            REQUIRE((first[k].second >= cellLow(k / 4) && first[k].second <= cellLow(k / 4 + 1)));
         }
     }
     SECTION("stratified: a count that is not a square rounds down to one; samples are clamped") {
         int calls = 0;
         Vec3 c = sampleStratified([&](double sx, double sy) {
             ++calls;
-            REQUIRE((sx >= 0 && sx < 1 && sy >= 0 && sy < 1));
+            REQUIRE((sx > -0.5 && sx < 1.5 && sy > -0.5 && sy < 1.5));  // the tent's support
             return Vec3{sx < 0.5 ? 3.0 : 0.0, -1, 0.5};
         }, 8, 0, 0);
         REQUIRE(calls == 4);
-        requireColor(c, {0.5, 0, 0.5});
+        requireColor(c, {0.5, 0, 0.5});  // columns 0 and 1 of 2 fall on either side of 0.5
         REQUIRE(stratifiedGridSide(0) == 1);
         REQUIRE(stratifiedGridSide(15) == 3);
         REQUIRE(stratifiedGridSide(16) == 4);
@@ -641,8 +643,22 @@ TEST_CASE("off and stratified sampling", "[reference][sampling]") {
     SECTION("stratified: the jitter is the kernel's, sampleRandom(pixel, cell, 0 | 1, seed)") {
         double sx, sy;
         stratifiedOffset(5, 4, 1234, 7, sx, sy);
-        REQUIRE(sx == (1 + sampleRandom(1234, 5, 0, 7)) / 4);
-        REQUIRE(sy == (1 + sampleRandom(1234, 5, 1, 7)) / 4);
+        REQUIRE(sx == rayTentOffset(float((1 + sampleRandom(1234, 5, 0, 7)) / 4)));
+        REQUIRE(sy == rayTentOffset(float((1 + sampleRandom(1234, 5, 1, 7)) / 4)));
+    }
+    SECTION("the tent filter: symmetric about the centre, radius one pixel, 3/4 of it inside") {
+        CHECK(rayTentOffset(0.5f) == 0.5f);
+        CHECK(rayTentOffset(0.0f) == Approx(-0.5));
+        CHECK(rayTentOffset(0.125f) == Approx(0.0));  // the tent's CDF at -0.5 is 1/8
+        CHECK(rayTentOffset(0.875f) == Approx(1.0));
+        int inside = 0;
+        const int n = 4096;
+        for (int k = 0; k < n; ++k) {
+            float offset = rayTentOffset((float(k) + 0.5f) / n);
+            CHECK((offset > -0.5f && offset < 1.5f));
+            inside += offset >= 0.0f && offset < 1.0f;
+        }
+        CHECK(double(inside) / n == Approx(0.75).margin(0.001));
     }
     SECTION("a whole stratified render is the same twice, and changes with the seed") {
         const Scene scene = randomScene(30);
