@@ -207,6 +207,20 @@ inline float3 safeInverse(float3 d) {
                     1.0f / (fabs(d.z) > tiny ? d.z : copysign(tiny, d.z)));
 }
 
+/* The step after a node's children have been tested, shared by the instance walk and the
+ * per-mesh walk (cl/torus_mesh.cl): descend into the nearer of the inner children that the
+ * ray enters and queue the other, or resume from the stack. Returns the next node, or -1
+ * when the walk is over. The builder caps the depth at RAY_BVH_STACK, so no push is lost. */
+inline int nextNode(int inner, const int* innerChild, const float* innerEntry, int* stack, int* top) {
+    if (inner == 2) {
+        bool leftFirst = innerEntry[0] <= innerEntry[1];
+        if (*top < RAY_BVH_STACK) stack[(*top)++] = leftFirst ? innerChild[1] : innerChild[0];
+        return leftFirst ? innerChild[0] : innerChild[1];
+    }
+    if (inner == 1) return innerChild[0];
+    return *top > 0 ? stack[--(*top)] : -1;
+}
+
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays). Returns whether anything was hit. */
 bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* prims,
@@ -240,18 +254,8 @@ bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* pri
                 ++inner;
             }
         }
-        if (inner == 2) {
-            bool leftFirst = innerEntry[0] <= innerEntry[1];
-            int near = leftFirst ? innerChild[0] : innerChild[1];
-            int far = leftFirst ? innerChild[1] : innerChild[0];
-            if (top < RAY_BVH_STACK) stack[top++] = far;
-            nodeIndex = near;
-        } else if (inner == 1) {
-            nodeIndex = innerChild[0];
-        } else {
-            if (top == 0) break;
-            nodeIndex = stack[--top];
-        }
+        nodeIndex = nextNode(inner, innerChild, innerEntry, stack, &top);
+        if (nodeIndex < 0) break;
     }
     return hit->primitive >= 0;
 }

@@ -176,16 +176,8 @@ void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle*
                 ++inner;
             }
         }
-        if (inner == 2) {
-            bool leftFirst = innerEntry[0] <= innerEntry[1];
-            if (top < RAY_BVH_STACK) stack[top++] = leftFirst ? innerChild[1] : innerChild[0];
-            nodeIndex = leftFirst ? innerChild[0] : innerChild[1];
-        } else if (inner == 1) {
-            nodeIndex = innerChild[0];
-        } else {
-            if (top == 0) break;
-            nodeIndex = stack[--top];
-        }
+        nodeIndex = nextNode(inner, innerChild, innerEntry, stack, &top);
+        if (nodeIndex < 0) break;
     }
 }
 
