@@ -207,6 +207,19 @@ inline float3 safeInverse(float3 d) {
                     1.0f / (fabs(d.z) > tiny ? d.z : copysign(tiny, d.z)));
 }
 
+/* Child c (0: left, 1: right) of a node, decoded from its links (cl/shared_types.h): its
+ * index (-1: absent), its primitive count (0: an inner node) and the distance at which the
+ * ray enters its box (+infinity: missed). */
+typedef struct {
+    int index, count;
+    float entry;
+} BvhChild;
+
+inline BvhChild bvhChild(int4 links, float2 entry, int c) {
+    BvhChild child = {c == 0 ? links.x : links.z, c == 0 ? links.y : links.w, c == 0 ? entry.x : entry.y};
+    return child;
+}
+
 /* The step after a node's children have been tested, shared by the instance walk and the
  * per-mesh walk (cl/torus_mesh.cl): descend into the nearer of the inner children that the
  * ray enters and queue the other, or resume from the stack. Returns the next node, or -1
@@ -241,16 +254,15 @@ bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* pri
         float innerEntry[2];
         int inner = 0;
         for (int c = 0; c < 2; ++c) {
-            int index = c == 0 ? links.x : links.z;
-            int count = c == 0 ? links.y : links.w;
-            float t = c == 0 ? entry.x : entry.y;
-            if (index < 0 || !(t < hit->t)) continue;
-            if (count > 0) {
-                for (int i = index; i < index + count; ++i) intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, hit);
+            BvhChild child = bvhChild(links, entry, c);
+            if (child.index < 0 || !(child.entry < hit->t)) continue;
+            if (child.count > 0) {
+                for (int i = child.index; i < child.index + child.count; ++i)
+                    intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, hit);
                 if (anyHit && hit->primitive >= 0) return true;
             } else {
-                innerChild[inner] = index;
-                innerEntry[inner] = t;
+                innerChild[inner] = child.index;
+                innerEntry[inner] = child.entry;
                 ++inner;
             }
         }

@@ -56,7 +56,7 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_REFLECTIONS 2
 #define RAY_FEATURE_REFRACTION 4
 #define RAY_FEATURE_TEXTURES 8
-#define RAY_FEATURE_DOF 16
+/* (16 is free: --no-dof sets the lens radius to 0 instead of a bit.) */
 #define RAY_FEATURE_BILINEAR 32
 #define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/texture_filtering.h */
 

@@ -163,16 +163,14 @@ void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle*
         float innerEntry[2];
         int inner = 0;
         for (int c = 0; c < 2; ++c) {
-            int index = c == 0 ? links.x : links.z;
-            int count = c == 0 ? links.y : links.w;
-            float t = c == 0 ? entry.x : entry.y;
-            if (index < 0 || !(t < *best)) continue;
-            if (count > 0) {
-                for (int i = index; i < index + count; ++i)
+            BvhChild child = bvhChild(links, entry, c);
+            if (child.index < 0 || !(child.entry < *best)) continue;
+            if (child.count > 0) {
+                for (int i = child.index; i < child.index + child.count; ++i)
                     intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
             } else {
-                innerChild[inner] = index;
-                innerEntry[inner] = t;
+                innerChild[inner] = child.index;
+                innerEntry[inner] = child.entry;
                 ++inner;
             }
         }

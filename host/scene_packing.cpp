@@ -202,7 +202,6 @@ gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& 
     if (s.reflections) features |= RAY_FEATURE_REFLECTIONS;
     if (s.refraction) features |= RAY_FEATURE_REFRACTION;
     if (s.textures) features |= RAY_FEATURE_TEXTURES;
-    if (s.depthOfField) features |= RAY_FEATURE_DOF;
     if (s.textureFilter != TextureFilter::Nearest) features |= RAY_FEATURE_BILINEAR;
     if (s.textureFilter == TextureFilter::Trilinear) features |= RAY_FEATURE_TRILINEAR;
 
