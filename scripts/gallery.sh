@@ -21,3 +21,9 @@ for filter in nearest bilinear trilinear; do
     "$ray" scenes/texture_filtering.xml 400 300 --texture-filter $filter --quiet -o "docs/texture_filter_$filter.png"
     echo "docs/texture_filter_$filter.png"
 done
+# Antialiasing modes side by side on the edges and penumbras of the shadows scene.
+for mode in "off" "course" "stratified --samples 16" "adaptive --samples 16"; do
+    name=$(echo "$mode" | cut -d' ' -f1)
+    "$ray" scenes/shadows.xml 400 300 --aa $mode --quiet -o "docs/aa_$name.png"
+    echo "docs/aa_$name.png"
+done
