@@ -72,27 +72,50 @@ inline void considerHit(float t, int part, float3 normal, float* best, int* best
     }
 }
 
+/* Slabs, as in the reference (host/shapes.cpp): inside the cube the ray runs from the
+ * largest entering to the smallest leaving plane distance. Faces are numbered as parts:
+ * axis·2 for the +0.5 plane, axis·2 + 1 for the −0.5 plane. */
 inline void intersectCube(float3 o, float3 d, float* best, int* part, float3* normal) {
-    /* Each face plane; a hit counts when the other two coordinates are inside the face. */
+    float tEnter = -RAY_INFINITY, tLeave = RAY_INFINITY;
+    int enterFace = 0, leaveFace = 0;
     for (int axis = 0; axis < 3; ++axis) {
-        float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
         float oa = axis == 0 ? o.x : (axis == 1 ? o.y : o.z);
-        if (da == 0.0f) continue;
-        for (int side = 0; side < 2; ++side) {
-            float plane = side == 0 ? 0.5f : -0.5f;
-            float t = (plane - oa) / da;
-            if (!(t > 0.0f && t < *best)) continue;
-            float3 p = o + t * d;
-            float u = axis == 0 ? p.y : p.x, v = axis == 2 ? p.y : p.z;
-            if (fabs(u) <= 0.5f && fabs(v) <= 0.5f) {
-                float3 n = (float3)(0.0f);
-                if (axis == 0) n.x = plane * 2.0f;
-                else if (axis == 1) n.y = plane * 2.0f;
-                else n.z = plane * 2.0f;
-                considerHit(t, axis * 2 + side, n, best, part, normal);
-            }
+        float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+        if (da == 0.0f) {
+            if (oa < -0.5f || oa > 0.5f) return; /* parallel to the slab and outside it */
+            continue;
+        }
+        float inverse = 1.0f / da;
+        float tLow = (-0.5f - oa) * inverse, tHigh = (0.5f - oa) * inverse;
+        int lowFace = axis * 2 + 1, highFace = axis * 2;
+        if (tLow > tHigh) {
+            float t = tLow;
+            tLow = tHigh;
+            tHigh = t;
+            lowFace = axis * 2;
+            highFace = axis * 2 + 1;
+        }
+        if (tLow > tEnter) {
+            tEnter = tLow;
+            enterFace = lowFace;
+        }
+        if (tHigh < tLeave) {
+            tLeave = tHigh;
+            leaveFace = highFace;
         }
     }
+    if (tEnter > tLeave) return;
+    /* From outside the nearest hit is where the ray enters; from inside, where it leaves. */
+    bool fromOutside = tEnter > 0.0f;
+    float t = fromOutside ? tEnter : tLeave;
+    int face = fromOutside ? enterFace : leaveFace;
+    if (!(t > 0.0f && t < *best)) return;
+    float3 n = (float3)(0.0f);
+    float sign = (face & 1) ? -1.0f : 1.0f;
+    if (face < 2) n.x = sign;
+    else if (face < 4) n.y = sign;
+    else n.z = sign;
+    considerHit(t, face, n, best, part, normal);
 }
 
 inline void intersectSphere(float3 o, float3 d, float* best, int* part, float3* normal) {
