@@ -181,9 +181,9 @@ inline float contrast(float3 a, float3 b, float3 c, float3 d) {
 }
 
 /* The course's adaptive antialiasing (SPEC §3): value(square, level) samples the centres
- * of the square's four quadrants; where they differ by more than 0.2 and level < 3, each
- * quadrant's sample is replaced by value(quadrant, level + 1). Written as three nested
- * levels because OpenCL C has no recursion. */
+ * of the square's four quadrants; where they differ by more than RAY_COURSE_AA_CONTRAST
+ * (0.2) and level < 3, each quadrant's sample is replaced by value(quadrant, level + 1).
+ * Written as three nested levels because OpenCL C has no recursion. */
 float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
                      float size, PixelTrace* counter) {
     float q = size * 0.25f;
@@ -200,7 +200,7 @@ float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, i
     float3 b = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter);
     float3 c = samplePixel(scene, params, i, j, x0 + q, y0 + 3.0f * q, counter);
     float3 d = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter);
-    if (contrast(a, b, c, d) > 0.2f) {
+    if (contrast(a, b, c, d) > RAY_COURSE_AA_CONTRAST) {
         a = courseSquare3(scene, params, i, j, x0, y0, h, counter);
         b = courseSquare3(scene, params, i, j, x0 + h, y0, h, counter);
         c = courseSquare3(scene, params, i, j, x0, y0 + h, h, counter);
@@ -214,7 +214,7 @@ float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int
     float3 b = samplePixel(scene, params, i, j, 0.75f, 0.25f, counter);
     float3 c = samplePixel(scene, params, i, j, 0.25f, 0.75f, counter);
     float3 d = samplePixel(scene, params, i, j, 0.75f, 0.75f, counter);
-    if (contrast(a, b, c, d) > 0.2f) {
+    if (contrast(a, b, c, d) > RAY_COURSE_AA_CONTRAST) {
         a = courseSquare2(scene, params, i, j, 0.0f, 0.0f, 0.5f, counter);
         b = courseSquare2(scene, params, i, j, 0.5f, 0.0f, 0.5f, counter);
         c = courseSquare2(scene, params, i, j, 0.0f, 0.5f, 0.5f, counter);
@@ -251,7 +251,6 @@ inline float3 jitteredSample(const SceneBuffers* scene, const RayRenderParams* p
 /* --aa adaptive (host/course_sampling.h sampleAdaptive): 2×2 jittered samples; where they
  * spread by more than RAY_ADAPTIVE_CONTRAST, a k×k jittered grid more (sample numbers 4..);
  * the mean of every sample taken. */
-#define RAY_ADAPTIVE_CONTRAST 0.1f
 float3 adaptivePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
     int samples = params->mode.w;
     if (samples <= 4) return stratifiedPixel(scene, params, i, j, counter);

@@ -3,6 +3,8 @@
 
 #include <cstdint>
 
+#include "shared_types.h"
+
 namespace ray {
 
 enum class AntialiasMode {
@@ -43,12 +45,10 @@ struct RenderSettings {
 // k = floor(√areaSamples), at least 1: the side of an area light's sample grid.
 int areaLightGridSide(const RenderSettings& settings);
 
-// The course's antialiasing constants (SPEC §3).
-constexpr double kCourseAaContrast = 0.2;  // max − min spread that triggers subdivision
-constexpr int kCourseAaMaxLevel = 3;       // levels 1..3: at most 4³ = 64 samples a pixel
-// --aa adaptive refines a pixel whose first four samples spread by more than this (the
-// kernel's RAY_ADAPTIVE_CONTRAST): a tenth of the range, well above the 8-bit step, so
-// that the flat regions of an image stay at four samples.
-constexpr double kAdaptiveContrast = 0.1;
+// The antialiasing thresholds, shared with the kernel (cl/shared_types.h), as the float
+// values the kernel compares against.
+constexpr double kCourseAaContrast = RAY_COURSE_AA_CONTRAST;  // max − min spread that triggers subdivision
+constexpr int kCourseAaMaxLevel = 3;  // levels 1..3: at most 4³ = 64 samples a pixel
+constexpr double kAdaptiveContrast = RAY_ADAPTIVE_CONTRAST;
 
 }  // namespace ray
