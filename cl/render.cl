@@ -62,12 +62,16 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float3 p = ray.origin + hit.t * ray.direction;
     if (prim->info.x == RAY_PRIM_MESH) hit.objectNormal = meshShadingNormal(scene->triangleShading, hit.part, hit.barycentric);
     float2 uv = hitUv(scene, prim->info.x, &hit);
-    if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) /* bump maps follow the textures switch */
+    float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
+    /* The object normal points outward. Which side the ray meets is the surface's own: a
+     * bump map tilts the shading normal, not the surface (host/reference_renderer.cpp). */
+    bool entering = dot(normal, ray.direction) < 0.0f;
+    if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) { /* bump maps follow the textures switch */
         hit.objectNormal = bumpedObjectNormal(scene, m.maps.y, uv, m.repeats.zw,
                                               objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
                                               hit.objectNormal);
-    float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
-    bool entering = dot(normal, ray.direction) < 0.0f; /* the object normal points outward */
+        normal = normalToWorld(prim->worldToObject, hit.objectNormal);
+    }
     if (!entering) normal = -normal; /* face the incoming ray */
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;

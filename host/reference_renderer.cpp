@@ -200,8 +200,10 @@ private:
         surface.point = ray.origin + hit.local.t * ray.direction;
         // Normals go to world space by the inverse transpose of object-to-world: the
         // transpose of world-to-object.
+        // Which side the ray meets is the surface's own: a bump map tilts the shading
+        // normal, not the surface, so it must not turn a ray entering glass into one leaving.
+        surface.entering = dot(instance.worldToObject.transposeTransformVector(hit.local.normal), ray.direction) < 0;
         surface.normal = normalize(instance.worldToObject.transposeTransformVector(shadingObjectNormal(hit, ray, time)));
-        surface.entering = dot(surface.normal, ray.direction) < 0;
         if (!surface.entering) surface.normal = -surface.normal;
         surface.uv = hit.local.uv;
         surface.material = &scene_.materials[instance.material];

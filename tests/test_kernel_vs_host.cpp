@@ -36,6 +36,18 @@ TEST_CASE("kernel matches host on every bundled scene", "[kernel][kvh]") {
     }
 }
 
+// No bundled scene combines a bump map with glass: here both renderers must agree that a
+// bump map tilts the shading normal but leaves the entering/leaving decision to the surface.
+TEST_CASE("kernel matches host on bump-mapped glass", "[kernel][kvh]") {
+    auto device = cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    RenderSettings settings = test::settingsFromOptions("", kWidth, kHeight);
+    compareKernelWithHost(*device, test::testDataDir() / "scenes" / "bumped_glass.xml", settings, "bumped_glass");
+}
+
 TEST_CASE("kernel matches host on the course scenes with reference renders", "[kernel][kvh]") {
     auto device = cpuDevice();
     auto shared = test::sharedDir();
