@@ -180,7 +180,12 @@ std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const V
                                                      double tMax, double time) const {
     std::optional<SceneHit> best;
     traverse(origin, direction, tMin, tMax, [&](int primitive, double tLimit) {
-        if (auto hit = intersectPrimitive(primitive, origin, direction, tMin, tLimit, time)) {
+        // Coplanar faces (a chessboard's squares flush with its border) are hit at exactly
+        // the same distance. Such a tie goes to the primitive listed first in the scene,
+        // as brute force, visiting primitives in that order, decides it, so that the image
+        // does not depend on the order in which the BVH happens to visit them.
+        double limit = best && primitive < best->primitive ? std::nextafter(tLimit, INFINITY) : tLimit;
+        if (auto hit = intersectPrimitive(primitive, origin, direction, tMin, limit, time)) {
             best = SceneHit{primitive, *hit};
             return hit->t;
         }

@@ -497,6 +497,50 @@ TEST_CASE("the BVH finds exactly what brute force finds", "[reference]") {
     REQUIRE(bvhCounts.shadow > 0);
 }
 
+// Squares flush with the top of a slab, as a chessboard's are with its border: every hit
+// on the top is a tie between two primitives at exactly the same distance, which the BVH
+// must settle as brute force does (the one listed first wins), not by its visiting order.
+TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[reference]") {
+    Scene scene;
+    scene.camera.position = {0, 6, 7};
+    scene.camera.look = {0, -6, -7};
+    addMaterial(scene, diffuseMaterial({0.2, 0.2, 0.8}));  // the slab
+    addMaterial(scene, diffuseMaterial({0.9, 0.9, 0.9}));  // light squares
+    addMaterial(scene, diffuseMaterial({0.1, 0.1, 0.1}));  // dark squares
+    // The squares first, then the slab, then squares again: whichever the BVH visits
+    // first, some ties must go to the square and others to the slab.
+    auto addSquares = [&](int firstRow, int lastRow) {
+        for (int row = firstRow; row < lastRow; ++row)
+            for (int column = 0; column < 8; ++column)
+                addInstance(scene, PrimitiveType::Cube,
+                            Affine::translation({column - 3.5, 0, row - 3.5}) * Affine::scaling({1, 0.5, 1}),
+                            1 + (row + column) % 2);
+    };
+    addSquares(0, 4);
+    addInstance(scene, PrimitiveType::Cube, Affine::scaling({8, 0.5, 8}), 0);
+    addSquares(4, 8);
+    scene.lights.push_back(pointLight({2, 8, 5}, {1, 1, 1}));
+    RenderSettings settings = smallCourseSettings();
+    settings.antialias = AntialiasMode::Off;
+    ReferenceRenderOptions bvh, bruteForce;
+    bruteForce.bruteForce = true;
+    Image withBvh = renderReference(scene, settings, bvh);
+    Image withoutBvh = renderReference(scene, settings, bruteForce);
+    int differing = 0;
+    for (size_t p = 0; p < withBvh.rgb.size(); p += 3)
+        if (!std::equal(&withBvh.rgb[p], &withBvh.rgb[p] + 3, &withoutBvh.rgb[p])) ++differing;
+    REQUIRE(differing == 0);
+    // Both kinds of tie occur: the top shows the squares of rows 0-3 and the slab where
+    // rows 4-7 lie, so both square colours and the slab's blue appear.
+    bool slabSeen = false, squareSeen = false;
+    for (size_t p = 0; p < withBvh.rgb.size(); p += 3) {
+        if (withBvh.rgb[p + 2] > withBvh.rgb[p] + 0.1f) slabSeen = true;
+        if (withBvh.rgb[p] > 0.3f && std::abs(withBvh.rgb[p] - withBvh.rgb[p + 2]) < 1e-6f) squareSeen = true;
+    }
+    REQUIRE(slabSeen);
+    REQUIRE(squareSeen);
+}
+
 TEST_CASE("threads, progress and cancelling", "[reference]") {
     const Scene scene = randomScene(60);
     const RenderSettings settings = smallCourseSettings();
