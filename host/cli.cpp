@@ -11,7 +11,7 @@ Renders a CS123 scenefile. Defaults: 1024 768, depth 4, output <scene name>.png 
 
 options:
   -o, --output FILE        output image; the format follows the extension
-                           (png, jpg, tif, ppm: 8-bit; exr, hdr, pfm: float, unclamped)
+                           (png, jpg, tif, ppm: 8-bit; exr, hdr: float, unclamped)
   --aa MODE                antialiasing: off | course (default; the course's adaptive
                            4..64 samples) | stratified | adaptive
   --samples N              samples per pixel for stratified/adaptive (default 16)

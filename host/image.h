@@ -43,6 +43,13 @@ Image readImage(const std::filesystem::path& file);
 // True for outputs that keep floats unclamped (exr, hdr, pfm); others are 8-bit.
 bool isFloatFormat(const std::filesystem::path& file);
 
+// Whether this OpenImageIO build has a writer for the file's extension (Debian 12's reads
+// pfm but cannot write it, for one). Asked before rendering, so that no render is lost.
+bool canWriteImageFormat(const std::filesystem::path& file);
+
+// The outputs to suggest when a format cannot be written.
+extern const char* const kOutputFormatAdvice;
+
 // Writes the image in the format its extension names. 8-bit formats get colors clamped to
 // [0, 1] and truncated, floor(255·c), without gamma (SPEC §4); float formats keep the
 // values as they are. The image goes to a temporary file beside the target that is then

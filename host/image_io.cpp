@@ -97,13 +97,19 @@ bool isFloatFormat(const fs::path& file) {
     return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
 }
 
+const char* const kOutputFormatAdvice = "use .png, .jpg, .tif, .ppm (8-bit) or .exr, .hdr (float)";
+
+bool canWriteImageFormat(const fs::path& file) {
+    return !file.extension().empty() && OIIO::ImageOutput::create(file.string()) != nullptr;
+}
+
 void writeImage(const Image& image, const fs::path& file) {
     if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
     fs::path tmp = temporarySibling(file);
     auto output = OIIO::ImageOutput::create(tmp.string());
     if (!output)
-        throw ImageError(file.string() + ": unknown output format '" + file.extension().string() +
-                         "'; use .png, .jpg, .tif, .ppm, .exr, .hdr or .pfm");
+        throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
+                         kOutputFormatAdvice);
 
     const bool floats = isFloatFormat(file);
     OIIO::ImageSpec spec(image.width, image.height, 3, floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);

@@ -56,15 +56,9 @@ double secondsSince(Clock::time_point start) {
 
 // Catches problems with the output path before any rendering time is spent.
 void checkOutputPath(const std::filesystem::path& output) {
-    static const char* const kKnown[] = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".ppm", ".pnm",
-                                         ".bmp", ".tga", ".exr", ".hdr", ".pfm"};
-    std::string ext = output.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    bool known = false;
-    for (const char* k : kKnown) known = known || ext == k;
-    if (!known)
-        throw UsageError("cannot tell the image format of '" + output.string() +
-                         "' from its extension; use .png, .jpg, .tif, .ppm, .exr, .hdr or .pfm");
+    if (!canWriteImageFormat(output))
+        throw UsageError("cannot write an image in the format of '" + output.string() + "' (its extension names none " +
+                         "this build of OpenImageIO can write); " + kOutputFormatAdvice);
     std::filesystem::path folder = output.parent_path();
     if (!folder.empty() && !std::filesystem::is_directory(folder))
         throw UsageError("the output folder '" + folder.string() + "' does not exist");

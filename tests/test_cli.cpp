@@ -96,6 +96,15 @@ TEST_CASE("an unknown output format is refused before rendering", "[cli]") {
     auto r = runRay({scene("shadows.xml"), "-o", (ray::test::outputDir() / "out.xyz").string()});
     CHECK(r.exitCode == 2);
     CHECK_THAT(r.output, Contains("extension"));
+    r = runRay({scene("shadows.xml"), "-o", (ray::test::outputDir() / "no_extension").string()});
+    CHECK(r.exitCode == 2);
+    // A format OpenImageIO reads but cannot write (pfm, in Debian 12's build) is refused
+    // up front too, not after the render.
+    if (!ray::canWriteImageFormat("out.pfm")) {
+        r = runRay({scene("shadows.xml"), "-o", (ray::test::outputDir() / "out.pfm").string(), "--device", "ref"});
+        CHECK(r.exitCode == 2);
+        CHECK_THAT(r.output, Contains(".exr"));
+    }
     r = runRay({scene("shadows.xml"), "-o", "/nonexistent-folder/out.png"});
     CHECK(r.exitCode == 2);
     CHECK_THAT(r.output, Contains("does not exist"));
