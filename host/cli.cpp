@@ -27,6 +27,9 @@ options:
                            all | ref (the host reference renderer) | an index from
                            --list-devices
   --list-devices           list the OpenCL platforms and devices, then exit
+  --no-bvh                 with --device ref: test every primitive for every ray instead
+                           of searching the reference renderer's BVH (slow: the plainest
+                           oracle, for checking that BVH and for timing against it)
   --search-path DIR        also look for textures and meshes under DIR (repeatable;
                            RAY_SEARCH_PATH=dir1:dir2 does the same)
   --strict                 treat every warning as an error
@@ -145,6 +148,7 @@ CliOptions parseCommandLine(const std::vector<std::string>& args) {
         }
         else if (arg == "--device") { options.device = value(); validateDevice(options.device); }
         else if (arg == "--list-devices") options.listDevices = true;
+        else if (arg == "--no-bvh") options.referenceBruteForce = true;
         else if (arg == "--search-path") options.searchPaths.emplace_back(value());
         else if (arg == "--strict") options.strict = true;
         else if (arg == "--no-shadows") s.shadows = false;
@@ -169,6 +173,8 @@ CliOptions parseCommandLine(const std::vector<std::string>& args) {
     applyPositionals(positionals, options);
     if (samplesGiven && (s.antialias == AntialiasMode::Off || s.antialias == AntialiasMode::Course))
         throw UsageError("--samples applies to --aa stratified or adaptive; add one of those");
+    if (options.referenceBruteForce && options.device != "ref" && options.device != "reference")
+        throw UsageError("--no-bvh applies to the reference renderer (the OpenCL kernel always uses its BVH); add --device ref");
     return options;
 }
 

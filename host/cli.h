@@ -25,6 +25,8 @@ struct CliOptions {
     // Refuse scenes that flatten to more primitive instances (--max-primitives).
     size_t maxPrimitives = 50'000'000;
     bool listDevices = false;
+    // --device ref tests every primitive for every ray instead of using its BVH (--no-bvh).
+    bool referenceBruteForce = false;
     bool help = false;
     bool version = false;
 };

@@ -124,6 +124,7 @@ int run(const CliOptions& options) {
     RenderJob job{scene, options.settings, options.device, {}};
     job.progress = [&](double f) { progress.update(f); };
     job.cancel = &gInterrupted;
+    job.referenceBruteForce = options.referenceBruteForce;
     gRendering = true;
     RenderOutput result = render(job);
     progress.finish();

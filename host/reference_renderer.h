@@ -25,8 +25,8 @@ struct ReferenceRenderOptions {
     std::function<void(double)> progress;
     // Set to true to stop early; rows not yet rendered stay black.
     const std::atomic<bool>* cancel = nullptr;
-    // Test every primitive for every ray instead of searching the BVH: slow, and used by
-    // a test to check that the BVH changes nothing.
+    // Test every primitive for every ray instead of searching the BVH: slow; a test checks
+    // that the BVH changes nothing, and the bench times the kernel against it (--no-bvh).
     bool bruteForce = false;
 };
 

@@ -25,11 +25,12 @@ RenderOutput renderOnReference(const RenderJob& job) {
     ReferenceRenderOptions options;
     options.progress = job.progress;
     options.cancel = job.cancel;
+    options.bruteForce = job.referenceBruteForce;
     RayCounts counts;
     auto start = std::chrono::steady_clock::now();
     out.image = renderReference(job.scene, job.settings, options, &counts);
     out.stats.renderSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.stats.device = "reference (host)";
+    out.stats.device = job.referenceBruteForce ? "reference (host, no BVH)" : "reference (host)";
     out.stats.primaryRays = counts.primary;
     out.stats.shadowRays = counts.shadow;
     out.stats.secondaryRays = counts.secondary;

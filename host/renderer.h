@@ -28,6 +28,8 @@ struct RenderJob {
     // Set to true (e.g. from a signal handler) to stop early: the render returns within
     // about a second with RenderOutput::interrupted set and unrendered pixels black.
     const std::atomic<bool>* cancel = nullptr;
+    // The reference renderer tests every primitive for every ray (--no-bvh).
+    bool referenceBruteForce = false;
 };
 
 struct RenderOutput {

@@ -60,6 +60,21 @@ TEST_CASE("bad arguments are refused with a reason", "[cli]") {
     CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--device", "tpu"}), Contains("--device"));
     CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--samples", "8"}), Contains("--aa stratified"));
     CHECK_THROWS_WITH(parseCommandLine({"a.xml", "1", "2", "3", "4"}), Contains("too many arguments"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--no-bvh"}), Contains("add --device ref"));
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--no-bvh", "--device", "cpu"}), Contains("add --device ref"));
+    CHECK(parseCommandLine({"a.xml", "--no-bvh", "--device", "ref"}).referenceBruteForce);
+}
+
+TEST_CASE("--no-bvh renders what the reference renderer's BVH renders", "[cli]") {
+    fs::path withBvh = freshOutput("bvh_on.exr"), withoutBvh = freshOutput("bvh_off.exr");
+    fs::path json = freshOutput("bvh_off.json");
+    auto a = runRay({scene("showpiece.xml"), "48", "36", "--device", "ref", "--quiet", "-o", withBvh.string()});
+    auto b = runRay({scene("showpiece.xml"), "48", "36", "--device", "ref", "--no-bvh", "--quiet", "-o",
+                     withoutBvh.string(), "--stats-json", json.string()});
+    REQUIRE(a.exitCode == 0);
+    REQUIRE(b.exitCode == 0);
+    CHECK(ray::readImage(withBvh).rgb == ray::readImage(withoutBvh).rgb);
+    CHECK_THAT(readText(json), Contains("no BVH"));
 }
 
 TEST_CASE("help and version exit 0", "[cli]") {
