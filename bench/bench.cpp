@@ -44,6 +44,9 @@ options:
   --ref-timeout S       kill a reference run after S seconds (default 120)
   --ref-max-prims N     run the reference only on scenes of at most N primitives
                         (default 10000000)
+  --plain-max-prims N   also run the plain reference (ray --device ref --no-bvh: every
+                        primitive tested for every ray) on the corpus and sphere scenes
+                        of at most N primitives (default 1000; 0: never)
   --keep                keep the temporary folder (scenes, logs, statistics)
   --write-scenes DIR    only write the generated sphere scenes into DIR, then exit
   --meshes              only the mesh rows: generated UV spheres of 10^3..10^6 triangles
@@ -72,6 +75,7 @@ struct BenchOptions {
     fs::path writeScenesTo;  // --write-scenes: generate, run nothing
     double referenceTimeoutSeconds = 120;
     uint64_t referenceMaxPrimitives = 10'000'000;
+    uint64_t plainMaxPrimitives = 1000;
 };
 
 struct UsageError : std::runtime_error {
@@ -118,6 +122,7 @@ BenchOptions parseOptions(int argc, char** argv) {
         else if (arg == "--write-scenes") options.writeScenesTo = value();
         else if (arg == "--ref-timeout") options.referenceTimeoutSeconds = parseNumber(value(), arg);
         else if (arg == "--ref-max-prims") options.referenceMaxPrimitives = uint64_t(parseNumber(value(), arg));
+        else if (arg == "--plain-max-prims") options.plainMaxPrimitives = uint64_t(parseNumber(value(), arg));
         else throw UsageError("unknown option '" + arg + "'");
     }
     if (options.scenesDir.empty()) options.scenesDir = defaultScenesDir();
@@ -144,7 +149,7 @@ void addCorpusScenes(const fs::path& scenesDir, std::vector<BenchScene>& scenes)
             std::cerr << "ray_bench: skipping " << name << ": " << file.string() << " is absent\n";
             continue;
         }
-        scenes.push_back({name, file, countPrimitives(file), 0, {}});
+        scenes.push_back({name, file, countPrimitives(file), 0, {}, true});
     }
 }
 
@@ -217,7 +222,7 @@ void addSphereScenes(const fs::path& folder, std::vector<BenchScene>& scenes) {
         std::string name = "spheres_1e" + std::to_string(levels);
         fs::path file = folder / (name + ".xml");
         writeSphereScene(file, levels);
-        scenes.push_back({name, file, countPrimitives(file), levels, {}});
+        scenes.push_back({name, file, countPrimitives(file), levels, {}, true});
     }
 }
 
@@ -228,7 +233,22 @@ std::string primitivesText(const BenchScene& scene) {
 // The reference renderer has a BVH of its own, so it is fast enough for every scene here
 // (10^6 spheres at 1024x768 in seconds); the cap only spares it scenes whose
 // double-precision copy would not fit in memory, and the time limit catches the rest.
-bool referenceShouldRun(const BenchScene& scene, const BenchOptions& options, std::string& whyNot) {
+//
+// The plain reference (no BVH) costs primitives × rays, so it gets only the corpus and
+// sphere scenes that are small enough: it is there to time the kernel against the oracle
+// in its simplest form, not to cover every row.
+bool referenceShouldRun(const BenchScene& scene, const BenchDevice& device, const BenchOptions& options,
+                        std::string& whyNot) {
+    if (device.isPlainReference()) {
+        if (!scene.plainReference) {
+            whyNot = "not run (the plain reference runs on the corpus and sphere scenes)";
+            return false;
+        }
+        if (scene.primitives && *scene.primitives <= options.plainMaxPrimitives) return true;
+        whyNot = "skipped (" + primitivesText(scene) + " prims > " + std::to_string(options.plainMaxPrimitives) +
+                 ", --plain-max-prims)";
+        return false;
+    }
     if (!scene.primitives || *scene.primitives <= options.referenceMaxPrimitives) return true;
     whyNot = "skipped (" + std::to_string(*scene.primitives) + " prims > " +
              std::to_string(options.referenceMaxPrimitives) + ")";
@@ -251,8 +271,9 @@ public:
 
 private:
     size_t countPlannedRuns() const {
-        size_t openCl = results_.devices.size() - 1;  // every device but the reference
-        return results_.scenes.size() * (2 * openCl + 1);
+        size_t runs = 0;  // skipped reference runs count too: each is a line of the log
+        for (const BenchDevice& device : results_.devices) runs += device.isReference() ? 1 : 2;
+        return results_.scenes.size() * runs;
     }
 
     RayInvocation invocation(const fs::path& cacheDir, double timeoutSeconds) const {
@@ -270,7 +291,7 @@ private:
 
     void runReference(const BenchScene& scene, const BenchDevice& device, size_t total) {
         std::string whyNot;
-        if (referenceShouldRun(scene, options_, whyNot)) {
+        if (referenceShouldRun(scene, device, options_, whyNot)) {
             RayInvocation limited = invocation({}, options_.referenceTimeoutSeconds);
             record(runRay(limited, scene, device, Phase::Reference), total);
             return;
@@ -336,7 +357,10 @@ BenchResults prepareResults(const BenchOptions& options, const fs::path& workDir
     if (!options.featuresOnly) addMeshScenes(options.scenesDir, generated, results.scenes);
     if (!options.meshesOnly) addFeatureScenes(results.scenes);
     results.devices = listOpenClDevices(options.rayBinary, workDir);
-    results.devices.push_back({"ref", "ref", "the host reference renderer"});
+    results.devices.push_back({"ref", "ref", "the host reference renderer", {}});
+    if (options.plainMaxPrimitives > 0)
+        results.devices.push_back({"ref", "plain", "the host reference renderer without its BVH (--no-bvh)", {"--no-bvh"}});
+    results.plainMaxPrimitives = options.plainMaxPrimitives;
     return results;
 }
 

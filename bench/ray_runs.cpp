@@ -71,6 +71,7 @@ std::vector<std::string> rayArguments(const RayInvocation& invocation, const Ben
     else args.insert(args.end(), scene.rayOptions.begin(), scene.rayOptions.end());
     args.insert(args.end(), {"--device", device.argument, "--quiet", "--stats-json", statsFile.string(), "-o",
                              (invocation.workDir / "image.png").string()});
+    args.insert(args.end(), device.extraArguments.begin(), device.extraArguments.end());
     return args;
 }
 
@@ -157,7 +158,7 @@ std::vector<BenchDevice> listOpenClDevices(const fs::path& rayBinary, const fs::
     for (std::string line; std::getline(in, line);) {
         std::smatch match;
         if (std::regex_match(line, match, deviceLine))
-            devices.push_back({match[1].str(), "cl" + match[1].str(), match[2].str()});
+            devices.push_back({match[1].str(), "cl" + match[1].str(), match[2].str(), {}});
     }
     return devices;
 }

@@ -34,13 +34,18 @@ struct BenchScene {
     // Sampling and feature options for ray; empty means "--aa off" (the feature rows set
     // their own, e.g. "--aa adaptive --samples 16").
     std::vector<std::string> rayOptions;
+    bool plainReference = false;  // the plain reference (no BVH) may run it: corpus and spheres
 };
 
 struct BenchDevice {
     std::string argument;  // what --device gets: an index, or "ref"
-    std::string label;     // short name for the table: "cl0", "ref"
+    std::string label;     // short name for the table: "cl0", "ref", "plain"
     std::string name;      // as --list-devices names it
+    // More arguments for ray: {"--no-bvh"} makes the reference renderer the plain oracle
+    // that tests every primitive for every ray.
+    std::vector<std::string> extraArguments;
     bool isReference() const { return argument == "ref"; }
+    bool isPlainReference() const { return isReference() && !extraArguments.empty(); }
 };
 
 struct RunRecord {

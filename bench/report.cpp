@@ -26,16 +26,18 @@ const RunRecord* reportedRun(const BenchResults& results, const BenchScene& scen
     return findRun(results, scene, device, device.isReference() ? Phase::Reference : Phase::Warm);
 }
 
-const BenchDevice* referenceDevice(const BenchResults& results) {
+// The reference renderer as it renders by default (with its BVH), or its plain form.
+const BenchDevice* referenceDevice(const BenchResults& results, bool plain = false) {
     for (const BenchDevice& device : results.devices)
-        if (device.isReference()) return &device;
+        if (device.isReference() && device.isPlainReference() == plain) return &device;
     return nullptr;
 }
 
-// How many times faster than the reference renderer a kernel run rendered the same scene
-// (render_seconds only: loading and building are not the kernel's work).
-std::optional<double> speedupOverReference(const BenchResults& results, const RunRecord& run) {
-    const BenchDevice* reference = referenceDevice(results);
+// How many times faster than the reference renderer (or its plain form) a kernel run
+// rendered the same scene (render_seconds only: loading and building are not the
+// kernel's work).
+std::optional<double> speedupOverReference(const BenchResults& results, const RunRecord& run, bool plain = false) {
+    const BenchDevice* reference = referenceDevice(results, plain);
     if (!reference || run.device->isReference() || !run.ok()) return std::nullopt;
     const RunRecord* referenceRun = findRun(results, *run.scene, *reference, Phase::Reference);
     if (!referenceRun || !referenceRun->ok() || run.stats->renderSeconds <= 0) return std::nullopt;
@@ -64,31 +66,35 @@ std::string kernelBuildText(const BenchResults& results, const BenchScene& scene
 
 void printTableHeader(std::ostream& out) {
     char line[256];
-    std::snprintf(line, sizeof line, "%-20s %-4s %8s %9s %10s %10s %7s %9s %7s %13s %8s %6s %7s\n", "scene",
+    std::snprintf(line, sizeof line, "%-20s %-5s %8s %9s %10s %10s %7s %9s %7s %13s %8s %6s %7s %7s\n", "scene",
                   "dev", "prims", "primary", "shadow", "secondary", "Mray/s", "render s", "BVH s",
-                  "kbuild c/w s", "peak MiB", "x ref", "wall s");
+                  "kbuild c/w s", "peak MiB", "x ref", "x plain", "wall s");
     out << line << std::string(std::string(line).size() - 1, '-') << "\n";
 }
 
 void printTableRow(const BenchResults& results, const BenchScene& scene, const BenchDevice& device,
                    std::ostream& out) {
     const RunRecord* run = reportedRun(results, scene, device);
+    // The plain reference's rows only where it applies (the corpus and sphere scenes).
+    if (device.isPlainReference() && run && run->status.rfind("not run", 0) == 0) return;
     char line[320];
     if (!run || !run->ok()) {
-        std::snprintf(line, sizeof line, "%-20s %-4s %8s   %s\n", scene.name.c_str(), device.label.c_str(),
+        std::snprintf(line, sizeof line, "%-20s %-5s %8s   %s\n", scene.name.c_str(), device.label.c_str(),
                       primitivesText(scene).c_str(), run ? run->status.c_str() : "not run");
         out << line;
         return;
     }
     const RayStats& s = *run->stats;
     std::optional<double> speedup = speedupOverReference(results, *run);
+    std::optional<double> plainSpeedup = speedupOverReference(results, *run, true);
     std::snprintf(line, sizeof line,
-                  "%-20s %-4s %8s %9llu %10llu %10llu %7.2f %9.3f %7.3f %13s %8.1f %6s %7.2f\n",
+                  "%-20s %-5s %8s %9llu %10llu %10llu %7.2f %9.3f %7.3f %13s %8.1f %6s %7s %7.2f\n",
                   scene.name.c_str(), device.label.c_str(), primitivesText(scene).c_str(),
                   (unsigned long long)s.primaryRays, (unsigned long long)s.shadowRays,
                   (unsigned long long)s.secondaryRays, s.mraysPerSecond, s.renderSeconds, s.bvhBuildSeconds,
                   kernelBuildText(results, scene, device).c_str(), run->peakMiB,
-                  speedup ? formatted("%.2f", *speedup).c_str() : "-", run->wallSeconds);
+                  speedup ? formatted("%.2f", *speedup).c_str() : "-",
+                  plainSpeedup ? formatted("%.1f", *plainSpeedup).c_str() : "-", run->wallSeconds);
     out << line;
 }
 
@@ -186,6 +192,9 @@ std::string ratioJson(const BenchResults& results, const RunRecord& warm) {
     const RunRecord* reference =
         referenceDev ? findRun(results, *warm.scene, *referenceDev, Phase::Reference) : nullptr;
     std::optional<double> speedup = speedupOverReference(results, warm);
+    const BenchDevice* plainDev = referenceDevice(results, true);
+    const RunRecord* plain = plainDev ? findRun(results, *warm.scene, *plainDev, Phase::Reference) : nullptr;
+    std::optional<double> plainSpeedup = speedupOverReference(results, warm, true);
     std::ostringstream o;
     o << "{\"scene\": " << jsonString(warm.scene->name) << ", \"device\": " << jsonString(warm.device->label)
       << ", \"kernel_render_seconds\": " << jsonNumber(warm.stats->renderSeconds)
@@ -193,6 +202,10 @@ std::string ratioJson(const BenchResults& results, const RunRecord& warm) {
       << (reference && reference->ok() ? jsonNumber(reference->stats->renderSeconds) : "null")
       << ", \"reference_status\": " << jsonString(reference ? reference->status : "not run")
       << ", \"reference_over_kernel\": " << (speedup ? jsonNumber(*speedup) : "null")
+      << ", \"plain_reference_render_seconds\": "
+      << (plain && plain->ok() ? jsonNumber(plain->stats->renderSeconds) : "null")
+      << ", \"plain_reference_status\": " << jsonString(plain ? plain->status : "not run")
+      << ", \"plain_reference_over_kernel\": " << (plainSpeedup ? jsonNumber(*plainSpeedup) : "null")
       << ", \"kernel_build_cold_seconds\": "
       << (cold && cold->ok() ? jsonNumber(cold->stats->kernelBuildSeconds) : "null")
       << ", \"kernel_build_warm_seconds\": " << jsonNumber(warm.stats->kernelBuildSeconds) << "}";
@@ -212,7 +225,8 @@ std::string settingsJson(const BenchResults& r) {
       << ", \"aa\": \"off\", \"quick\": " << (r.quick ? "true" : "false")
       << ", \"ray_binary\": " << jsonString(r.rayBinary) << ", \"scenes_dir\": " << jsonString(r.scenesDir)
       << ", \"reference_timeout_seconds\": " << jsonNumber(r.referenceTimeoutSeconds)
-      << ", \"reference_max_primitives\": " << r.referenceMaxPrimitives << "}";
+      << ", \"reference_max_primitives\": " << r.referenceMaxPrimitives
+      << ", \"plain_max_primitives\": " << r.plainMaxPrimitives << "}";
     return o.str();
 }
 
@@ -224,7 +238,8 @@ void printRunTable(const BenchResults& results, std::ostream& out) {
     for (const BenchDevice& device : results.devices)
         out << "  " << device.label << " = " << device.name << "\n";
     out << "OpenCL rows: the warm run (kernel binary cached); kbuild c/w = kernel build seconds cold/warm;\n"
-           "x ref = reference render s / this render s; peak MiB = the child's max RSS\n\n";
+           "x ref = reference render s / this render s; x plain = the same against the plain reference\n"
+           "(no BVH: every primitive for every ray); peak MiB = the child's max RSS\n\n";
     printTableHeader(out);
     for (const BenchScene& scene : results.scenes)
         for (const BenchDevice& device : results.devices) printTableRow(results, scene, device, out);
@@ -234,7 +249,8 @@ void printRunTable(const BenchResults& results, std::ostream& out) {
 void printSphereScaling(const BenchResults& results, std::ostream& out) {
     out << "\nSphere scaling (render seconds; growth = value / value at 10^3, log n/3 = log10(n)/3;\n"
            "growth/log stays near 1 when the cost grows like log n; ns/ray = render s / total rays)\n";
-    for (const BenchDevice& device : results.devices) printScalingForDevice(results, device, out);
+    for (const BenchDevice& device : results.devices)
+        if (!device.isPlainReference()) printScalingForDevice(results, device, out);  // it runs too few
 }
 
 void writeResultsJson(const BenchResults& results, const fs::path& file) {

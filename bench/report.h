@@ -17,8 +17,9 @@ struct BenchResults {
     std::string scenesDir;
     double referenceTimeoutSeconds = 0;
     uint64_t referenceMaxPrimitives = 0;
+    uint64_t plainMaxPrimitives = 0;
     std::vector<BenchScene> scenes;    // the records below point into these two
-    std::vector<BenchDevice> devices;  // OpenCL devices first, the reference last
+    std::vector<BenchDevice> devices;  // OpenCL devices first, then the reference and the plain one
     std::vector<RunRecord> runs;
     double totalWallSeconds = 0;
 };
