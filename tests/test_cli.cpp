@@ -65,7 +65,7 @@ TEST_CASE("bad arguments are refused with a reason", "[cli]") {
     CHECK(parseCommandLine({"a.xml", "--no-bvh", "--device", "ref"}).referenceBruteForce);
 }
 
-TEST_CASE("--no-bvh renders what the reference renderer's BVH renders", "[cli]") {
+TEST_CASE("the reference renderer with --no-bvh renders what it renders with its BVH", "[cli]") {
     fs::path withBvh = freshOutput("bvh_on.exr"), withoutBvh = freshOutput("bvh_off.exr");
     fs::path json = freshOutput("bvh_off.json");
     auto a = runRay({scene("showpiece.xml"), "48", "36", "--device", "ref", "--quiet", "-o", withBvh.string()});
