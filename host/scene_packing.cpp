@@ -72,8 +72,11 @@ gpu::RayLight packLight(const Light& light, const RenderSettings& settings) {
     g.position = toFloat4(light.position);
     g.direction = toFloat4(normalize(light.direction));
     g.attenuation = toFloat4(light.attenuation);
+    // inner = angle − penumbra as SPEC §4 writes it, negative when the penumbra is wider
+    // than the cone (spotlight_on_cheese.xml: penumbra 80 with the default angle 45): the
+    // smooth step then starts outside the cone's axis, so even the axis is dimmed.
     double outer = radians(light.angleDegrees);
-    double inner = std::max(0.0, radians(light.angleDegrees - light.penumbraDegrees));
+    double inner = radians(light.angleDegrees - light.penumbraDegrees);
     g.spot = {float(std::cos(outer)), float(std::cos(inner)), float(outer), float(inner)};
     g.area = {float(light.width), float(light.height), 0, 0};
     return g;
