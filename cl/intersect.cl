@@ -63,6 +63,22 @@ inline bool solveQuadratic(float a, float b, float c, float* t0, float* t1) {
     return true;
 }
 
+/* The roots of a t² + 2·halfB·t + c = 0, ascending, given its quarter discriminant
+ * halfB² − a·c computed by the caller from the ray's closest approach to the axis or
+ * centre, a·(r² − |f|²). The schoolbook b² − 4ac cancels catastrophically in float when the
+ * shape is small against its distance (the tiny spheres of recursiveSpheres*.xml, whose
+ * object-space origins are thousands of radii away); this form does not, and the roots
+ * come from q and c/q without a second cancellation (host/shapes.cpp does the same). */
+inline bool closestApproachRoots(float a, float halfB, float c, float discriminant, float* t0, float* t1) {
+    if (!(discriminant >= 0.0f) || a == 0.0f) return false;
+    float q = -(halfB + copysign(sqrt(discriminant), halfB));
+    float r0 = q / a;
+    float r1 = q != 0.0f ? c / q : r0;
+    *t0 = fmin(r0, r1);
+    *t1 = fmax(r0, r1);
+    return true;
+}
+
 /* Keeps a candidate hit when it is the nearest so far in (0, best). */
 inline void considerHit(float t, int part, float3 normal, float* best, int* bestPart, float3* bestNormal) {
     if (t > 0.0f && t < *best) {
@@ -119,8 +135,10 @@ inline void intersectCube(float3 o, float3 d, float* best, int* part, float3* no
 }
 
 inline void intersectSphere(float3 o, float3 d, float* best, int* part, float3* normal) {
+    float a = dot(d, d), halfB = dot(o, d);
+    float3 f = o - (halfB / a) * d; /* the ray's closest approach to the centre */
     float t0, t1;
-    if (!solveQuadratic(dot(d, d), 2.0f * dot(o, d), dot(o, o) - 0.25f, &t0, &t1)) return;
+    if (!closestApproachRoots(a, halfB, dot(o, o) - 0.25f, a * (0.25f - dot(f, f)), &t0, &t1)) return;
     float t = t0 > 0.0f ? t0 : t1;
     considerHit(t, PART_SIDE, o + t * d, best, part, normal);
 }
@@ -144,8 +162,11 @@ inline void considerSideRoot(float3 o, float3 d, float t, int cone, float* best,
 
 inline void intersectCylinder(float3 o, float3 d, float* best, int* part, float3* normal) {
     float t0, t1;
-    float a = d.x * d.x + d.z * d.z;
-    if (a > 0.0f && solveQuadratic(a, 2.0f * (o.x * d.x + o.z * d.z), o.x * o.x + o.z * o.z - 0.25f, &t0, &t1)) {
+    float a = d.x * d.x + d.z * d.z; /* 0 for a ray along the axis: the side is missed */
+    float halfB = o.x * d.x + o.z * d.z;
+    float fx = o.x - (halfB / a) * d.x, fz = o.z - (halfB / a) * d.z; /* closest approach to the axis */
+    if (a > 0.0f && closestApproachRoots(a, halfB, o.x * o.x + o.z * o.z - 0.25f, a * (0.25f - (fx * fx + fz * fz)),
+                                         &t0, &t1)) {
         considerSideRoot(o, d, t0, 0, best, part, normal);
         considerSideRoot(o, d, t1, 0, best, part, normal);
     }
