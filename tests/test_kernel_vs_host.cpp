@@ -1,10 +1,12 @@
 // The OpenCL kernel against the host reference renderer, scene by scene: every bundled
-// scene and the course scenes that have reference renders, at small sizes, on the first
-// OpenCL CPU device (PoCL here).
+// scene, every course scene and the course scenes that have reference renders (with their
+// options), at small sizes, on the first OpenCL CPU device (PoCL here).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,57 @@ TEST_CASE("kernel matches host on bump-mapped glass", "[kernel][kvh]") {
     }
     RenderSettings settings = test::settingsFromOptions("", kWidth, kHeight);
     compareKernelWithHost(*device, test::testDataDir() / "scenes" / "bumped_glass.xml", settings, "bumped_glass");
+}
+
+// Every scene of the course corpus, small, with the course's antialiasing (its default):
+// the comparison that found the spot lights whose penumbra is wider than their cone and
+// the float cancellation in the sphere test (spotlight_on_cheese 42%, recursiveSpheres10
+// 76% of pixels within 3/255 before those fixes). A few scenes are chaotic at the pixel
+// level, where float and double legitimately pick different surfaces, and are held to a
+// lower share of close pixels (measured: 93.8, 96.0, 97.3, 98.2 and 97.8%):
+const std::map<std::string, double> kChaoticScenes = {
+    // sub-pixel spheres by the thousand: which one a ray meets depends on the last bits
+    {"recursiveSpheres7.xml", 0.97},
+    {"recursiveSpheres8.xml", 0.96},
+    {"recursiveSpheres9.xml", 0.95},
+    {"recursiveSpheres10.xml", 0.92},
+    // a fine checker seen through four glass balls: refraction magnifies texel boundaries
+    {"ayidi_refract2_plane.xml", 0.97},
+};
+
+TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") {
+    auto device = cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    auto shared = test::sharedDir();
+    if (!shared) {
+        test::skip("../shared/cs123 is absent: no course scenes");
+        return;
+    }
+    std::vector<fs::path> scenes;
+    for (const auto& entry : fs::directory_iterator(*shared / "cs123" / "scenes"))
+        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
+    std::sort(scenes.begin(), scenes.end());
+    RenderSettings settings = test::settingsFromOptions("", 96, 72);
+    int compared = 0;
+    for (const fs::path& file : scenes) {
+        const std::string name = file.filename().string();
+        try {
+            LoadOptions quiet;
+            quiet.warn = [](const std::string&) {};
+            loadScene(file, quiet);
+        } catch (const InputError&) {
+            continue;  // the corpus test checks that these fail clearly, on both renderers
+        }
+        auto chaotic = kChaoticScenes.find(name);
+        compareKernelWithHost(*device, file, settings, "corpus_" + file.stem().string(),
+                              chaotic == kChaoticScenes.end() ? 0.99 : chaotic->second);
+        ++compared;
+    }
+    std::printf("compared %d course scenes\n", compared);
+    CHECK(compared >= 200);
 }
 
 TEST_CASE("kernel matches host on the course scenes with reference renders", "[kernel][kvh]") {
