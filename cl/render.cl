@@ -171,7 +171,7 @@ inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* para
     }
     float shutter = params->lens.z;
     counter->time = shutter > 0.0f ? shutter * rayRandom(counter->pixel, k, 4u, (uint)params->counts.w) : 0.0f;
-    return traceCameraRay(scene, params, cameraRay(params, i, j, sx, sy, lens, counter->time), counter);
+    return traceCameraRay(scene, params, cameraRay(params, (float)i, (float)j, sx, sy, lens, counter->time), counter);
 }
 
 inline float3 samplePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,

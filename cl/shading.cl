@@ -109,8 +109,8 @@ inline float spotFactor(const RayLight* light, float3 towardLight) {
     return 1.0f - (3.0f * x * x - 2.0f * x * x * x);
 }
 
-inline bool inShadow(const SceneBuffers* scene, const RayRenderParams* params, float3 origin, float3 towardLight,
-                     float distance, PixelTrace* counter) {
+inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
+                     PixelTrace* counter) {
     counter->shadow++;
     Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
     Hit blocker;
@@ -142,7 +142,7 @@ float3 lightContribution(const SceneBuffers* scene, const RayRenderParams* param
         attenuation *= spotFactor(light, towardLight);
         if (attenuation <= 0.0f) return (float3)(0.0f);
     }
-    if ((params->mode.z & RAY_FEATURE_SHADOWS) && inShadow(scene, params, shadowOrigin, towardLight, distance, counter))
+    if ((params->mode.z & RAY_FEATURE_SHADOWS) && inShadow(scene, shadowOrigin, towardLight, distance, counter))
         return (float3)(0.0f);
     float3 lit = diffuse * nDotL;
     if (specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f) { /* pow is costly, and most course materials have no highlight */
