@@ -41,15 +41,25 @@ RenderOutput renderOnReference(const RenderJob& job) {
 // pixel): the tiles already queued must finish before it stops. Measured on PoCL (2 busy
 // cores, chess.xml 1024x768, depth 8, SIGINT to exit): 64x64 tiles at 4096 samples took
 // 8.5 s; with 64^3 samples a tile, 0.3-0.6 s at 64 and 4096 samples but 1.2 s at 256;
-// hence half that.
+// hence half that. chess.xml's samples trace about 2.5 rays each (a camera ray and the
+// shadow rays of its two point lights where it hits).
 constexpr double kCancellableTileSamples = 64 * 64 * 32;
+constexpr double kCalibrationRaysPerSample = 2.5;
 
-// The side of such a tile, a multiple of the 8x8 work-group: 64 up to 32 samples a pixel,
-// 40 for the course's 64, down to 8 for 4096.
-int cancellableTileSize(const RenderSettings& settings) {
-    int side = int(std::sqrt(kCancellableTileSamples / maxSamplesPerPixel(settings)));
-    return std::clamp(side / 8 * 8, 8, 64);
+}  // namespace
+
+int cancellableTileSize(const RenderSettings& settings, const Scene& scene) {
+    // A sample that meets an area light traces k² shadow rays for it: count the samples by
+    // the rays they trace when that is more than the calibration scene's.
+    const int side = areaLightGridSide(settings);
+    double raysPerSample = 1;
+    for (const Light& light : scene.lights) raysPerSample += light.type == LightType::Area ? side * side : 1;
+    double weight = std::max(1.0, raysPerSample / kCalibrationRaysPerSample);
+    int tileSide = int(std::sqrt(kCancellableTileSamples / (maxSamplesPerPixel(settings) * weight)));
+    return std::clamp(tileSide / 8 * 8, 8, 64);
 }
+
+namespace {
 
 bool isReference(const std::string& device) { return device == "ref" || device == "reference"; }
 
@@ -67,7 +77,7 @@ RenderOutput render(const RenderJob& job) {
             options.cancel = job.cancel;
             // A cancellable render uses smaller tiles: the tiles already queued must finish
             // before it stops, and at 128x128 with many samples that can take seconds.
-            if (job.cancel) options.tileSize = cancellableTileSize(job.settings);
+            if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
             out = RenderOutput{};
             out.image = renderOpenCl(device, job.scene, job.settings, options, &out.stats);
             devicesUsed += (devicesUsed.empty() ? "" : ", ") + out.stats.device;

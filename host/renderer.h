@@ -42,6 +42,12 @@ struct RenderOutput {
 // returns the last image (the stats name every device). Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);
 
+// The side of the square tiles of a cancellable render (RenderJob::cancel set), a multiple
+// of the 8x8 work-group from 8 to 64: small enough that the few tiles already queued when
+// it is cancelled finish within about a second on PoCL, given the samples per pixel and
+// the shadow rays of the scene's area lights.
+int cancellableTileSize(const RenderSettings& settings, const Scene& scene);
+
 // Prints every OpenCL platform and device with its index (--list-devices).
 void printDeviceList(std::ostream& out);
 

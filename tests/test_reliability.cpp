@@ -9,6 +9,7 @@
 #include "kernel_comparison.h"
 #include "opencl_renderer.h"
 #include "reference_renderer.h"
+#include "renderer.h"
 #include "scene_loader.h"
 #include "test_support.h"
 
@@ -157,6 +158,26 @@ TEST_CASE("A cancelled OpenCL render returns the tiles launched and black elsewh
     for (int y = 192; y < 256; ++y)
         for (int x = 192; x < 256; ++x) REQUIRE(image.at(x, y).x == 0);
     for (float v : image.rgb) REQUIRE(std::isfinite(v));
+}
+
+// The tiles queued when a render is cancelled must finish within about a second, so a
+// tile holds fewer pixels the more rays each pixel traces: more samples, and the k² shadow
+// rays an area light adds to every sample.
+TEST_CASE("Cancellable tiles shrink with the samples and with area-light shadow rays", "[reliability]") {
+    ray::Scene pointLit = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
+    ray::Scene areaLit = ray::loadScene(ray::test::scenesDir() / "light_area.xml");
+    auto side = [](const ray::Scene& scene, const char* options) {
+        return ray::cancellableTileSize(ray::test::settingsFromOptions(options, 64, 64), scene);
+    };
+    CHECK(side(pointLit, "--aa off") == 64);
+    CHECK(side(pointLit, "") == 40);  // the course's up to 64 samples
+    CHECK(side(pointLit, "--aa stratified --samples 4096") == 8);
+    // 16 area samples: 17 rays a sample against the 2.5 the tiles were measured with
+    CHECK(side(areaLit, "") < side(pointLit, ""));
+    CHECK(side(pointLit, "--aa stratified --samples 64") == 40);
+    CHECK(side(areaLit, "--aa stratified --samples 64") == 16);
+    CHECK(side(areaLit, "--area-samples 1024") == 8);
+    CHECK(side(areaLit, "--area-samples 16") > side(areaLit, "--area-samples 256"));
 }
 
 TEST_CASE("Limits: an image too big for memory is refused before rendering, with exit 2", "[reliability]") {
