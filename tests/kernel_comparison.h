@@ -31,13 +31,9 @@ inline std::optional<OpenClDevice> cpuDevice() {
 // `minimumWithin`, for the few scenes whose callers say why) and a mean error <= 1/255,
 // printing the figures. A failure leaves both images and their difference in the test
 // output folder, named after `label`.
-inline void compareKernelWithHost(const OpenClDevice& device, const std::filesystem::path& sceneFile,
-                                  const RenderSettings& settings, const std::string& label,
-                                  double minimumWithin = 0.99) {
+inline void compareKernelWithHost(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
+                                  const std::string& label, double minimumWithin = 0.99) {
     namespace fs = std::filesystem;
-    LoadOptions load;
-    load.warn = [](const std::string&) {};
-    Scene scene = loadScene(sceneFile, load);
     Image host = renderReference(scene, settings);
     Image kernel = renderOpenCl(device, scene, settings, {}, nullptr);
     ImageDifference d = compare8bit(kernel, host, 3);
@@ -55,6 +51,19 @@ inline void compareKernelWithHost(const OpenClDevice& device, const std::filesys
     }
     INFO(label << ": " << d.fractionWithin * 100 << "% within 3/255, mean error " << d.meanAbsError << "/255");
     CHECK(ok);
+}
+
+// The scene loaded quietly (warnings are the loader tests' business).
+inline Scene loadSceneQuietly(const std::filesystem::path& sceneFile) {
+    LoadOptions load;
+    load.warn = [](const std::string&) {};
+    return loadScene(sceneFile, load);
+}
+
+inline void compareKernelWithHost(const OpenClDevice& device, const std::filesystem::path& sceneFile,
+                                  const RenderSettings& settings, const std::string& label,
+                                  double minimumWithin = 0.99) {
+    compareKernelWithHost(device, loadSceneQuietly(sceneFile), settings, label, minimumWithin);
 }
 
 }  // namespace ray::test
