@@ -45,30 +45,13 @@ inline float3 normalToWorld(__global const float4* m, float3 n) {
     return normalize(m[0].xyz * n.x + m[1].xyz * n.y + m[2].xyz * n.z);
 }
 
-/* Both roots of a t² + b t + c = 0 in ascending order, without the cancellation of the
- * schoolbook formula; false when there are none. */
-inline bool solveQuadratic(float a, float b, float c, float* t0, float* t1) {
-    if (a == 0.0f) {
-        if (b == 0.0f) return false;
-        *t0 = *t1 = -c / b;
-        return true;
-    }
-    float disc = b * b - 4.0f * a * c;
-    if (disc < 0.0f) return false;
-    float q = -0.5f * (b + copysign(sqrt(disc), b));
-    float r0 = q / a;
-    float r1 = q != 0.0f ? c / q : r0;
-    *t0 = fmin(r0, r1);
-    *t1 = fmax(r0, r1);
-    return true;
-}
-
 /* The roots of a t² + 2·halfB·t + c = 0, ascending, given its quarter discriminant
- * halfB² − a·c computed by the caller from the ray's closest approach to the axis or
- * centre, a·(r² − |f|²). The schoolbook b² − 4ac cancels catastrophically in float when the
- * shape is small against its distance (the tiny spheres of recursiveSpheres*.xml, whose
- * object-space origins are thousands of radii away); this form does not, and the roots
- * come from q and c/q without a second cancellation (host/shapes.cpp does the same). */
+ * halfB² − a·c; false when there are none. The sphere and the cylinder compute that
+ * discriminant from the ray's closest approach to the centre or axis, a·(r² − |f|²): the
+ * schoolbook b² − 4ac cancels catastrophically in float when the shape is small against
+ * its distance (the tiny spheres of recursiveSpheres*.xml, whose object-space origins are
+ * thousands of radii away), that form does not. The roots come from q and c/q, without
+ * a second cancellation (host/shapes.cpp does the same). */
 inline bool closestApproachRoots(float a, float halfB, float c, float discriminant, float* t0, float* t1) {
     if (!(discriminant >= 0.0f) || a == 0.0f) return false;
     float q = -(halfB + copysign(sqrt(discriminant), halfB));
@@ -77,6 +60,18 @@ inline bool closestApproachRoots(float a, float halfB, float c, float discrimina
     *t0 = fmin(r0, r1);
     *t1 = fmax(r0, r1);
     return true;
+}
+
+/* Both roots of a t² + b t + c = 0 in ascending order (the cone's, whose a may be 0: then
+ * the one root of the linear equation); false when there are none. */
+inline bool solveQuadratic(float a, float b, float c, float* t0, float* t1) {
+    if (a == 0.0f) {
+        if (b == 0.0f) return false;
+        *t0 = *t1 = -c / b;
+        return true;
+    }
+    float halfB = 0.5f * b;
+    return closestApproachRoots(a, halfB, c, halfB * halfB - a * c, t0, t1);
 }
 
 /* Keeps a candidate hit when it is the nearest so far in (0, best). */
