@@ -34,14 +34,24 @@ inline float3 objectTangent(const SceneBuffers* scene, int type, int part, float
     }
 }
 
-/* The object normal n (any length) tilted by bump map `map` at uv. */
-float3 bumpedObjectNormal(const SceneBuffers* scene, int map, float2 uv, float2 repeats, float3 tangent, float3 n) {
+/* +1, or −1 on a mesh triangle whose texture coordinates are mirrored, for the shading
+ * normal n (host/mesh.h uvHandedness): the handedness is about the triangle's face normal,
+ * and a shading normal facing the other way reverses it. */
+inline float bitangentSign(const SceneBuffers* scene, int type, int part, float3 faceNormal, float3 n) {
+    if (type != RAY_PRIM_MESH) return 1.0f;
+    float handedness = scene->triangleShading[part].uv2.w;
+    return dot(faceNormal, n) < 0.0f ? -handedness : handedness;
+}
+
+/* The object normal n (any length) tilted by bump map `map` at uv; B = bitangentSign · (N × T). */
+float3 bumpedObjectNormal(const SceneBuffers* scene, int map, float2 uv, float2 repeats, float3 tangent,
+                          float bitangentSign, float3 n) {
     n = normalize(n);
     float3 t = tangent - dot(tangent, n) * n;
     float len = length(t);
     if (!(len > 1e-6f)) return n;
     t /= len;
-    float3 b = cross(n, t);
+    float3 b = bitangentSign * cross(n, t);
     int4 info = scene->textures[map].info; /* one texel of the repeated map, in u and v */
     float du = 1.0f / ((float)info.y * repeats.x), dv = 1.0f / ((float)info.z * repeats.y);
     float alongU = 0.5f * (bumpHeight(scene, map, uv + (float2)(du, 0.0f), repeats) -

@@ -60,6 +60,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
     RayMaterial m = scene->materials[prim->info.y];
     float3 p = ray.origin + hit.t * ray.direction;
+    float3 faceNormal = hit.objectNormal; /* a mesh's: the triangle's, before its shading normal */
     if (prim->info.x == RAY_PRIM_MESH) hit.objectNormal = meshShadingNormal(scene->triangleShading, hit.part, hit.barycentric);
     float2 uv = hitUv(scene, prim->info.x, &hit);
     float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
@@ -67,9 +68,9 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
      * bump map tilts the shading normal, not the surface (host/reference_renderer.cpp). */
     bool entering = dot(normal, ray.direction) < 0.0f;
     if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) { /* bump maps follow the textures switch */
-        hit.objectNormal = bumpedObjectNormal(scene, m.maps.y, uv, m.repeats.zw,
-                                              objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
-                                              hit.objectNormal);
+        hit.objectNormal = bumpedObjectNormal(
+            scene, m.maps.y, uv, m.repeats.zw, objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
+            bitangentSign(scene, prim->info.x, hit.part, faceNormal, hit.objectNormal), hit.objectNormal);
         normal = normalToWorld(prim->worldToObject, hit.objectNormal);
     }
     if (!entering) normal = -normal; /* face the incoming ray */

@@ -118,7 +118,7 @@ RAY_STRUCT(RayTriangleShading) {
     float4 n1;
     float4 n2;
     float4 uv01; /* u0, v0, u1, v1 */
-    float4 uv2;  /* u2, v2, unused, unused */
+    float4 uv2;  /* u2, v2, uv density (trilinear filtering), uv handedness (±1, bump mapping) */
 } RAY_END_STRUCT(RayTriangleShading);
 
 /* A material: 128 bytes. Colors in .xyz; scalars ride in the spare .w lanes. */

@@ -38,12 +38,12 @@ Vec3 objectTangent(PrimitiveType type, const Vec3& p, const Vec3& n) {
     return {p.z, 0, -p.x};
 }
 
-Vec3 bumpedNormal(const Vec3& normal, const Vec3& tangent, const HeightSlope& slope) {
+Vec3 bumpedNormal(const Vec3& normal, const Vec3& tangent, const HeightSlope& slope, double bitangentSign) {
     Vec3 t = tangent - dot(tangent, normal) * normal;
     double len = length(t);
     if (!(len > 1e-12)) return normal;
     t = t / len;
-    Vec3 b = cross(normal, t);
+    Vec3 b = bitangentSign * cross(normal, t);
     Vec3 bumped = normal - kBumpStrength * (slope.alongU * t + slope.alongV * b);
     return normalize(bumped);
 }

@@ -5,7 +5,8 @@
 // bilinearly and differentiated by central differences one texel apart, the object-space
 // normal becomes N' = normalize(N − kBumpStrength·(∂h/∂s·T + ∂h/∂t·B)), where the
 // derivatives are per texel (of the map as repeated on the surface), T is the unit
-// direction of increasing u in the tangent plane and B = N × T that of increasing v. A gray
+// direction of increasing u in the tangent plane and B = N × T that of increasing v (−N × T
+// on mesh triangles whose texture coordinates are mirrored: ShapeHit::bitangentSign). A gray
 // ramp rising by 0.5 per texel tilts the normal by 45°; brighter is higher. The kernel does
 // the same in float (cl/bump.cl). Bump maps follow the textures switch (--no-textures).
 #pragma once
@@ -32,6 +33,6 @@ Vec3 objectTangent(PrimitiveType type, const Vec3& objectPoint, const Vec3& obje
 
 // N' of the convention above (N unit length, object space); N itself where the tangent is
 // degenerate.
-Vec3 bumpedNormal(const Vec3& normal, const Vec3& tangent, const HeightSlope& slope);
+Vec3 bumpedNormal(const Vec3& normal, const Vec3& tangent, const HeightSlope& slope, double bitangentSign = 1);
 
 }  // namespace ray

@@ -1,5 +1,7 @@
 #include "mesh.h"
 
+#include <optional>
+
 #include <tiny_obj_loader.h>
 
 #include "scene.h"
@@ -82,17 +84,40 @@ std::array<double, 2> TriangleMesh::texCoordAt(size_t triangle, double b1, doubl
     return {b0 * a[0] + b1 * b[0] + b2 * c[0], b0 * a[1] + b1 * b[1] + b2 * c[1]};
 }
 
+namespace {
+
+// The texture coordinates' edges of a triangle: (du1, dv1) from corner 0 to 1, (du2, dv2)
+// from 0 to 2, and det = du1·dv2 − du2·dv1; nullopt without vt.
+struct UvEdges {
+    double du1, dv1, du2, dv2, det;
+};
+
+std::optional<UvEdges> uvEdges(const TriangleMesh& mesh, size_t triangle) {
+    const std::array<MeshCorner, 3>& t = mesh.triangles[triangle];
+    if (t[0].texCoord < 0 || t[1].texCoord < 0 || t[2].texCoord < 0) return std::nullopt;
+    const auto &a = mesh.texCoords[size_t(t[0].texCoord)], &b = mesh.texCoords[size_t(t[1].texCoord)],
+               &c = mesh.texCoords[size_t(t[2].texCoord)];
+    UvEdges e{b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1], 0};
+    e.det = e.du1 * e.dv2 - e.du2 * e.dv1;
+    return e;
+}
+
+}  // namespace
+
 Vec3 TriangleMesh::uTangent(size_t triangle) const {
-    const std::array<MeshCorner, 3>& t = triangles[triangle];
-    if (t[0].texCoord < 0 || t[1].texCoord < 0 || t[2].texCoord < 0) return {};
-    const auto &a = texCoords[size_t(t[0].texCoord)], &b = texCoords[size_t(t[1].texCoord)],
-               &c = texCoords[size_t(t[2].texCoord)];
-    double du1 = b[0] - a[0], dv1 = b[1] - a[1], du2 = c[0] - a[0], dv2 = c[1] - a[1];
-    double det = du1 * dv2 - du2 * dv1;
-    if (det == 0) return {};
-    Vec3 dpdu = (dv2 * (corner(triangle, 1) - corner(triangle, 0)) - dv1 * (corner(triangle, 2) - corner(triangle, 0))) / det;
+    auto e = uvEdges(*this, triangle);
+    if (!e || e->det == 0) return {};
+    Vec3 dpdu = (e->dv2 * (corner(triangle, 1) - corner(triangle, 0)) - e->dv1 * (corner(triangle, 2) - corner(triangle, 0))) /
+                e->det;
     double len = length(dpdu);
     return len > 0 ? dpdu / len : Vec3{};
+}
+
+// ∂p/∂u × ∂p/∂v = (e1 × e2) / det for the position edges e1, e2, so the pair is
+// right-handed about the face normal exactly when det > 0.
+double TriangleMesh::uvHandedness(size_t triangle) const {
+    auto e = uvEdges(*this, triangle);
+    return e && e->det < 0 ? -1.0 : 1.0;
 }
 
 void TriangleMesh::computeBounds() {

@@ -42,6 +42,11 @@ struct TriangleMesh {
     // The unit direction in which u grows over the triangle (∂p/∂u from its vt), for bump
     // mapping; zero without vt or where the vt are degenerate.
     Vec3 uTangent(size_t triangle) const;
+    // +1 where v grows along faceNormal × uTangent, as it does for texture coordinates laid
+    // on the face's front counter-clockwise; −1 where they are mirrored (symmetric models
+    // often mirror half their texture), so that bump mapping's B, the direction of growing
+    // v, is −(N × T) there. +1 without vt or where they are degenerate.
+    double uvHandedness(size_t triangle) const;
     void computeBounds();
 };
 

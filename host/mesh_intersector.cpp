@@ -123,6 +123,10 @@ std::optional<ShapeHit> MeshIntersector::intersect(const Vec3& origin, const Vec
     auto uv = mesh_.texCoordAt(size_t(bestTriangle), best.b1, best.b2);
     hit.uv = {uv[0], uv[1]};
     hit.tangent = mesh_.uTangent(size_t(bestTriangle));
+    // Handedness is about the face normal; a shading normal (vn) facing the other way
+    // reverses it.
+    double facing = dot(hit.normal, mesh_.faceNormal(size_t(bestTriangle))) < 0 ? -1.0 : 1.0;
+    hit.bitangentSign = mesh_.uvHandedness(size_t(bestTriangle)) * facing;
     return hit;
 }
 

@@ -191,7 +191,7 @@ private:
                            ? hit.local.tangent
                            : objectTangent(instance.type, objectPoint, hit.local.normal);
         HeightSlope slope = heightSlope(scene_.images[map.image], hit.local.uv.u, hit.local.uv.v, map.repeatU, map.repeatV);
-        return bumpedNormal(hit.local.normal, tangent, slope);
+        return bumpedNormal(hit.local.normal, tangent, slope, hit.local.bitangentSign);
     }
 
     SurfaceHit surfaceAt(const SceneHit& hit, const Ray& ray, double time) const {

@@ -130,6 +130,7 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
         s.uv01 = textured ? texCoordPair(mesh, t[0], &t[1]) : gpu::float4{};
         s.uv2 = textured ? texCoordPair(mesh, t[2], nullptr) : gpu::float4{};
         s.uv2.z = uvDensity;
+        s.uv2.w = float(mesh.uvHandedness(i));
         packed.triangleShading.push_back(s);
     }
     return nodeOffset;

@@ -24,6 +24,9 @@ struct ShapeHit {
     Vec3 normal;  // object space, unit length, pointing out of the solid
     UV uv;
     Vec3 tangent;  // meshes: object-space direction of increasing u (bump mapping); zero: none
+    // meshes: +1, or −1 where the texture coordinates are mirrored about the shading normal
+    // (bump mapping's B = bitangentSign · (N × T)); every other shape +1
+    double bitangentSign = 1;
 };
 
 std::optional<ShapeHit> intersectCube(const Vec3& origin, const Vec3& direction, double tMin, double tMax);

@@ -51,6 +51,19 @@ TEST_CASE("kernel matches host on bump-mapped glass", "[kernel][kvh]") {
     compareKernelWithHost(*device, test::testDataDir() / "scenes" / "bumped_glass.xml", settings, "bumped_glass");
 }
 
+// A bump-mapped mesh whose right half mirrors its texture coordinates: both renderers must
+// turn the bitangent around there (host/mesh.h uvHandedness).
+TEST_CASE("kernel matches host on a bump-mapped mesh with mirrored texture coordinates", "[kernel][kvh]") {
+    auto device = cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    RenderSettings settings = test::settingsFromOptions("", kWidth, kHeight);
+    compareKernelWithHost(*device, test::testDataDir() / "scenes" / "bumped_mirrored_mesh.xml", settings,
+                          "bumped_mirrored_mesh");
+}
+
 // Every scene of the course corpus, small, with the course's antialiasing (its default):
 // the comparison that found the spot lights whose penumbra is wider than their cone and
 // the float cancellation in the sphere test (spotlight_on_cheese 42%, recursiveSpheres10

@@ -119,6 +119,39 @@ TEST_CASE("a mesh used by several instances is stored once", "[mesh]") {
     CHECK(packed.triangleShading.size() == packed.triangles.size());
 }
 
+// A square in the z = 0 plane, facing +z, as two triangles: the left one with its texture
+// laid on as seen from the front, the right one mirrored in u (as symmetric models mirror
+// half their texture). Bumps that rise with v must tilt the normal against the direction
+// in which v grows on both, so B is −(N × T) on the mirrored one.
+TEST_CASE("bump mapping on mesh triangles with mirrored texture coordinates", "[mesh][bump]") {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+                            "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+                            "f 1/1 2/2 3/3\n"   // u grows along +x, v along +y
+                            "f 2/2 4/1 5/3\n";  // u grows along −x (mirrored), v along +y
+    TriangleMesh mesh = parseObjMesh(obj, "mirrored.obj");
+    REQUIRE(mesh.triangles.size() == 2);
+    CHECK(mesh.uvHandedness(0) == 1);
+    CHECK(mesh.uvHandedness(1) == -1);
+    CHECK(mesh.uTangent(1).x == Approx(-1));
+
+    MeshIntersector intersector(mesh);
+    for (double x : {0.2, 1.8}) {
+        auto hit = intersector.intersect({x, 0.2, 1}, {0, 0, -1}, 0, INFINITY);
+        REQUIRE(hit);
+        INFO("x = " << x);
+        CHECK(hit->bitangentSign == (x < 1 ? 1 : -1));
+        Vec3 bumped = bumpedNormal(hit->normal, hit->tangent, {0, 0.5}, hit->bitangentSign);
+        CHECK(bumped.y < -0.5);  // v grows along +y on both triangles: the tilt is toward −y
+    }
+    // A shading normal facing away from the face reverses the handedness.
+    TriangleMesh flipped =
+        parseObjMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 -1\nf 1/1/1 2/2/1 3/3/1\n",
+                     "flipped.obj");
+    auto back = MeshIntersector(flipped).intersect({0.2, 0.2, -1}, {0, 0, 1}, 0, INFINITY);
+    REQUIRE(back);
+    CHECK(back->bitangentSign == -1);
+}
+
 TEST_CASE("bump mapping: a flat map keeps the normal, a ramp tilts it by the documented scale", "[bump]") {
     Image flat(8, 8);
     for (float& c : flat.rgb) c = 0.5f;
