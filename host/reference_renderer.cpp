@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -288,18 +289,25 @@ private:
         return intersector_.anyHit(origin, path.toLight, 0, path.distance, time);
     }
 
+    // The factor k·color of a reflected (ks·Or) or refracted (kt·Ot) branch, or nullopt
+    // where its switch, the depth limit or the weight threshold stops it (SPEC §4).
+    std::optional<Vec3> branchFactor(bool enabled, double k, const Vec3& color, int depth, const Vec3& weight) const {
+        if (!enabled || color == Vec3{} || depth >= settings_.maxDepth) return std::nullopt;
+        Vec3 factor = k * color;
+        if (belowThresholdEverywhere(weight * factor, settings_.weightThreshold)) return std::nullopt;
+        return factor;
+    }
+
     // ks·Or·I_r with I_r clamped to [0, 1], while depth and weight allow (SPEC §4).
     Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
                     const SampleId& id, RayCounts& counts) const {
-        const Material& material = *surface.material;
-        if (!settings_.reflections || material.reflective == Vec3{} || depth >= settings_.maxDepth) return {};
-        Vec3 factor = scene_.globals.ks * material.reflective;
-        Vec3 branchWeight = weight * factor;
-        if (belowThresholdEverywhere(branchWeight, settings_.weightThreshold)) return {};
+        auto factor = branchFactor(settings_.reflections, scene_.globals.ks, surface.material->reflective, depth, weight);
+        if (!factor) return {};
+        Vec3 branchWeight = weight * *factor;
 
         ++counts.secondary;
         Ray reflected{surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
-        return factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
+        return *factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
     }
 
     // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4): the ray refracted by Snell's law
@@ -308,10 +316,9 @@ private:
     Vec3 refraction(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
                     const SampleId& id, RayCounts& counts) const {
         const Material& material = *surface.material;
-        if (!settings_.refraction || material.transparent == Vec3{} || depth >= settings_.maxDepth) return {};
-        Vec3 factor = scene_.globals.kt * material.transparent;
-        Vec3 branchWeight = weight * factor;
-        if (belowThresholdEverywhere(branchWeight, settings_.weightThreshold)) return {};
+        auto factor = branchFactor(settings_.refraction, scene_.globals.kt, material.transparent, depth, weight);
+        if (!factor) return {};
+        Vec3 branchWeight = weight * *factor;
 
         ++counts.secondary;
         double n1 = media.before(surface.entering, material.ior);
@@ -325,7 +332,7 @@ private:
         } else {
             child = {surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
         }
-        return factor * clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
+        return *factor * clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
     }
 
     // Mipmaps of every image, the meshes' UV densities and the pixel spread angle.
