@@ -277,7 +277,9 @@ TEST_CASE("textures: D = blend·T + (1 − blend)·kd·Od", "[lighting][uv]") {
     }
 }
 
-TEST_CASE("transparent materials render opaque until refraction exists", "[lighting]") {
+// Refraction through a slab with nothing behind it: the refracted ray leaves the scene and
+// adds black (SPEC §4), so only the slab's own shading remains.
+TEST_CASE("a transparent surface with nothing behind it keeps only its own shading", "[lighting]") {
     Scene scene = onePixelScene();
     Material m = diffuseMaterial({1, 1, 1});
     m.transparent = {1, 1, 1};
