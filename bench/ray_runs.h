@@ -10,7 +10,7 @@
 
 namespace bench {
 
-// The fields of `ray --stats-json` (host/render_stats.cpp).
+// The fields of `ray --stats-json` (host/render/render_stats.cpp).
 struct RayStats {
     int width = 0, height = 0, samples = 0, depth = 0;
     std::string device;

@@ -1,4 +1,4 @@
-/* Bump mapping: host/bump_mapping.h gives the convention (height = the map's gray level,
+/* Bump mapping: host/reference/bump_mapping.h gives the convention (height = the map's gray level,
  * N' = normalize(N − kBumpStrength·(∂h/∂s·T + ∂h/∂t·B)), derivatives per texel by central
  * differences of bilinear reads); this is the same in float, in object space. */
 
@@ -35,7 +35,7 @@ inline float3 objectTangent(const SceneBuffers* scene, int type, int part, float
 }
 
 /* +1, or −1 on a mesh triangle whose texture coordinates are mirrored, for the shading
- * normal n (host/mesh.h uvHandedness): the handedness is about the triangle's face normal,
+ * normal n (host/scene/mesh.h uvHandedness): the handedness is about the triangle's face normal,
  * and a shading normal facing the other way reverses it. */
 inline float bitangentSign(const SceneBuffers* scene, int type, int part, float3 faceNormal, float3 n) {
     if (type != RAY_PRIM_MESH) return 1.0f;

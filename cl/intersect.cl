@@ -51,7 +51,7 @@ inline float3 normalToWorld(__global const float4* m, float3 n) {
  * schoolbook b² − 4ac cancels catastrophically in float when the shape is small against
  * its distance (the tiny spheres of recursiveSpheres*.xml, whose object-space origins are
  * thousands of radii away), that form does not. The roots come from q and c/q, without
- * a second cancellation (host/shapes.cpp does the same). */
+ * a second cancellation (host/reference/shapes.cpp does the same). */
 inline bool closestApproachRoots(float a, float halfB, float c, float discriminant, float* t0, float* t1) {
     if (!(discriminant >= 0.0f) || a == 0.0f) return false;
     float q = -(halfB + copysign(sqrt(discriminant), halfB));
@@ -83,7 +83,7 @@ inline void considerHit(float t, int part, float3 normal, float* best, int* best
     }
 }
 
-/* Slabs, as in the reference (host/shapes.cpp): inside the cube the ray runs from the
+/* Slabs, as in the reference (host/reference/shapes.cpp): inside the cube the ray runs from the
  * largest entering to the smallest leaving plane distance. Faces are numbered as parts:
  * axis·2 for the +0.5 plane, axis·2 + 1 for the −0.5 plane. */
 inline void intersectCube(float3 o, float3 d, float* best, int* part, float3* normal) {

@@ -1,5 +1,5 @@
 /* Refraction (SPEC §4) and area-light sampling: the geometry both renderers share. The
- * reference renderer (host/reference_renderer.cpp, host/optics.h) follows these functions
+ * reference renderer (host/reference/reference_renderer.cpp, host/reference/optics.h) follows these functions
  * step by step, so that the kernel and the host agree sample for sample. */
 
 /* The media a ray travels through, innermost last: the ior of each transparent object it

@@ -65,7 +65,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float2 uv = hitUv(scene, prim->info.x, &hit);
     float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
     /* The object normal points outward. Which side the ray meets is the surface's own: a
-     * bump map tilts the shading normal, not the surface (host/reference_renderer.cpp). */
+     * bump map tilts the shading normal, not the surface (host/reference/reference_renderer.cpp). */
     bool entering = dot(normal, ray.direction) < 0.0f;
     if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) { /* bump maps follow the textures switch */
         hit.objectNormal = bumpedObjectNormal(
@@ -244,7 +244,7 @@ float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params,
 }
 
 /* The sample of cell `cell` of a side×side grid, jittered by the random numbers of sample
- * number `number` (host/course_sampling.cpp jitteredCell). */
+ * number `number` (host/reference/course_sampling.cpp jitteredCell). */
 inline float3 jitteredSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, int cell, int side,
                              uint number, PixelTrace* counter) {
     uint seed = (uint)params->counts.w;
@@ -253,7 +253,7 @@ inline float3 jitteredSample(const SceneBuffers* scene, const RayRenderParams* p
     return samplePixel(scene, params, i, j, sx, sy, counter);
 }
 
-/* --aa adaptive (host/course_sampling.h sampleAdaptive): 2×2 jittered samples; where they
+/* --aa adaptive (host/reference/course_sampling.h sampleAdaptive): 2×2 jittered samples; where they
  * spread by more than RAY_ADAPTIVE_CONTRAST, a k×k jittered grid more (sample numbers 4..);
  * the mean of every sample taken. */
 float3 adaptivePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {

@@ -2,7 +2,7 @@
  *
  * This header is the single definition of every structure that crosses the host/device
  * boundary. The host includes it from C++ (with the small shim below) and checks sizes and
- * offsets with static_assert in host/scene_packing.cpp; the kernel sources are compiled with
+ * offsets with static_assert in host/opencl/scene_packing.cpp; the kernel sources are compiled with
  * this header prepended.
  *
  * Rules that keep the two compilers in agreement:
@@ -52,7 +52,7 @@ struct alignas(16) int4 {
 #define RAY_AA_ADAPTIVE 3
 
 /* The antialiasing thresholds (SPEC §3), one definition for both renderers
- * (host/render_settings.h): the course mode subdivides a square whose four samples spread
+ * (host/render/render_settings.h): the course mode subdivides a square whose four samples spread
  * (max − min, in the channel where that is largest) by more than RAY_COURSE_AA_CONTRAST;
  * --aa adaptive adds its k×k pass where the first four spread by more than
  * RAY_ADAPTIVE_CONTRAST, a tenth of the range, well above the 8-bit step, so that the
@@ -67,7 +67,7 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_TEXTURES 8
 /* (16 is free: --no-dof sets the lens radius to 0 instead of a bit.) */
 #define RAY_FEATURE_BILINEAR 32
-#define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/texture_filtering.h */
+#define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/reference/texture_filtering.h */
 
 /* A node of the flattened two-wide BVH: 64 bytes, one cache line.
  *
@@ -147,7 +147,7 @@ RAY_STRUCT(RayLight) {
 /* A texture in the texel buffer: texels [offset, offset + width·height) of uchar4 (RGBA8,
  * row 0 at the top), values v/255 exactly as the course reads them. With trilinear
  * filtering its mipmap levels follow, back to back: level k is max(1, width >> k) ×
- * max(1, height >> k) (host/texture_filtering.h); otherwise the level count is 1. */
+ * max(1, height >> k) (host/reference/texture_filtering.h); otherwise the level count is 1. */
 RAY_STRUCT(RayTexture) {
     int4 info;  /* offset in texels, width, height, mipmap level count (≥ 1) */
 } RAY_END_STRUCT(RayTexture);

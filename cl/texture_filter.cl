@@ -1,4 +1,4 @@
-/* Trilinear texture filtering: the float twin of host/texture_filtering.cpp, whose header
+/* Trilinear texture filtering: the float twin of host/reference/texture_filtering.cpp, whose header
  * documents the footprint approximation (pixel spread angle × distance / cos θ, to object
  * space by the largest tangent-plane stretch of worldToObject, to texture coordinates by
  * the primitive's UV density) and the mipmap layout. */

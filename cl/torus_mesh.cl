@@ -35,7 +35,7 @@ float bisectQuartic(float4 c, int order, float a, float b, float fa) {
     return 0.5f * (a + b);
 }
 
-/* Isolation (host/polynomial.cpp does the same in double): given breakpoints b[0..n-1]
+/* Isolation (host/reference/polynomial.cpp does the same in double): given breakpoints b[0..n-1]
  * (the interval's ends and, between them, the roots of derivative order + 1, ascending),
  * derivative `order` is monotone between neighbours; writes its roots into out (between
  * the ends out[0] = b[0] and out[count - 1] = b[n - 1], which the caller's next level

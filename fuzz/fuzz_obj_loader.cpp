@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <string>
 
-#include "mesh.h"
-#include "mesh_intersector.h"
-#include "scene.h"
+#include "scene/mesh.h"
+#include "reference/mesh_intersector.h"
+#include "scene/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

@@ -9,9 +9,9 @@
 #include <string>
 
 #include "fuzz_support.h"
-#include "reference_renderer.h"
-#include "scene_loader.h"
-#include "scene_packing.h"
+#include "reference/reference_renderer.h"
+#include "scene/scene_loader.h"
+#include "opencl/scene_packing.h"
 
 namespace {
 

@@ -9,11 +9,11 @@
 #include <optional>
 #include <string>
 
-#include "opencl_device.h"
-#include "opencl_renderer.h"
-#include "reference_renderer.h"
-#include "renderer.h"
-#include "scene_loader.h"
+#include "opencl/opencl_device.h"
+#include "opencl/opencl_renderer.h"
+#include "reference/reference_renderer.h"
+#include "render/renderer.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 namespace ray::test {

@@ -1,4 +1,4 @@
-// The BVH builder and host traversal (host/bvh.h): the tree's structure on random and
+// The BVH builder and host traversal (host/accel/bvh.h): the tree's structure on random and
 // degenerate inputs, traversal against brute force, and world bounds of the primitives.
 #include <catch2/catch.hpp>
 
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "bvh.h"
-#include "scene_loader.h"
-#include "shapes.h"
+#include "accel/bvh.h"
+#include "scene/scene_loader.h"
+#include "reference/shapes.h"
 #include "test_support.h"
 
 namespace ray {
@@ -686,7 +686,7 @@ TEST_CASE("worldBounds contains every primitive under random transforms", "[bvh]
 
 TEST_CASE("BVH over worldBounds finds the same hits as brute force on transformed primitives", "[bvh]") {
     // The whole host path: worldBounds of instances, the tree, the traversal, and the
-    // exact object-space shape tests (host/shapes.h) behind it.
+    // exact object-space shape tests (host/reference/shapes.h) behind it.
     Random random(13);
     std::vector<PrimitiveInstance> instances;
     for (int i = 0; i < 600; ++i) {

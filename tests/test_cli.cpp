@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "cli.h"
+#include "app/cli.h"
 #include "test_support.h"
 
 namespace {

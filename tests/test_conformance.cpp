@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <string>
 
-#include "image.h"
-#include "reference_renderer.h"
-#include "scene_loader.h"
+#include "image/image.h"
+#include "reference/reference_renderer.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 TEST_CASE("the reference renderer matches the course's renders", "[conformance]") {

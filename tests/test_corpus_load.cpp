@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "scene_loader.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

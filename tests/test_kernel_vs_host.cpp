@@ -52,7 +52,7 @@ TEST_CASE("kernel matches host on bump-mapped glass", "[kernel][kvh]") {
 }
 
 // A bump-mapped mesh whose right half mirrors its texture coordinates: both renderers must
-// turn the bitangent around there (host/mesh.h uvHandedness).
+// turn the bitangent around there (host/scene/mesh.h uvHandedness).
 TEST_CASE("kernel matches host on a bump-mapped mesh with mirrored texture coordinates", "[kernel][kvh]") {
     auto device = cpuDevice();
     if (!device) {

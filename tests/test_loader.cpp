@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "file_search.h"
-#include "image.h"
-#include "scene_loader.h"
+#include "scene/file_search.h"
+#include "image/image.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

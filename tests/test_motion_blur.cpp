@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "bvh.h"
+#include "accel/bvh.h"
 #include "kernel_comparison.h"
-#include "reference_bvh.h"
-#include "reference_renderer.h"
-#include "scene_loader.h"
+#include "reference/reference_bvh.h"
+#include "reference/reference_renderer.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 using Catch::Matchers::Contains;

@@ -1,4 +1,4 @@
-// Refraction and area lights (issue 4): the shared geometry (host/optics.h), the
+// Refraction and area lights (issue 4): the shared geometry (host/reference/optics.h), the
 // reference renderer's behaviour, and the kernel against the host on our scenes and the
 // course's refraction and area-light scenes.
 #include <catch2/catch.hpp>
@@ -6,9 +6,9 @@
 #include <cmath>
 #include <string>
 
-#include "cli.h"
+#include "app/cli.h"
 #include "kernel_comparison.h"
-#include "optics.h"
+#include "reference/optics.h"
 
 namespace fs = std::filesystem;
 using namespace ray;

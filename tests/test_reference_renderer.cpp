@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include "course_sampling.h"
-#include "random.h"
-#include "reference_renderer.h"
+#include "reference/course_sampling.h"
+#include "core/random.h"
+#include "reference/reference_renderer.h"
 
 using namespace ray;
 

@@ -7,10 +7,10 @@
 #include <fstream>
 
 #include "kernel_comparison.h"
-#include "opencl_renderer.h"
-#include "reference_renderer.h"
-#include "renderer.h"
-#include "scene_loader.h"
+#include "opencl/opencl_renderer.h"
+#include "reference/reference_renderer.h"
+#include "render/renderer.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 namespace {

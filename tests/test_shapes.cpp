@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "reference_bvh.h"
-#include "shapes.h"
-#include "texture_sampling.h"
+#include "reference/reference_bvh.h"
+#include "reference/shapes.h"
+#include "reference/texture_sampling.h"
 
 using namespace ray;
 

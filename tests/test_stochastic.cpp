@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "course_sampling.h"
+#include "reference/course_sampling.h"
 #include "kernel_comparison.h"
 
 namespace fs = std::filesystem;

@@ -19,8 +19,8 @@
 #include <chrono>
 #include <thread>
 
-#include "cli.h"
-#include "image.h"
+#include "app/cli.h"
+#include "image/image.h"
 
 namespace ray::test {
 

@@ -1,4 +1,4 @@
-// Trilinear texture filtering (host/texture_filtering.h): mipmap levels (sizes, box-filter
+// Trilinear texture filtering (host/reference/texture_filtering.h): mipmap levels (sizes, box-filter
 // averages, 8-bit rounding, the kernel's layout), the footprint and level selection, and
 // the kernel against the reference with --texture-filter bilinear and trilinear.
 #include <catch2/catch.hpp>
@@ -7,11 +7,11 @@
 #include <numbers>
 
 #include "kernel_comparison.h"
-#include "mesh.h"
-#include "scene_loader.h"
-#include "scene_packing.h"
+#include "scene/mesh.h"
+#include "scene/scene_loader.h"
+#include "opencl/scene_packing.h"
 #include "test_support.h"
-#include "texture_filtering.h"
+#include "reference/texture_filtering.h"
 
 using namespace ray;
 

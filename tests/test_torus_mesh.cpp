@@ -5,13 +5,13 @@
 
 #include <cmath>
 
-#include "bump_mapping.h"
-#include "mesh.h"
-#include "mesh_intersector.h"
-#include "polynomial.h"
-#include "scene_loader.h"
-#include "scene_packing.h"
-#include "shapes.h"
+#include "reference/bump_mapping.h"
+#include "scene/mesh.h"
+#include "reference/mesh_intersector.h"
+#include "reference/polynomial.h"
+#include "scene/scene_loader.h"
+#include "opencl/scene_packing.h"
+#include "reference/shapes.h"
 #include "test_support.h"
 
 using namespace ray;

@@ -1,0 +1,66 @@
+// Images in memory, and reading and writing them with OpenImageIO.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace ray {
+
+// A linear RGB float image, row 0 at the top. Textures are stored this way too, with
+// 8-bit values v mapped to v/255 exactly as the course does (no gamma decoding).
+struct Image {
+    int width = 0, height = 0;
+    std::vector<float> rgb;  // width * height * 3
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), rgb(size_t(w) * size_t(h) * 3, 0.0f) {}
+
+    bool empty() const { return width == 0 || height == 0; }
+    Vec3 at(int x, int y) const {
+        const float* p = &rgb[(size_t(y) * size_t(width) + size_t(x)) * 3];
+        return {p[0], p[1], p[2]};
+    }
+    void set(int x, int y, const Vec3& c) {
+        float* p = &rgb[(size_t(y) * size_t(width) + size_t(x)) * 3];
+        p[0] = float(c.x);
+        p[1] = float(c.y);
+        p[2] = float(c.z);
+    }
+};
+
+// Thrown for an image that cannot be read or written; the message names the file.
+struct ImageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Reads any format OpenImageIO understands (png, jpg, ppm, tif, exr …). Grey images are
+// expanded to RGB and alpha is dropped. Throws ImageError.
+Image readImage(const std::filesystem::path& file);
+
+// True for outputs that keep floats unclamped (exr, hdr, pfm); others are 8-bit.
+bool isFloatFormat(const std::filesystem::path& file);
+
+// Whether this OpenImageIO build has a writer for the file's extension (Debian 12's reads
+// pfm but cannot write it, for one). Asked before rendering, so that no render is lost.
+bool canWriteImageFormat(const std::filesystem::path& file);
+
+// The outputs to suggest when a format cannot be written.
+extern const char* const kOutputFormatAdvice;
+
+// Writes the image in the format its extension names. 8-bit formats get colors clamped to
+// [0, 1] and truncated, floor(255·c), without gamma (SPEC §4); float formats keep the
+// values as they are. The image goes to a temporary file beside the target that is then
+// renamed over it, so an existing file is never left half-written. Throws ImageError.
+void writeImage(const Image& image, const std::filesystem::path& file);
+
+// The 8-bit value SPEC §4 writes for a color channel: floor(255·clamp(c, 0, 1)).
+inline int quantize8(double c) {
+    if (!(c > 0)) return 0;  // also maps NaN to 0
+    if (c >= 1) return 255;
+    return int(c * 255.0);
+}
+
+}  // namespace ray

@@ -1,0 +1,236 @@
+#include "opencl/opencl_device.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "opencl/kernel_source.h"
+#include "render/renderer.h"
+
+namespace ray {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kNoPlatformAdvice =
+    "no OpenCL platform found. Install one: PoCL for this CPU (Debian: apt-get install pocl-opencl-icd) or "
+    "your GPU vendor's OpenCL driver; or render with the host reference renderer: --device ref";
+
+std::string typeName(const OpenClDevice& d) {
+    if (d.isGpu) return "GPU";
+    if (d.isCpu) return "CPU";
+    return "accelerator";
+}
+
+// 64-bit FNV-1a: names cache entries. Not cryptographic; a collision would at worst load
+// a binary that then fails to build and is rebuilt from source.
+uint64_t fnv1a(const std::string& text, uint64_t hash = 1469598103934665603ull) {
+    for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
+    return hash;
+}
+
+fs::path cacheDirectory() {
+    if (const char* dir = std::getenv("RAY_CACHE_DIR"); dir && *dir) return dir;
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return fs::path(xdg) / "ray";
+    if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".cache" / "ray";
+    return {};
+}
+
+fs::path cacheFileFor(const OpenClDevice& device, const std::string& source, const std::string& options) {
+    fs::path dir = cacheDirectory();
+    if (dir.empty()) return {};
+    std::string key = source + '\0' + options + '\0' + device.name + '\0' + device.driverVersion + '\0' +
+                      device.platformName + '\0' + device.platformVersion;
+    std::ostringstream name;
+    name << "kernel-" << std::hex << std::setw(16) << std::setfill('0') << fnv1a(key) << ".bin";
+    return dir / name.str();
+}
+
+std::vector<unsigned char> readFile(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return {};
+    return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
+}
+
+void writeFileAtomically(const fs::path& file, const std::vector<unsigned char>& bytes) {
+    std::error_code ec;
+    fs::create_directories(file.parent_path(), ec);
+    fs::path tmp = file;
+    tmp += ".tmp" + std::to_string(getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        if (!out) {
+            fs::remove(tmp, ec);
+            return;
+        }
+    }
+    fs::rename(tmp, file, ec);
+    if (ec) fs::remove(tmp, ec);
+}
+
+std::string buildLog(const cl::Program& program, const cl::Device& device) {
+    try {
+        return program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+    } catch (const cl::Error&) {
+        return "(no build log)";
+    }
+}
+
+// A program from a cached binary, or an empty optional when there is none or it fails.
+bool tryCachedProgram(const cl::Context& context, const OpenClDevice& device, const fs::path& cacheFile,
+                      const std::string& options, cl::Program& program) {
+    if (cacheFile.empty()) return false;
+    std::vector<unsigned char> binary = readFile(cacheFile);
+    if (binary.empty()) return false;
+    try {
+        std::vector<cl_int> status;
+        program = cl::Program(context, {device.device}, cl::Program::Binaries{binary}, &status);
+        program.build({device.device}, options.c_str());
+        return true;
+    } catch (const cl::Error&) {
+        return false;  // stale or foreign binary: rebuild from source
+    }
+}
+
+}  // namespace
+
+std::string OpenClDevice::description() const { return name + " (" + platformName + ")"; }
+
+std::string openClErrorName(cl_int code) {
+    switch (code) {
+        case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND (-1)";
+        case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE (-2)";
+        case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE (-4)";
+        case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES (-5)";
+        case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY (-6)";
+        case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE (-11)";
+        case CL_INVALID_VALUE: return "CL_INVALID_VALUE (-30)";
+        case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE (-61)";
+        case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE (-54)";
+        case -1001: return "CL_PLATFORM_NOT_FOUND_KHR (-1001)";
+        default: return "OpenCL error " + std::to_string(code);
+    }
+}
+
+std::vector<OpenClDevice> enumerateOpenClDevices() {
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error&) {
+        return {};  // the ICD loader found no platform (CL_PLATFORM_NOT_FOUND_KHR)
+    }
+    std::vector<OpenClDevice> devices;
+    for (const cl::Platform& platform : platforms) {
+        std::vector<cl::Device> platformDevices;
+        try {
+            platform.getDevices(CL_DEVICE_TYPE_ALL, &platformDevices);
+        } catch (const cl::Error&) {
+            continue;  // a platform with no usable device
+        }
+        for (const cl::Device& device : platformDevices) {
+            OpenClDevice d;
+            d.index = int(devices.size());
+            d.platform = platform;
+            d.device = device;
+            d.name = device.getInfo<CL_DEVICE_NAME>();
+            d.platformName = platform.getInfo<CL_PLATFORM_NAME>();
+            d.platformVersion = platform.getInfo<CL_PLATFORM_VERSION>();
+            d.driverVersion = device.getInfo<CL_DRIVER_VERSION>();
+            cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
+            d.isGpu = (type & CL_DEVICE_TYPE_GPU) != 0;
+            d.isCpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+            d.computeUnits = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+            d.globalMemory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+            d.maxAllocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            devices.push_back(std::move(d));
+        }
+    }
+    return devices;
+}
+
+std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
+    std::vector<OpenClDevice> all = enumerateOpenClDevices();
+    if (all.empty()) throw DeviceError(kNoPlatformAdvice);
+    auto ofType = [&](bool gpu) {
+        std::vector<OpenClDevice> chosen;
+        for (const OpenClDevice& d : all)
+            if (gpu ? d.isGpu : d.isCpu) chosen.push_back(d);
+        return chosen;
+    };
+    if (selector == "all") return all;
+    if (selector == "gpu" || selector == "cpu") {
+        auto chosen = ofType(selector == "gpu");
+        if (chosen.empty())
+            throw DeviceError("no OpenCL " + std::string(selector == "gpu" ? "GPU" : "CPU") +
+                              " device found (see ray --list-devices); try --device auto, or --device ref "
+                              "for the host reference renderer");
+        return {chosen.front()};
+    }
+    if (selector == "auto") {
+        auto gpus = ofType(true);
+        if (!gpus.empty()) return {gpus.front()};
+        auto cpus = ofType(false);
+        return {cpus.empty() ? all.front() : cpus.front()};
+    }
+    int index = std::atoi(selector.c_str());
+    if (index < 0 || index >= int(all.size()))
+        throw DeviceError("there is no OpenCL device " + selector + "; ray --list-devices shows " +
+                          std::to_string(all.size()) + " (0 to " + std::to_string(all.size() - 1) + ")");
+    return {all[size_t(index)]};
+}
+
+void printOpenClDevices(std::ostream& out) {
+    std::vector<OpenClDevice> devices = enumerateOpenClDevices();
+    if (devices.empty()) {
+        out << kNoPlatformAdvice << "\n";
+        return;
+    }
+    for (const OpenClDevice& d : devices) {
+        out << d.index << ": " << d.name << "\n"
+            << "   platform " << d.platformName << " (" << d.platformVersion << "), driver " << d.driverVersion
+            << "\n"
+            << "   " << typeName(d) << ", " << d.computeUnits << " compute units, "
+            << d.globalMemory / (1024 * 1024) << " MiB global memory, " << d.maxAllocation / (1024 * 1024)
+            << " MiB largest buffer\n";
+    }
+    out << "ref: the host reference renderer (always available)\n";
+}
+
+KernelProgram buildKernelProgram(const OpenClDevice& device, const std::string& options) {
+    auto start = std::chrono::steady_clock::now();
+    KernelProgram result;
+    result.context = cl::Context(device.device);
+    const std::string source = kernelProgramSource();
+    const fs::path cacheFile = cacheFileFor(device, source, options);
+
+    result.fromCache = tryCachedProgram(result.context, device, cacheFile, options, result.program);
+    if (!result.fromCache) {
+        result.program = cl::Program(result.context, source);
+        try {
+            result.program.build({device.device}, options.c_str());
+        } catch (const cl::Error& e) {
+            throw DeviceError("the OpenCL kernel failed to build for " + device.description() + " (" +
+                              openClErrorName(e.err()) + "). Build log:\n" + buildLog(result.program, device.device) +
+                              "\nTry another device (ray --list-devices) or --device ref (the host reference renderer).");
+        }
+        if (!cacheFile.empty()) {
+            try {
+                auto binaries = result.program.getInfo<CL_PROGRAM_BINARIES>();
+                if (!binaries.empty() && !binaries.front().empty()) writeFileAtomically(cacheFile, binaries.front());
+            } catch (const cl::Error&) {
+                // Caching is an optimization; a device that cannot hand out binaries is fine.
+            }
+        }
+    }
+    result.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace ray

@@ -1,0 +1,234 @@
+#include "opencl/scene_packing.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <array>
+#include <cstddef>
+
+#include "reference/texture_filtering.h"
+
+namespace ray {
+
+// The layouts must agree with OpenCL C's (cl/shared_types.h): float4/int4 fields only,
+// each 16 bytes, no padding anywhere.
+static_assert(sizeof(gpu::float4) == 16 && alignof(gpu::float4) == 16);
+static_assert(sizeof(gpu::int4) == 16 && alignof(gpu::int4) == 16);
+static_assert(sizeof(gpu::RayBvhNode) == 64);
+static_assert(offsetof(gpu::RayBvhNode, links) == 48);
+static_assert(sizeof(gpu::RayPrimitive) == 64);
+static_assert(offsetof(gpu::RayPrimitive, info) == 48);
+static_assert(sizeof(gpu::RayMaterial) == 128);
+static_assert(offsetof(gpu::RayMaterial, maps) == 112);
+static_assert(sizeof(gpu::RayLight) == 112);
+static_assert(offsetof(gpu::RayLight, area) == 96);
+static_assert(sizeof(gpu::RayTexture) == 16 && offsetof(gpu::RayTexture, info) == 0);
+static_assert(sizeof(gpu::RayTriangle) == 48);
+static_assert(sizeof(gpu::RayTriangleShading) == 80);
+static_assert(offsetof(gpu::RayTriangleShading, uv2) == 64);
+static_assert(sizeof(gpu::RayRenderParams) == 176);
+static_assert(offsetof(gpu::RayRenderParams, tile) == 160);
+static_assert(offsetof(gpu::RayRenderParams, limits) == 96);  // .z: the pixel spread angle (trilinear)
+static_assert(int(PrimitiveType::Cone) == RAY_PRIM_CONE && int(PrimitiveType::Mesh) == RAY_PRIM_MESH);
+static_assert(int(LightType::Area) == RAY_LIGHT_AREA && int(LightType::Spot) == RAY_LIGHT_SPOT);
+static_assert(int(AntialiasMode::Course) == RAY_AA_COURSE && int(AntialiasMode::Adaptive) == RAY_AA_ADAPTIVE);
+
+namespace {
+
+gpu::float4 toFloat4(const Vec3& v, double w = 0) { return {float(v.x), float(v.y), float(v.z), float(w)}; }
+
+gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, const std::vector<int>& meshRoots) {
+    gpu::RayPrimitive p;
+    for (int row = 0; row < 3; ++row) {
+        const double* m = instance.worldToObject.m[row];
+        p.worldToObject[row] = {float(m[0]), float(m[1]), float(m[2]), float(m[3])};
+    }
+    int root = instance.type == PrimitiveType::Mesh ? meshRoots[size_t(instance.mesh)] : -1;
+    p.info = {int(instance.type), instance.material, instance.mesh, root};
+    return p;
+}
+
+gpu::RayMaterial packMaterial(const Material& m, const Scene& scene) {
+    auto mapIndex = [&](const TextureMap& map) {
+        return map.image >= 0 && !scene.images[size_t(map.image)].empty() ? map.image : -1;
+    };
+    gpu::RayMaterial g;
+    g.diffuse = toFloat4(m.diffuse, m.blend);
+    g.ambient = toFloat4(m.ambient, m.shininess);
+    g.specular = toFloat4(m.specular, m.ior);
+    g.reflective = toFloat4(m.reflective);
+    g.transparent = toFloat4(m.transparent);
+    g.emissive = toFloat4(m.emissive);
+    g.repeats = {float(m.texture.repeatU), float(m.texture.repeatV), float(m.bumpMap.repeatU),
+                 float(m.bumpMap.repeatV)};
+    g.maps = {mapIndex(m.texture), mapIndex(m.bumpMap), 0, 0};
+    return g;
+}
+
+gpu::RayLight packLight(const Light& light, const RenderSettings& settings) {
+    gpu::RayLight g;
+    g.info = {int(light.type), areaLightGridSide(settings), 0, 0};
+    g.color = toFloat4(light.color);
+    g.position = toFloat4(light.position);
+    g.direction = toFloat4(normalize(light.direction));
+    g.attenuation = toFloat4(light.attenuation);
+    // inner = angle − penumbra as SPEC §4 writes it, negative when the penumbra is wider
+    // than the cone (spotlight_on_cheese.xml: penumbra 80 with the default angle 45): the
+    // smooth step then starts outside the cone's axis, so even the axis is dimmed.
+    double outer = radians(light.angleDegrees);
+    double inner = radians(light.angleDegrees - light.penumbraDegrees);
+    g.spot = {float(std::cos(outer)), float(std::cos(inner)), float(outer), float(inner)};
+    g.area = {float(light.width), float(light.height), 0, 0};
+    return g;
+}
+
+gpu::float4 texCoordPair(const TriangleMesh& mesh, const MeshCorner& a, const MeshCorner* b) {
+    auto uv = [&](const MeshCorner& c) {
+        return c.texCoord >= 0 ? mesh.texCoords[size_t(c.texCoord)] : std::array<double, 2>{0, 0};
+    };
+    std::array<double, 2> first = uv(a), second = b ? uv(*b) : std::array<double, 2>{0, 0};
+    return {float(first[0]), float(first[1]), float(second[0]), float(second[1])};
+}
+
+// One mesh: its BVH's nodes appended to packed.nodes (child indices rebased to their place
+// there, leaf ranges to the mesh's place in the triangle buffer), its triangles in BVH
+// order. Returns the root node's index.
+int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
+    const float uvDensity = float(meshUvDensity(mesh));  // every triangle's uv2.z (trilinear filtering)
+    std::vector<BoundingBox> bounds(mesh.triangles.size());
+    for (size_t i = 0; i < bounds.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& p = mesh.corner(i, k);
+            BoundingBox corner;
+            for (int axis = 0; axis < 3; ++axis) corner.min[axis] = corner.max[axis] = float(p[axis]);
+            bounds[i].expand(corner);
+        }
+    }
+    FlatBvh bvh = buildBvh(bounds);
+    const int nodeOffset = int(packed.nodes.size()), triangleOffset = int(packed.triangles.size());
+    for (gpu::RayBvhNode node : bvh.nodes) {
+        int* links[2][2] = {{&node.links.x, &node.links.y}, {&node.links.z, &node.links.w}};
+        for (auto& [index, count] : links)
+            if (*index >= 0) *index += *count > 0 ? triangleOffset : nodeOffset;
+        packed.nodes.push_back(node);
+    }
+    for (uint32_t i : bvh.primitiveOrder) {
+        const std::array<MeshCorner, 3>& t = mesh.triangles[i];
+        Vec3 p0 = mesh.corner(i, 0), p1 = mesh.corner(i, 1), p2 = mesh.corner(i, 2);
+        packed.triangles.push_back({toFloat4(p0), toFloat4(p1 - p0), toFloat4(p2 - p0)});
+        gpu::RayTriangleShading s;
+        bool smooth = t[0].normal >= 0 && t[1].normal >= 0 && t[2].normal >= 0;
+        Vec3 face = mesh.faceNormal(i);
+        s.n0 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
+        s.n1 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
+        s.n2 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
+        Vec3 tangent = mesh.uTangent(i);  // rides in the normals' .w lanes (bump mapping)
+        s.n0.w = float(tangent.x);
+        s.n1.w = float(tangent.y);
+        s.n2.w = float(tangent.z);
+        bool textured = t[0].texCoord >= 0 && t[1].texCoord >= 0 && t[2].texCoord >= 0;
+        s.uv01 = textured ? texCoordPair(mesh, t[0], &t[1]) : gpu::float4{};
+        s.uv2 = textured ? texCoordPair(mesh, t[2], nullptr) : gpu::float4{};
+        s.uv2.z = uvDensity;
+        s.uv2.w = float(mesh.uvHandedness(i));
+        packed.triangleShading.push_back(s);
+    }
+    return nodeOffset;
+}
+
+void appendTexels(const Image& image, PackedScene& packed) {
+    for (size_t p = 0, n = size_t(image.width) * size_t(image.height); p < n; ++p) {
+        for (int c = 0; c < 3; ++c)
+            packed.texels.push_back(uint8_t(std::lround(std::clamp(image.rgb[p * 3 + size_t(c)], 0.0f, 1.0f) * 255.0f)));
+        packed.texels.push_back(255);
+    }
+}
+
+// Each image, followed by its mipmap levels when filtering is trilinear (texture_filtering.h).
+void packTextures(const Scene& scene, bool mipmaps, PackedScene& packed) {
+    for (const Image& image : scene.images) {
+        int offset = int(packed.texels.size() / 4);
+        appendTexels(image, packed);
+        int levelCount = 1;
+        if (mipmaps && !image.empty()) {
+            for (const Image& level : buildMipLevels(image)) {
+                appendTexels(level, packed);
+                ++levelCount;
+            }
+        }
+        packed.textures.push_back({{offset, image.width, image.height, levelCount}});
+    }
+}
+
+}  // namespace
+
+size_t PackedScene::totalBytes() const {
+    return nodes.size() * sizeof(nodes[0]) + primitives.size() * sizeof(primitives[0]) +
+           materials.size() * sizeof(materials[0]) + lights.size() * sizeof(lights[0]) +
+           textures.size() * sizeof(textures[0]) + texels.size() + triangles.size() * sizeof(triangles[0]) +
+           triangleShading.size() * sizeof(triangleShading[0]) + motions.size() * sizeof(gpu::float4);
+}
+
+PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
+    PackedScene packed;
+
+    auto start = std::chrono::steady_clock::now();
+    std::vector<BoundingBox> bounds(scene.primitives.size());
+    for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = worldBounds(scene.primitives[i]);
+    FlatBvh bvh = buildBvh(bounds);
+    packed.nodes = std::move(bvh.nodes);
+    for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
+    // The build time counts the meshes' trees with the scene's.
+    packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    packed.primitives.reserve(scene.primitives.size());
+    for (uint32_t index : bvh.primitiveOrder)
+        packed.primitives.push_back(packPrimitive(scene.primitives[index], packed.meshRoots));
+    bool anyMotion = std::any_of(scene.primitives.begin(), scene.primitives.end(),
+                                 [](const PrimitiveInstance& p) { return p.motion != Vec3{}; });
+    if (anyMotion)
+        for (uint32_t index : bvh.primitiveOrder) packed.motions.push_back(toFloat4(scene.primitives[index].motion));
+    for (const Material& m : scene.materials) packed.materials.push_back(packMaterial(m, scene));
+    for (const Light& l : scene.lights) packed.lights.push_back(packLight(l, settings));
+    packTextures(scene, settings.textureFilter == TextureFilter::Trilinear, packed);
+    return packed;
+}
+
+gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& s, const PackedScene& packed) {
+    const Camera& camera = scene.camera;
+    Vec3 forward = normalize(camera.look);
+    Vec3 right = normalize(cross(forward, camera.up));
+    Vec3 up = cross(right, forward);
+    double h = std::tan(radians(camera.heightAngleDegrees) / 2);
+    double w = h * double(s.width) / double(s.height);
+
+    int features = 0;
+    if (s.shadows) features |= RAY_FEATURE_SHADOWS;
+    if (s.reflections) features |= RAY_FEATURE_REFLECTIONS;
+    if (s.refraction) features |= RAY_FEATURE_REFRACTION;
+    if (s.textures) features |= RAY_FEATURE_TEXTURES;
+    if (s.textureFilter != TextureFilter::Nearest) features |= RAY_FEATURE_BILINEAR;
+    if (s.textureFilter == TextureFilter::Trilinear) features |= RAY_FEATURE_TRILINEAR;
+
+    gpu::RayRenderParams p;
+    p.eye = toFloat4(camera.position);
+    p.right = toFloat4(right * w);
+    p.up = toFloat4(up * h);
+    p.forward = toFloat4(forward);
+    // Depth of field: the lens radius (0: a pinhole), and the distance that stays sharp;
+    // an unset focal length focuses where the camera looks (|look|, the focus point for a
+    // camera given by <focus>), as the reference renderer does.
+    double lensRadius = s.depthOfField ? camera.aperture / 2 : 0;
+    double focalDistance = camera.focalLength > 0 ? camera.focalLength : length(camera.look);
+    // Motion blur: the shutter, 0 (every ray at time 0, no motion read) when nothing moves.
+    double shutter = packed.motions.empty() ? 0 : s.shutter;
+    p.lens = {float(lensRadius), float(focalDistance), float(shutter), 0};
+    const GlobalCoefficients& g = scene.globals;
+    p.globals = {float(g.ka), float(g.kd), float(g.ks), float(g.kt)};
+    p.limits = {float(s.weightThreshold), kKernelRayOffset, float(pixelSpreadAngle(camera.heightAngleDegrees, s.height)), 0};
+    p.image = {s.width, s.height, 0, 0};
+    p.mode = {int(s.antialias), s.maxDepth, features, s.samples};
+    p.counts = {int(packed.lights.size()), int(packed.primitives.size()), int(packed.nodes.size()), int(s.seed)};
+    return p;
+}
+
+}  // namespace ray

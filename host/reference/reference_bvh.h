@@ -1,0 +1,95 @@
+// Finding what a ray hits in a flattened scene, for the reference renderer.
+//
+// A plain bounding volume hierarchy over the primitive instances' world-space boxes:
+// split at the median of the box centres along their longest axis until at most a few
+// primitives remain. It is not tuned (the kernel has its own SAH tree); it is there
+// because the course's scenes reach millions of instances. A brute-force mode tests
+// every primitive instead, so a test can check that the tree changes nothing.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/scene.h"
+#include "reference/mesh_intersector.h"
+#include "reference/shapes.h"
+
+// In a namespace of their own: the kernel's BVH (bvh.h) has similar names.
+namespace ray::reference {
+
+// An axis-aligned box; the default one is empty (lo > hi).
+struct Aabb {
+    Vec3 lo{INFINITY, INFINITY, INFINITY};
+    Vec3 hi{-INFINITY, -INFINITY, -INFINITY};
+
+    void grow(const Vec3& p) {
+        lo = componentMin(lo, p);
+        hi = componentMax(hi, p);
+    }
+    void grow(const Aabb& b) {
+        lo = componentMin(lo, b.lo);
+        hi = componentMax(hi, b.hi);
+    }
+    bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+    Vec3 centre() const { return (lo + hi) * 0.5; }
+    int longestAxis() const;
+};
+
+// The world-space box of an instance: the box around the eight transformed corners of its
+// object-space box (PrimitiveInstance::objectLo/objectHi: the unit cube for most). A
+// moving instance's box covers its whole motion: the union of its boxes at t = 0 and t = 1
+// (a translation sweeps the box linearly, so the two ends bound every time between).
+Aabb worldBounds(const PrimitiveInstance& instance);
+
+// Where the entering ray meets the box within [tMin, tMax], or nothing.
+std::optional<double> intersectBox(const Aabb& box, const Vec3& origin, const Vec3& direction, double tMin,
+                                   double tMax);
+
+struct SceneHit {
+    int primitive = -1;  // index into Scene::primitives
+    ShapeHit local;      // t, object-space normal, texture coordinates
+};
+
+enum class SceneSearch { Bvh, BruteForce };
+
+class SceneIntersector {
+public:
+    // Keeps a reference to scene.primitives: the scene must outlive the intersector.
+    explicit SceneIntersector(const Scene& scene, SceneSearch search = SceneSearch::Bvh);
+
+    // The nearest hit with tMin < t < tMax along origin + t·direction (world space), with
+    // the moving instances where they are at shutter time `time` (scene.h).
+    std::optional<SceneHit> closestHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax,
+                                       double time = 0) const;
+    // Whether anything lies along the ray with tMin < t < tMax (shadow rays).
+    bool anyHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax, double time = 0) const;
+
+    // The box around every primitive (empty for an empty scene).
+    const Aabb& sceneBounds() const { return sceneBounds_; }
+
+private:
+    struct Node {
+        Aabb bounds;
+        int first = 0, count = 0;  // a leaf: primitives order_[first, first + count)
+        int left = -1, right = -1;  // an inner node (count == 0): its children
+    };
+
+    int build(int begin, int end, const std::vector<Aabb>& boxes, const std::vector<Vec3>& centres);
+    std::optional<ShapeHit> intersectPrimitive(int index, const Vec3& origin, const Vec3& direction, double tMin,
+                                               double tMax, double time) const;
+    // Calls test(primitive index) for every primitive whose box the ray reaches before
+    // the current tMax; test returns the new tMax (smaller after a hit), or a negative
+    // value to stop the search.
+    template <class Test>
+    void traverse(const Vec3& origin, const Vec3& direction, double tMin, double tMax, Test&& test) const;
+
+    const std::vector<PrimitiveInstance>& primitives_;
+    std::vector<MeshIntersector> meshes_;  // one per Scene::meshes entry
+    SceneSearch search_;
+    std::vector<Node> nodes_;  // nodes_[0] is the root
+    std::vector<int> order_;   // primitive indices, grouped by leaf
+    Aabb sceneBounds_;
+};
+
+}  // namespace ray::reference

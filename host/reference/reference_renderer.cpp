@@ -1,0 +1,438 @@
+// The host reference renderer: SPEC §3 (camera, sampling) and §4 (lighting) in plain
+// double precision. Each function below is one step of the model.
+#include "reference/reference_renderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "reference/bump_mapping.h"
+#include "reference/course_sampling.h"
+#include "reference/optics.h"
+#include "core/random.h"
+#include "reference/reference_bvh.h"
+#include "reference/shapes.h"
+#include "reference/texture_filtering.h"
+#include "reference/texture_sampling.h"
+
+namespace ray {
+
+namespace {
+
+using reference::Aabb;
+using reference::SceneHit;
+using reference::SceneIntersector;
+using reference::SceneSearch;
+
+// Shadow and reflection rays leave from the hit point moved off the surface along the
+// normal by this fraction of the scene's size. The hit point is computed in floating
+// point and lies a little in front of or behind the true surface (about 1e-15 of the
+// scene's size in double precision); a ray leaving from behind would hit the surface it
+// leaves (shadow acne, speckled reflections). 1e-9 clears that error by a wide margin
+// and is still far smaller than any detail of a scene: the tiniest spheres of
+// recursiveSpheres10.xml are a few 1e-4 of the scene (camera included) across.
+constexpr double kSurfaceOffset = 1e-9;
+
+// The unlit color of the world: rays that leave the scene add black (SPEC §4).
+const Vec3 kBackground{0, 0, 0};
+
+struct Ray {
+    Vec3 origin;
+    Vec3 direction;  // unit length
+};
+
+// The pinhole camera of SPEC §3, and the thin lens for depth of field.
+class CameraModel {
+public:
+    CameraModel(const Camera& camera, const RenderSettings& settings)
+        : eye_(camera.position), width_(settings.width), height_(settings.height) {
+        forward_ = normalize(camera.look);
+        right_ = normalize(cross(camera.look, camera.up));  // U = look × up
+        up_ = cross(right_, forward_);                       // V = U × look
+        halfHeight_ = std::tan(radians(camera.heightAngleDegrees) / 2);
+        halfWidth_ = halfHeight_ * double(width_) / double(height_);
+        lensRadius_ = settings.depthOfField ? camera.aperture / 2 : 0;
+        // An unset focal length focuses where the camera looks: at the focus point for
+        // a camera given by <focus> (look = focus − pos).
+        focalLength_ = camera.focalLength > 0 ? camera.focalLength : length(camera.look);
+    }
+
+    // The pinhole ray through image position (x, y) = (i + sx, j + sy).
+    Ray pinholeRay(double x, double y) const {
+        double u = 2 * x / width_ - 1;
+        double v = 1 - 2 * y / height_;
+        return {eye_, normalize(u * halfWidth_ * right_ + v * halfHeight_ * up_ + forward_)};
+    }
+
+    // With depth of field the eye moves to a point of the lens disk (diameter aperture,
+    // in the plane of U and V) picked by lensX, lensY ∈ [0, 1), and the ray aims at the
+    // point the pinhole ray reaches at distance focallength, which stays sharp.
+    Ray cameraRay(double x, double y, double lensX, double lensY) const {
+        Ray pinhole = pinholeRay(x, y);
+        if (lensRadius_ <= 0) return pinhole;
+        Vec3 focus = pinhole.origin + focalLength_ * pinhole.direction;
+        double r = lensRadius_ * std::sqrt(lensX), phi = 2 * kPi * lensY;  // uniform on the disk
+        Vec3 lensPoint = eye_ + r * std::cos(phi) * right_ + r * std::sin(phi) * up_;
+        return {lensPoint, normalize(focus - lensPoint)};
+    }
+
+    bool hasLens() const { return lensRadius_ > 0; }
+
+private:
+    Vec3 eye_, forward_, right_, up_;
+    int width_, height_;
+    double halfWidth_ = 0, halfHeight_ = 0;
+    double lensRadius_ = 0, focalLength_ = 0;
+};
+
+// What the lighting model needs to know about a hit, in world space.
+struct SurfaceHit {
+    Vec3 point;
+    Vec3 normal;  // unit length, facing the incoming ray
+    bool entering = true;  // the ray meets the outside of the surface (the object normal points outward)
+    UV uv;
+    const Material* material = nullptr;
+    double textureFootprint = 0;  // in texture coordinates; trilinear filtering only (texture_filtering.h)
+};
+
+// Where a light's rays come from, seen from a surface point.
+struct LightPath {
+    Vec3 toLight;     // L: unit vector from the point to the light
+    double distance;  // to the light; infinite for a directional light
+};
+
+// f_att = min(1, 1/(c1 + c2·d + c3·d²)) (SPEC §4).
+double distanceAttenuation(const Vec3& coefficients, double distance) {
+    double denominator = coefficients.x + coefficients.y * distance + coefficients.z * distance * distance;
+    return denominator > 0 ? std::min(1.0, 1.0 / denominator) : 1.0;
+}
+
+// The spot light's cone (SPEC §4): full inside angle − penumbra, nothing outside angle,
+// and the smooth step 1 − (3x² − 2x³) across the band between them.
+double spotFalloff(const Light& light, const Vec3& toLight) {
+    double cosTheta = dot(-toLight, normalize(light.direction));
+    double theta = std::acos(std::clamp(cosTheta, -1.0, 1.0));
+    double outer = radians(light.angleDegrees);
+    double inner = radians(light.angleDegrees - light.penumbraDegrees);
+    if (theta <= inner) return 1;
+    if (theta >= outer) return 0;
+    double x = (theta - inner) / (outer - inner);
+    return 1 - (3 * x * x - 2 * x * x * x);
+}
+
+// The path to a light at `position` (a point or spot light's own, or one sample of an
+// area light's rectangle); a directional light ignores it.
+LightPath pathToLight(const Light& light, const Vec3& position, const Vec3& point) {
+    if (light.type == LightType::Directional) return {normalize(-light.direction), INFINITY};
+    Vec3 offset = position - point;
+    double distance = length(offset);
+    return {offset / distance, distance};
+}
+
+// The light's intensity factor at the point before shadowing: f_att, and the spot cone.
+double lightFactor(const Light& light, const LightPath& path) {
+    if (light.type == LightType::Directional) return 1;
+    double factor = distanceAttenuation(light.attenuation, path.distance);
+    if (light.type == LightType::Spot) factor *= spotFalloff(light, path.toLight);
+    return factor;
+}
+
+Vec3 reflect(const Vec3& direction, const Vec3& normal) { return direction - 2 * dot(direction, normal) * normal; }
+
+bool belowThresholdEverywhere(const Vec3& weight, double threshold) { return maxComponent(weight) < threshold; }
+
+// Which camera sample a ray belongs to: area lights draw their jitter from its random
+// numbers (host/core/random.h), as the kernel does. time: its shutter time (motion blur), which
+// every ray of its tree, shadow rays included, shares.
+struct SampleId {
+    uint32_t pixel = 0, sample = 0;
+    double time = 0;
+};
+
+// Traces rays through one scene with one set of settings. Shared by the render threads:
+// everything it holds is read-only; each thread counts its rays in its own RayCounts.
+class Tracer {
+public:
+    Tracer(const Scene& scene, const RenderSettings& settings, SceneSearch search)
+        : scene_(scene), settings_(settings), intersector_(scene, search) {
+        Aabb bounds = intersector_.sceneBounds();
+        bounds.grow(scene.camera.position);
+        surfaceOffset_ = kSurfaceOffset * std::max(1e-6, length(bounds.hi - bounds.lo));
+        if (settings.textureFilter == TextureFilter::Trilinear) prepareTrilinear();
+    }
+
+    Vec3 traceCameraRay(const Ray& ray, const SampleId& id, RayCounts& counts) const {
+        ++counts.primary;
+        return trace(ray, 0, Vec3{1, 1, 1}, MediumStack{}, id, counts);  // the camera is in air
+    }
+
+private:
+    // The color seen along the ray. depth: bounces so far; weight: the product of the
+    // reflection and transmission factors that will scale this color on its way to the
+    // camera; media: what the ray travels through.
+    Vec3 trace(const Ray& ray, int depth, const Vec3& weight, const MediumStack& media, const SampleId& id,
+               RayCounts& counts) const {
+        auto hit = intersector_.closestHit(ray.origin, ray.direction, 0, INFINITY, id.time);
+        if (!hit) return kBackground;
+        return shade(surfaceAt(*hit, ray, id.time), ray, depth, weight, media, id, counts);
+    }
+
+    // The object-space normal, tilted by the material's bump map if it has one.
+    Vec3 shadingObjectNormal(const SceneHit& hit, const Ray& ray, double time) const {
+        const PrimitiveInstance& instance = scene_.primitives[hit.primitive];
+        const TextureMap& map = scene_.materials[instance.material].bumpMap;
+        if (!settings_.textures || map.image < 0 || scene_.images[map.image].empty()) return hit.local.normal;
+        Vec3 objectPoint =
+            instance.worldToObject.transformPoint(ray.origin - time * instance.motion + hit.local.t * ray.direction);
+        Vec3 tangent = instance.type == PrimitiveType::Mesh
+                           ? hit.local.tangent
+                           : objectTangent(instance.type, objectPoint, hit.local.normal);
+        HeightSlope slope = heightSlope(scene_.images[map.image], hit.local.uv.u, hit.local.uv.v, map.repeatU, map.repeatV);
+        return bumpedNormal(hit.local.normal, tangent, slope, hit.local.bitangentSign);
+    }
+
+    SurfaceHit surfaceAt(const SceneHit& hit, const Ray& ray, double time) const {
+        const PrimitiveInstance& instance = scene_.primitives[hit.primitive];
+        SurfaceHit surface;
+        surface.point = ray.origin + hit.local.t * ray.direction;
+        // Normals go to world space by the inverse transpose of object-to-world: the
+        // transpose of world-to-object.
+        // Which side the ray meets is the surface's own: a bump map tilts the shading
+        // normal, not the surface, so it must not turn a ray entering glass into one leaving.
+        surface.entering = dot(instance.worldToObject.transposeTransformVector(hit.local.normal), ray.direction) < 0;
+        surface.normal = normalize(instance.worldToObject.transposeTransformVector(shadingObjectNormal(hit, ray, time)));
+        if (!surface.entering) surface.normal = -surface.normal;
+        surface.uv = hit.local.uv;
+        surface.material = &scene_.materials[instance.material];
+        if (settings_.textureFilter == TextureFilter::Trilinear) {
+            double density = instance.type == PrimitiveType::Mesh ? meshUvDensities_[size_t(instance.mesh)]
+                                                                  : primitiveUvDensity(instance.type);
+            surface.textureFootprint = textureFootprint(spreadAngle_, hit.local.t, ray.direction, surface.normal,
+                                                        instance.worldToObject, density);
+        }
+        return surface;
+    }
+
+    // I = ka·Oa + Oe + Σ lights + ks·Or·I_r + kt·Ot·I_t (SPEC §4).
+    Vec3 shade(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+               const SampleId& id, RayCounts& counts) const {
+        const Material& material = *surface.material;
+        const GlobalCoefficients& k = scene_.globals;
+        Vec3 color = k.ka * material.ambient + material.emissive;
+
+        Vec3 diffuse = diffuseColor(surface);
+        Vec3 toEye = -ray.direction;
+        for (size_t i = 0; i < scene_.lights.size(); ++i)
+            color += lightContribution(scene_.lights[i], int(i), surface, diffuse, toEye, id, counts);
+
+        color += reflection(surface, ray, depth, weight, media, id, counts);
+        color += refraction(surface, ray, depth, weight, media, id, counts);
+        return color;
+    }
+
+    // A light's term; an area light's is the sum over its side × side jittered samples
+    // (optics.h), each a point light with 1/side² of the intensity and its own shadow ray.
+    Vec3 lightContribution(const Light& light, int index, const SurfaceHit& surface, const Vec3& diffuse,
+                           const Vec3& toEye, const SampleId& id, RayCounts& counts) const {
+        if (light.type != LightType::Area)
+            return directLight(light, light.position, light.color, surface, diffuse, toEye, id.time, counts);
+        const int side = areaLightGridSide(settings_);
+        const Vec3 intensity = light.color / double(side * side);
+        Vec3 sum;
+        for (int cell = 0; cell < side * side; ++cell) {
+            Vec3 position = areaLightPoint(light, index, cell, side, id.pixel, id.sample, settings_.seed);
+            sum += directLight(light, position, intensity, surface, diffuse, toEye, id.time, counts);
+        }
+        return sum;
+    }
+
+    // D = blend·T + (1 − blend)·kd·Od, T not scaled by kd; without a texture, kd·Od.
+    Vec3 diffuseColor(const SurfaceHit& surface) const {
+        const Material& material = *surface.material;
+        Vec3 plain = scene_.globals.kd * material.diffuse;
+        const TextureMap& map = material.texture;
+        if (!settings_.textures || map.image < 0 || scene_.images[map.image].empty()) return plain;
+        Vec3 texel = settings_.textureFilter == TextureFilter::Trilinear
+                         ? sampleTrilinear(mipmaps_[size_t(map.image)], surface.uv.u, surface.uv.v, map.repeatU,
+                                           map.repeatV, surface.textureFootprint)
+                         : sampleTexture(scene_.images[map.image], surface.uv.u, surface.uv.v, map.repeatU,
+                                         map.repeatV, settings_.textureFilter);
+        return material.blend * texel + (1 - material.blend) * plain;
+    }
+
+    // f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] for a light at `position`
+    // with intensity I_L; nothing where N·L ≤ 0.
+    Vec3 directLight(const Light& light, const Vec3& position, const Vec3& intensity, const SurfaceHit& surface,
+                     const Vec3& diffuse, const Vec3& toEye, double time, RayCounts& counts) const {
+        LightPath path = pathToLight(light, position, surface.point);
+        double lambert = dot(surface.normal, path.toLight);
+        if (lambert <= 0) return {};
+        double factor = lightFactor(light, path);
+        if (factor <= 0) return {};
+        if (settings_.shadows && blocked(surface, path, time, counts)) return {};
+
+        const Material& material = *surface.material;
+        Vec3 mirrored = reflect(-path.toLight, surface.normal);  // R: L reflected about N
+        double highlight = std::pow(std::max(dot(mirrored, toEye), 0.0), material.shininess);
+        Vec3 response = diffuse * lambert + scene_.globals.ks * material.specular * highlight;
+        return factor * intensity * response;
+    }
+
+    // S = 0 when any surface lies between the point and the light.
+    bool blocked(const SurfaceHit& surface, const LightPath& path, double time, RayCounts& counts) const {
+        ++counts.shadow;
+        Vec3 origin = surface.point + surfaceOffset_ * surface.normal;  // N·L > 0: the lit side
+        return intersector_.anyHit(origin, path.toLight, 0, path.distance, time);
+    }
+
+    // The factor k·color of a reflected (ks·Or) or refracted (kt·Ot) branch, or nullopt
+    // where its switch, the depth limit or the weight threshold stops it (SPEC §4).
+    std::optional<Vec3> branchFactor(bool enabled, double k, const Vec3& color, int depth, const Vec3& weight) const {
+        if (!enabled || color == Vec3{} || depth >= settings_.maxDepth) return std::nullopt;
+        Vec3 factor = k * color;
+        if (belowThresholdEverywhere(weight * factor, settings_.weightThreshold)) return std::nullopt;
+        return factor;
+    }
+
+    // ks·Or·I_r with I_r clamped to [0, 1], while depth and weight allow (SPEC §4).
+    Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+                    const SampleId& id, RayCounts& counts) const {
+        auto factor = branchFactor(settings_.reflections, scene_.globals.ks, surface.material->reflective, depth, weight);
+        if (!factor) return {};
+        Vec3 branchWeight = weight * *factor;
+
+        ++counts.secondary;
+        Ray reflected{surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
+        return *factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
+    }
+
+    // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4): the ray refracted by Snell's law
+    // into the medium beyond the surface, or under total internal reflection the mirrored
+    // ray, which stays in the medium it came from.
+    Vec3 refraction(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+                    const SampleId& id, RayCounts& counts) const {
+        const Material& material = *surface.material;
+        auto factor = branchFactor(settings_.refraction, scene_.globals.kt, material.transparent, depth, weight);
+        if (!factor) return {};
+        Vec3 branchWeight = weight * *factor;
+
+        ++counts.secondary;
+        double n1 = media.before(surface.entering, material.ior);
+        MediumStack beyond = media.beyond(surface.entering, material.ior);
+        Vec3 transmitted;
+        Ray child;
+        MediumStack childMedia = media;
+        if (refractDirection(ray.direction, surface.normal, n1, beyond.current(), transmitted)) {
+            child = {surface.point - surfaceOffset_ * surface.normal, transmitted};  // start on the far side
+            childMedia = beyond;
+        } else {
+            child = {surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
+        }
+        return *factor * clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
+    }
+
+    // Mipmaps of every image, the meshes' UV densities and the pixel spread angle.
+    void prepareTrilinear() {
+        for (const Image& image : scene_.images) mipmaps_.push_back(buildMipPyramid(image));
+        for (const TriangleMesh& mesh : scene_.meshes) meshUvDensities_.push_back(meshUvDensity(mesh));
+        spreadAngle_ = pixelSpreadAngle(scene_.camera.heightAngleDegrees, settings_.height);
+    }
+
+    const Scene& scene_;
+    const RenderSettings& settings_;
+    SceneIntersector intersector_;
+    double surfaceOffset_ = 0;
+    std::vector<MipPyramid> mipmaps_;      // trilinear filtering only
+    std::vector<double> meshUvDensities_;  // trilinear filtering only
+    double spreadAngle_ = 0;
+};
+
+// Renders rows handed out one at a time to `threads` threads.
+class RowRenderer {
+public:
+    RowRenderer(const Scene& scene, const RenderSettings& settings, const ReferenceRenderOptions& options)
+        : settings_(settings),
+          options_(options),
+          camera_(scene.camera, settings),
+          tracer_(scene, settings, options.bruteForce ? SceneSearch::BruteForce : SceneSearch::Bvh),
+          image_(settings.width, settings.height) {}
+
+    Image run(RayCounts* counts) {
+        int threads = options_.threads > 0 ? options_.threads : int(std::thread::hardware_concurrency());
+        threads = std::clamp(threads, 1, settings_.height);
+        std::vector<RayCounts> perThread(threads);
+        std::vector<std::thread> workers;
+        for (int t = 1; t < threads; ++t) workers.emplace_back([this, &perThread, t] { work(perThread[t]); });
+        work(perThread[0]);
+        for (std::thread& worker : workers) worker.join();
+
+        if (counts) {
+            *counts = {};
+            for (const RayCounts& c : perThread) {
+                counts->primary += c.primary;
+                counts->shadow += c.shadow;
+                counts->secondary += c.secondary;
+            }
+        }
+        return std::move(image_);
+    }
+
+private:
+    void work(RayCounts& counts) {
+        for (int row = nextRow_++; row < settings_.height; row = nextRow_++) {
+            if (options_.cancel && options_.cancel->load()) return;
+            renderRow(row, counts);
+            int done = ++rowsDone_;
+            if (options_.progress) options_.progress(double(done) / settings_.height);
+        }
+    }
+
+    void renderRow(int row, RayCounts& counts) {
+        for (int column = 0; column < settings_.width; ++column) {
+            // Checked per pixel too: one row of a wide image at many samples can take seconds.
+            if (options_.cancel && options_.cancel->load()) return;
+            uint32_t pixel = uint32_t(row) * uint32_t(settings_.width) + uint32_t(column);
+            // Samples are numbered in the order the sampling pattern asks for them, which
+            // is deterministic; the lens position of sample k comes from dimensions 2, 3
+            // of sampleRandom (0, 1 are the stratified pattern's jitter), its shutter
+            // time from dimension 4.
+            uint32_t sampleIndex = 0;
+            auto sample = [&](double sx, double sy) {
+                uint32_t k = sampleIndex++;
+                double lensX = 0, lensY = 0;
+                if (camera_.hasLens()) {
+                    lensX = sampleRandom(pixel, k, 2, settings_.seed);
+                    lensY = sampleRandom(pixel, k, 3, settings_.seed);
+                }
+                double time = settings_.shutter > 0 ? settings_.shutter * sampleRandom(pixel, k, 4, settings_.seed) : 0;
+                return tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY),
+                                              SampleId{pixel, k, time}, counts);
+            };
+            image_.set(column, row, samplePixel(settings_, pixel, sample));
+        }
+    }
+
+    const RenderSettings& settings_;
+    const ReferenceRenderOptions& options_;
+    CameraModel camera_;
+    Tracer tracer_;
+    Image image_;
+    std::atomic<int> nextRow_{0};
+    std::atomic<int> rowsDone_{0};
+};
+
+}  // namespace
+
+Image renderReference(const Scene& scene, const RenderSettings& settings, const ReferenceRenderOptions& options,
+                      RayCounts* counts) {
+    if (counts) *counts = {};
+    if (settings.width <= 0 || settings.height <= 0) return Image(std::max(0, settings.width), std::max(0, settings.height));
+    RowRenderer renderer(scene, settings, options);
+    return renderer.run(counts);
+}
+
+}  // namespace ray

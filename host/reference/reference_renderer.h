@@ -1,0 +1,37 @@
+// The host reference renderer: the oracle the OpenCL kernel is tested against.
+//
+// Plain and recursive, in double precision, following SPEC §3-§5 line by line. It is
+// not the fast path; clarity wins over speed everywhere in it.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+
+#include "image/image.h"
+#include "render/render_settings.h"
+#include "scene/scene.h"
+
+namespace ray {
+
+struct RayCounts {
+    uint64_t primary = 0, shadow = 0, secondary = 0;
+    uint64_t total() const { return primary + shadow + secondary; }
+};
+
+struct ReferenceRenderOptions {
+    int threads = 0;  // 0: all hardware threads
+    // Called now and then with the fraction of rows done (from any thread).
+    std::function<void(double)> progress;
+    // Set to true to stop early; rows not yet rendered stay black.
+    const std::atomic<bool>* cancel = nullptr;
+    // Test every primitive for every ray instead of searching the BVH: slow; a test checks
+    // that the BVH changes nothing, and the bench times the kernel against it (--no-bvh).
+    bool bruteForce = false;
+};
+
+// Throws InputError when the scene uses something this renderer cannot draw yet.
+Image renderReference(const Scene& scene, const RenderSettings& settings,
+                      const ReferenceRenderOptions& options = {}, RayCounts* counts = nullptr);
+
+}  // namespace ray

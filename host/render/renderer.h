@@ -1,0 +1,54 @@
+// Choosing a renderer (an OpenCL device or the host reference) and running it.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+
+#include "image/image.h"
+#include "render/render_settings.h"
+#include "render/render_stats.h"
+#include "scene/scene.h"
+
+namespace ray {
+
+// A device or runtime failure (no OpenCL platform, a kernel that fails to build, a scene
+// too big for the device): the message says what happened and what to try instead.
+struct DeviceError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct RenderJob {
+    const Scene& scene;
+    const RenderSettings& settings;
+    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index>
+    std::function<void(double)> progress;
+    // Set to true (e.g. from a signal handler) to stop early: the render returns within
+    // about a second with RenderOutput::interrupted set and unrendered pixels black.
+    const std::atomic<bool>* cancel = nullptr;
+    // The reference renderer tests every primitive for every ray (--no-bvh).
+    bool referenceBruteForce = false;
+};
+
+struct RenderOutput {
+    Image image;
+    RenderStats stats;
+    bool interrupted = false;  // stopped by RenderJob::cancel: the image is partial
+};
+
+// Renders on the device the job names. With "all" it renders on every device in turn and
+// returns the last image (the stats name every device). Throws DeviceError, InputError.
+RenderOutput render(const RenderJob& job);
+
+// The side of the square tiles of a cancellable render (RenderJob::cancel set), a multiple
+// of the 8x8 work-group from 8 to 64: small enough that the few tiles already queued when
+// it is cancelled finish within about a second on PoCL, given the samples per pixel and
+// the shadow rays of the scene's area lights.
+int cancellableTileSize(const RenderSettings& settings, const Scene& scene);
+
+// Prints every OpenCL platform and device with its index (--list-devices).
+void printDeviceList(std::ostream& out);
+
+}  // namespace ray

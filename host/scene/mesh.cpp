@@ -1,0 +1,146 @@
+#include "scene/mesh.h"
+
+#include <optional>
+
+#include <tiny_obj_loader.h>
+
+#include "scene/scene.h"
+
+namespace ray {
+
+namespace {
+
+TriangleMesh fromReader(const tinyobj::ObjReader& reader, const std::string& name) {
+    if (!reader.Valid())
+        throw InputError(name + ": error: cannot read the OBJ file: " + reader.Error() +
+                         "; check that it is a Wavefront OBJ file");
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    TriangleMesh mesh;
+    mesh.positions.reserve(attrib.vertices.size() / 3);
+    for (size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
+        mesh.positions.push_back({attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]});
+    for (size_t i = 0; i + 2 < attrib.normals.size(); i += 3)
+        mesh.normals.push_back({attrib.normals[i], attrib.normals[i + 1], attrib.normals[i + 2]});
+    for (size_t i = 0; i + 1 < attrib.texcoords.size(); i += 2)
+        mesh.texCoords.push_back({attrib.texcoords[i], attrib.texcoords[i + 1]});
+
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const std::vector<tinyobj::index_t>& indices = shape.mesh.indices;
+        // Triangulated by the reader: three indices a face.
+        for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+            std::array<MeshCorner, 3> triangle;
+            bool valid = true;
+            for (int k = 0; k < 3; ++k) {
+                const tinyobj::index_t& index = indices[i + size_t(k)];
+                valid = valid && index.vertex_index >= 0 && size_t(index.vertex_index) < mesh.positions.size();
+                triangle[k].position = index.vertex_index;
+                triangle[k].normal = index.normal_index >= 0 && size_t(index.normal_index) < mesh.normals.size()
+                                         ? index.normal_index : -1;
+                triangle[k].texCoord =
+                    index.texcoord_index >= 0 && size_t(index.texcoord_index) < mesh.texCoords.size()
+                        ? index.texcoord_index : -1;
+            }
+            if (!valid)
+                throw InputError(name + ": error: a face names a vertex that does not exist; check the file");
+            mesh.triangles.push_back(triangle);
+        }
+    }
+    if (mesh.triangles.empty())
+        throw InputError(name + ": error: the OBJ file holds no faces; a mesh needs at least one triangle");
+    mesh.computeBounds();
+    return mesh;
+}
+
+tinyobj::ObjReaderConfig readerConfig() {
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;  // polygons become fans of triangles
+    config.vertex_color = false;
+    return config;
+}
+
+}  // namespace
+
+Vec3 TriangleMesh::faceNormal(size_t triangle) const {
+    Vec3 n = cross(corner(triangle, 1) - corner(triangle, 0), corner(triangle, 2) - corner(triangle, 0));
+    double len = length(n);
+    return len > 0 ? n / len : Vec3{};
+}
+
+Vec3 TriangleMesh::shadingNormal(size_t triangle, double b1, double b2) const {
+    const std::array<MeshCorner, 3>& t = triangles[triangle];
+    if (t[0].normal < 0 || t[1].normal < 0 || t[2].normal < 0) return faceNormal(triangle);
+    Vec3 n = (1 - b1 - b2) * normals[size_t(t[0].normal)] + b1 * normals[size_t(t[1].normal)] +
+             b2 * normals[size_t(t[2].normal)];
+    double len = length(n);
+    return len > 0 ? n / len : faceNormal(triangle);
+}
+
+std::array<double, 2> TriangleMesh::texCoordAt(size_t triangle, double b1, double b2) const {
+    const std::array<MeshCorner, 3>& t = triangles[triangle];
+    if (t[0].texCoord < 0 || t[1].texCoord < 0 || t[2].texCoord < 0) return {0, 0};
+    const auto &a = texCoords[size_t(t[0].texCoord)], &b = texCoords[size_t(t[1].texCoord)],
+               &c = texCoords[size_t(t[2].texCoord)];
+    double b0 = 1 - b1 - b2;
+    return {b0 * a[0] + b1 * b[0] + b2 * c[0], b0 * a[1] + b1 * b[1] + b2 * c[1]};
+}
+
+namespace {
+
+// The texture coordinates' edges of a triangle: (du1, dv1) from corner 0 to 1, (du2, dv2)
+// from 0 to 2, and det = du1·dv2 − du2·dv1; nullopt without vt.
+struct UvEdges {
+    double du1, dv1, du2, dv2, det;
+};
+
+std::optional<UvEdges> uvEdges(const TriangleMesh& mesh, size_t triangle) {
+    const std::array<MeshCorner, 3>& t = mesh.triangles[triangle];
+    if (t[0].texCoord < 0 || t[1].texCoord < 0 || t[2].texCoord < 0) return std::nullopt;
+    const auto &a = mesh.texCoords[size_t(t[0].texCoord)], &b = mesh.texCoords[size_t(t[1].texCoord)],
+               &c = mesh.texCoords[size_t(t[2].texCoord)];
+    UvEdges e{b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1], 0};
+    e.det = e.du1 * e.dv2 - e.du2 * e.dv1;
+    return e;
+}
+
+}  // namespace
+
+Vec3 TriangleMesh::uTangent(size_t triangle) const {
+    auto e = uvEdges(*this, triangle);
+    if (!e || e->det == 0) return {};
+    Vec3 dpdu = (e->dv2 * (corner(triangle, 1) - corner(triangle, 0)) - e->dv1 * (corner(triangle, 2) - corner(triangle, 0))) /
+                e->det;
+    double len = length(dpdu);
+    return len > 0 ? dpdu / len : Vec3{};
+}
+
+// ∂p/∂u × ∂p/∂v = (e1 × e2) / det for the position edges e1, e2, so the pair is
+// right-handed about the face normal exactly when det > 0.
+double TriangleMesh::uvHandedness(size_t triangle) const {
+    auto e = uvEdges(*this, triangle);
+    return e && e->det < 0 ? -1.0 : 1.0;
+}
+
+void TriangleMesh::computeBounds() {
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const auto& t : triangles)
+        for (const MeshCorner& c : t) {
+            lo = componentMin(lo, positions[size_t(c.position)]);
+            hi = componentMax(hi, positions[size_t(c.position)]);
+        }
+    boundsLo = lo;
+    boundsHi = hi;
+}
+
+TriangleMesh loadObjMesh(const std::filesystem::path& file) {
+    tinyobj::ObjReader reader;
+    reader.ParseFromFile(file.string(), readerConfig());
+    return fromReader(reader, file.string());
+}
+
+TriangleMesh parseObjMesh(const std::string& objText, const std::string& nameForErrors) {
+    tinyobj::ObjReader reader;
+    reader.ParseFromString(objText, "", readerConfig());
+    return fromReader(reader, nameForErrors);
+}
+
+}  // namespace ray

@@ -1,0 +1,1005 @@
+// Reading a CS123 scenefile (SPEC §1) into a flattened Scene.
+//
+// The work is done in three passes:
+//  1. parse: the XML becomes a small tree of blocks, one per <transblock>, each holding its
+//     composed transform and inverse (computed once) and its objects: primitives, inline
+//     subtrees and master references. Every rule that rejects a file is checked here, with
+//     the line of the offending element, and file references are resolved (SPEC §1 search).
+//  2. count: the instances each top-level tree flattens to, memoized per tree, which also
+//     resolves master names and finds cycles. A scene over LoadOptions::maxPrimitives is
+//     refused before a single instance is made (recursiveSpheres10.xml makes ~2.9 million).
+//  3. flatten: the root tree is walked with composed transforms. A primitive element gets
+//     its Material (and its images, each file loaded once) on first use, and every instance
+//     made from that element shares it.
+//
+// Choices the spec leaves open:
+//  - With options.loadImages false a texture file is still resolved (a missing one still
+//    warns) and gets its index into Scene::imageFiles, with an empty Image at the same index
+//    of Scene::images: renderers treat an empty image as no texture.
+//  - A texture or bump map that exists but does not decode warns like a missing one, and
+//    its TextureMap::image stays -1.
+//  - A singular transform (a zero scale, a zero rotation axis, a singular matrix) is an
+//    error at the line of that transform: the primitives under it could not be rendered,
+//    and an error says why where silently dropping them would not.
+//  - A matrix whose last row is not 0 0 0 1 is an error (only affine transforms exist).
+//  - Transforms listed after objects in a transblock still apply to all its objects, as in
+//    the course's parser (pdiddy.xml relies on it).
+//  - An object directly in a tree, outside any transblock, is taken as if it were in a
+//    transblock without transforms, with a warning.
+//  - A file without any tree (the course's modeler template empty.xml) is an empty scene,
+//    with a warning; a file with trees but none named "root" is an error.
+//  - Element names and keywords (object types, primitive names, light types) are matched
+//    ignoring case; tree names are matched exactly.
+//  - Inline subtrees may carry a name; it is ignored (masters name top-level trees only).
+//
+// Our extension, motion blur: <motion x="" y="" z=""/> in a <transblock> moves everything
+// in that block (primitives, subtrees, masters) by the translation (x, y, z) over the
+// shutter, expressed in the block's parent frame (the frame its transforms act in, so
+// its place among them does not matter). At shutter time t ∈ [0, 1] the block's contents
+// are translated by t·(x, y, z) in that frame; t = 0 is the static scene. Nested motions
+// compose: a primitive's world-space motion (PrimitiveInstance::motion) is the sum over
+// its enclosing blocks of each block's motion carried to world space by its parent's
+// linear transform, which is exactly the composition of the translations. Only
+// translation moves (no rotation or scale over time). A second <motion> in one block adds
+// to the first, with a warning.
+#include "scene/scene_loader.h"
+
+#include <tinyxml2.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <strings.h>
+#include <variant>
+
+#include "scene/file_search.h"
+#include "core/memory_limits.h"
+#include "reference/shapes.h"  // the torus radii, for its bounds
+
+namespace fs = std::filesystem;
+using tinyxml2::XMLAttribute;
+using tinyxml2::XMLElement;
+
+namespace ray {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Messages
+
+// Formats errors and warnings as "<file>:<line>: error: ..." and routes warnings to the
+// caller (or stderr); with the strict option a warning is thrown as an error instead.
+class Diagnostics {
+public:
+    Diagnostics(std::string file, const LoadOptions& options) : file_(std::move(file)), options_(options) {}
+
+    // `problem` says what is wrong, `remedy` what to do about it.
+    [[noreturn]] void error(int line, const std::string& problem, const std::string& remedy) const {
+        throw InputError(where(line) + "error: " + problem + "; " + remedy);
+    }
+
+    void warning(int line, const std::string& message) const {
+        if (options_.strict)
+            throw InputError(where(line) + "error: " + message + " (strict mode turns warnings into errors)");
+        std::string text = where(line) + "warning: " + message;
+        if (options_.warn)
+            options_.warn(text);
+        else
+            std::cerr << text << std::endl;
+    }
+
+private:
+    std::string where(int line) const {
+        return line > 0 ? file_ + ":" + std::to_string(line) + ": " : file_ + ": ";
+    }
+
+    std::string file_;
+    const LoadOptions& options_;
+};
+
+// ---------------------------------------------------------------------------------------
+// Small helpers for names and text
+
+bool sameName(const char* a, const char* b) { return a && b && strcasecmp(a, b) == 0; }
+
+std::string lowercase(std::string text) {
+    for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+}
+
+std::string tag(const XMLElement& element) { return std::string("<") + element.Name() + ">"; }
+
+bool isBlank(const char* text) {
+    for (; *text; ++text)
+        if (!std::isspace(static_cast<unsigned char>(*text))) return false;
+    return true;
+}
+
+// "C:\\Users\\...": FileSearch only tries the trailing parts of these.
+bool isWindowsDrivePath(const std::string& path) {
+    return path.size() >= 2 && std::isalpha(static_cast<unsigned char>(path[0])) && path[1] == ':';
+}
+
+std::string joined(const std::vector<std::string>& items, const char* separator) {
+    std::string result;
+    for (const std::string& item : items) result += (result.empty() ? "" : separator) + item;
+    return result;
+}
+
+// The value `text` holds when it is a whole decimal number (surrounding blanks allowed).
+std::optional<double> parseNumber(const char* text) {
+    char* end = nullptr;
+    double value = std::strtod(text, &end);
+    if (end == text) return std::nullopt;
+    while (std::isspace(static_cast<unsigned char>(*end))) ++end;
+    if (*end != '\0') return std::nullopt;
+    return value;
+}
+
+// ---------------------------------------------------------------------------------------
+// Attributes, read by position (SPEC §1: their names do not matter)
+
+class Values {
+public:
+    Values(const XMLElement& element, const Diagnostics& diagnostics)
+        : element_(element), diagnostics_(diagnostics) {
+        for (const XMLAttribute* a = element.FirstAttribute(); a; a = a->Next()) attributes_.push_back(a);
+    }
+
+    size_t count() const { return attributes_.size(); }
+    int line() const { return element_.GetLineNum(); }
+
+    // Checks the number of attributes: fewer than `required` is an error, more than
+    // `required + optional` a warning. `usage` names them, as in "x y z".
+    void expect(size_t required, size_t optional, const char* usage) const {
+        if (count() < required)
+            diagnostics_.error(line(),
+                               tag(element_) + " needs " + std::to_string(required) + " value" +
+                                   (required == 1 ? "" : "s") + " (" + usage + ") but has " +
+                                   std::to_string(count()),
+                               std::string("write it as ") + example(usage));
+        for (size_t i = required + optional; i < count(); ++i)
+            diagnostics_.warning(line(), "unknown attribute '" + std::string(attributes_[i]->Name()) +
+                                             "' of " + tag(element_) + " (it takes " + usage +
+                                             "); it is ignored");
+    }
+
+    const char* text(size_t i) const { return attributes_[i]->Value(); }
+
+    double number(size_t i) const {
+        const XMLAttribute& attribute = *attributes_[i];
+        std::string what = "attribute '" + std::string(attribute.Name()) + "' of " + tag(element_);
+        if (isBlank(attribute.Value())) {
+            diagnostics_.warning(line(), "empty " + what + " reads as 0");
+            return 0;
+        }
+        std::optional<double> value = parseNumber(attribute.Value());
+        if (!value && attribute.Value()[0] == '=' && (value = parseNumber(attribute.Value() + 1)))
+            // A stray '=' ("r="=0.1"", as in the course's pikachu_head.xml) is a typo whose
+            // intent is plain; read the number after it, and say so.
+            diagnostics_.warning(line(), "'" + std::string(attribute.Value()) + "' has a stray '=' (" + what +
+                                             "); it reads as " + std::string(attribute.Value() + 1));
+        if (!value)
+            diagnostics_.error(line(), "'" + std::string(attribute.Value()) + "' is not a number (" + what + ")",
+                               "write a decimal number such as 1.5");
+        if (!std::isfinite(*value))
+            diagnostics_.error(line(), "'" + std::string(attribute.Value()) + "' is not a finite number (" + what + ")",
+                               "write a finite decimal number");
+        return *value;
+    }
+
+    double numberOr(size_t i, double fallback) const { return i < count() ? number(i) : fallback; }
+
+    Vec3 vec3() const { return {number(0), number(1), number(2)}; }
+
+private:
+    std::string example(const char* usage) const {
+        std::istringstream names(usage);
+        std::string result = "<" + std::string(element_.Name()), name;
+        while (names >> name)
+            if (name.front() != '[') result += " " + name + "=\"...\"";
+        return result + "/>";
+    }
+
+    const XMLElement& element_;
+    const Diagnostics& diagnostics_;
+    std::vector<const XMLAttribute*> attributes_;
+};
+
+// ---------------------------------------------------------------------------------------
+// The parsed scene graph
+
+// A texture or bump map file, resolved, and the line that names it.
+struct ImageReference {
+    fs::path file;
+    int line = 0;
+};
+
+struct PrimitiveNode {
+    PrimitiveType type = PrimitiveType::Cube;
+    int line = 0;
+    Material material;  // image indices filled in on first use
+    std::optional<ImageReference> texture, bumpMap;
+    fs::path meshFile;  // resolved; meshes only
+    // Indices into the Scene, set when the first instance is made.
+    int sceneMaterial = -1;
+    int sceneMesh = -1;
+};
+
+struct TreeNode;
+struct NamedTree;
+
+struct MasterReference {
+    std::string name;
+    int line = 0;
+    NamedTree* target = nullptr;  // set by the count pass
+};
+
+using SceneItem = std::variant<PrimitiveNode, std::unique_ptr<TreeNode>, MasterReference>;
+
+struct Block {
+    Affine toParent;    // T1 · T2 · … · Tn
+    Affine fromParent;  // its inverse, composed from the exact inverses of each Ti
+    Vec3 motion;        // <motion>: the end-of-shutter displacement, in the parent's frame
+    std::vector<SceneItem> items;
+};
+
+struct TreeNode {
+    std::vector<Block> blocks;
+};
+
+struct NamedTree {
+    enum class State { Uncounted, Counting, Counted };
+    std::string name;
+    int line = 0;
+    TreeNode tree;
+    State state = State::Uncounted;
+    uint64_t instances = 0;
+    int levels = 0;  // how deep trees and masters nest inside it (set by the count pass)
+};
+
+// ---------------------------------------------------------------------------------------
+// Pass 1: parsing
+
+class SceneParser {
+public:
+    SceneParser(const Diagnostics& diagnostics, const FileSearch& search, Scene& scene)
+        : diagnostics_(diagnostics), search_(search), scene_(scene) {}
+
+    void parseDocument(const XMLElement& root) {
+        if (!sameName(root.Name(), "scenefile"))
+            diagnostics_.error(root.GetLineNum(), "the root element is " + tag(root) + ", not <scenefile>",
+                               "give a CS123 scene file");
+        expectNoAttributes(root);
+        for (const XMLElement* child = root.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            if (sameName(child->Name(), "globaldata"))
+                parseGlobals(*child);
+            else if (sameName(child->Name(), "cameradata"))
+                parseCamera(*child);
+            else if (sameName(child->Name(), "lightdata"))
+                parseLight(*child);
+            else if (sameName(child->Name(), "object"))
+                parseTopLevelTree(*child);
+            else
+                warnUnknown(*child, root);
+        }
+    }
+
+    std::map<std::string, NamedTree>& trees() { return trees_; }
+
+private:
+    // Containers (<globaldata>, <transblock> …) take no attributes: any is unknown.
+    void expectNoAttributes(const XMLElement& element) const {
+        Values(element, diagnostics_).expect(0, 0, "no attributes");
+    }
+
+    void warnUnknown(const XMLElement& element, const XMLElement& parent) const {
+        diagnostics_.warning(element.GetLineNum(),
+                             "unknown element " + tag(element) + " in " + tag(parent) + "; it is ignored");
+    }
+
+    // <globaldata>
+    void parseGlobals(const XMLElement& element) {
+        expectNoAttributes(element);
+        GlobalCoefficients& g = scene_.globals;
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            const char* name = child->Name();
+            double* target = sameName(name, "ambientcoeff")       ? &g.ka
+                             : sameName(name, "diffusecoeff")     ? &g.kd
+                             : sameName(name, "specularcoeff")    ? &g.ks
+                             : sameName(name, "transparentcoeff") ? &g.kt
+                                                                  : nullptr;
+            if (target)
+                *target = single(*child);
+            else
+                warnUnknown(*child, element);
+        }
+    }
+
+    // <cameradata>: look is a direction, focus a point; one or the other.
+    void parseCamera(const XMLElement& element) {
+        expectNoAttributes(element);
+        Camera& camera = scene_.camera;
+        std::optional<Vec3> focus;
+        int lookLine = 0, focusLine = 0;
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            const char* name = child->Name();
+            if (sameName(name, "pos")) {
+                camera.position = triple(*child);
+            } else if (sameName(name, "look")) {
+                camera.look = triple(*child);
+                lookLine = child->GetLineNum();
+            } else if (sameName(name, "focus")) {
+                focus = triple(*child);
+                focusLine = child->GetLineNum();
+            } else if (sameName(name, "up")) {
+                camera.up = triple(*child);
+            } else if (sameName(name, "heightangle")) {
+                camera.heightAngleDegrees = single(*child);
+                checkHeightAngle(*child, camera.heightAngleDegrees);
+            } else if (sameName(name, "aspectratio")) {
+                single(*child);  // validated, then ignored: the image's width/height rule
+            } else if (sameName(name, "aperture")) {
+                camera.aperture = single(*child);
+            } else if (sameName(name, "focallength")) {
+                camera.focalLength = single(*child);
+            } else {
+                warnUnknown(*child, element);
+            }
+        }
+        if (lookLine && focusLine)
+            diagnostics_.error(std::max(lookLine, focusLine), "the camera has both <look> and <focus>",
+                               "keep one: look is a direction, focus is a point to look at");
+        if (focus) camera.look = *focus - camera.position;
+        checkCameraAxes(element, camera);
+    }
+
+    void checkHeightAngle(const XMLElement& element, double degrees) const {
+        if (!(degrees > 0 && degrees < 180))
+            diagnostics_.error(element.GetLineNum(),
+                               "heightangle " + std::to_string(degrees) + " is not a field of view",
+                               "give the full vertical field of view in degrees, between 0 and 180");
+    }
+
+    void checkCameraAxes(const XMLElement& element, const Camera& camera) const {
+        if (length(camera.look) == 0)
+            diagnostics_.error(element.GetLineNum(), "the camera looks nowhere (its look direction is zero)",
+                               "give a non-zero <look>, or a <focus> point away from <pos>");
+        if (length(cross(camera.look, camera.up)) <= 1e-12 * length(camera.look) * length(camera.up))
+            diagnostics_.error(element.GetLineNum(), "the camera's up vector is zero or parallel to its look direction",
+                               "give an <up> that points away from the look direction");
+    }
+
+    // <lightdata>: every field is read whatever the type; the renderer uses what applies.
+    void parseLight(const XMLElement& element) {
+        expectNoAttributes(element);
+        Light light;
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            const char* name = child->Name();
+            if (sameName(name, "id")) {
+                single(*child);  // validated; lights are identified by their order
+            } else if (sameName(name, "type")) {
+                light.type = lightType(*child);
+            } else if (sameName(name, "color")) {
+                light.color = color(*child);
+            } else if (sameName(name, "function")) {
+                light.attenuation = triple(*child);
+            } else if (sameName(name, "position")) {
+                light.position = triple(*child);
+            } else if (sameName(name, "direction")) {
+                light.direction = triple(*child);
+            } else if (sameName(name, "angle")) {
+                light.angleDegrees = single(*child);
+            } else if (sameName(name, "penumbra")) {
+                light.penumbraDegrees = single(*child);
+            } else if (sameName(name, "radius")) {
+                light.radius = single(*child);
+            } else if (sameName(name, "width")) {
+                light.width = single(*child);
+            } else if (sameName(name, "height")) {
+                light.height = single(*child);
+            } else {
+                warnUnknown(*child, element);
+            }
+        }
+        scene_.lights.push_back(light);
+    }
+
+    LightType lightType(const XMLElement& element) const {
+        Values values(element, diagnostics_);
+        values.expect(1, 0, "v");
+        std::string type = lowercase(values.text(0));
+        if (type == "point") return LightType::Point;
+        if (type == "directional") return LightType::Directional;
+        if (type == "spot") return LightType::Spot;
+        if (type == "area") return LightType::Area;
+        diagnostics_.error(element.GetLineNum(), "unknown light type '" + std::string(values.text(0)) + "'",
+                           "use point, directional, spot or area");
+    }
+
+    // A top-level <object type="tree" name="N">.
+    void parseTopLevelTree(const XMLElement& element) {
+        Values values(element, diagnostics_);
+        if (values.count() == 0 || !sameName(values.text(0), "tree"))
+            diagnostics_.error(element.GetLineNum(), "a top-level <object> must be a tree",
+                               "write <object type=\"tree\" name=\"...\"> and put primitives in its transblocks");
+        if (values.count() < 2)
+            diagnostics_.error(element.GetLineNum(), "a top-level tree needs a name",
+                               "add name=\"root\" for the scene, or another name to use it as a master");
+        values.expect(2, 0, "type name");
+        std::string name = values.text(1);
+        auto [it, added] = trees_.try_emplace(name);
+        if (!added)
+            diagnostics_.error(element.GetLineNum(),
+                               "a second tree named '" + name + "' (the first is on line " +
+                                   std::to_string(it->second.line) + ")",
+                               "give each top-level tree its own name");
+        it->second.name = name;
+        it->second.line = element.GetLineNum();
+        it->second.tree = parseTree(element);
+    }
+
+    // The transblocks of a tree, top-level or inline.
+    TreeNode parseTree(const XMLElement& element) {
+        TreeNode tree;
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            if (sameName(child->Name(), "transblock")) {
+                tree.blocks.push_back(parseBlock(*child));
+            } else if (sameName(child->Name(), "object")) {
+                diagnostics_.warning(child->GetLineNum(),
+                                     "<object> outside a <transblock>; it is placed as if in a transblock "
+                                     "without transforms");
+                Block block;
+                block.items.push_back(parseObject(*child));
+                tree.blocks.push_back(std::move(block));
+            } else {
+                warnUnknown(*child, element);
+            }
+        }
+        return tree;
+    }
+
+    // M = T1 · T2 · … · Tn: the last transform listed acts on the objects first.
+    Block parseBlock(const XMLElement& element) {
+        expectNoAttributes(element);
+        Block block;
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            if (sameName(child->Name(), "object")) {
+                block.items.push_back(parseObject(*child));
+                continue;
+            }
+            if (sameName(child->Name(), "motion")) {
+                parseMotion(*child, block);
+                continue;
+            }
+            std::optional<std::pair<Affine, Affine>> transform = parseTransform(*child);
+            if (!transform) {
+                warnUnknown(*child, element);
+                continue;
+            }
+            block.toParent = block.toParent * transform->first;
+            block.fromParent = transform->second * block.fromParent;
+        }
+        return block;
+    }
+
+    // <motion x y z/> (our extension, see the header comment): the block's displacement
+    // at the end of the shutter, in the parent's frame. A second one in the same block adds
+    // to the first, with a warning (it is more likely a slip than a wish).
+    void parseMotion(const XMLElement& element, Block& block) const {
+        Vec3 displacement = triple(element);  // three finite numbers, or an error
+        if (block.motion != Vec3{})
+            diagnostics_.warning(element.GetLineNum(),
+                                 "a second <motion> in one <transblock>; the displacements add up");
+        block.motion += displacement;
+    }
+
+    // A transform element and its exact inverse; nullopt for other elements.
+    std::optional<std::pair<Affine, Affine>> parseTransform(const XMLElement& element) const {
+        const char* name = element.Name();
+        if (sameName(name, "translate")) {
+            Vec3 t = triple(element);
+            return std::pair{Affine::translation(t), Affine::translation(-t)};
+        }
+        if (sameName(name, "rotate")) {
+            Values values(element, diagnostics_);
+            values.expect(4, 0, "x y z angle");
+            Vec3 axis = values.vec3();
+            double degrees = values.number(3);
+            if (length(axis) == 0)
+                diagnostics_.error(element.GetLineNum(), "the rotation axis is zero",
+                                   "give the axis to rotate about, such as x=\"0\" y=\"1\" z=\"0\"");
+            return std::pair{Affine::rotation(axis, degrees), Affine::rotation(axis, -degrees)};
+        }
+        if (sameName(name, "scale")) {
+            Vec3 s = triple(element);
+            if (s.x == 0 || s.y == 0 || s.z == 0)
+                diagnostics_.error(element.GetLineNum(), "a zero scale flattens what it holds to nothing",
+                                   "use a small non-zero factor, or remove the object");
+            return std::pair{Affine::scaling(s), Affine::scaling({1 / s.x, 1 / s.y, 1 / s.z})};
+        }
+        if (sameName(name, "matrix")) return parseMatrix(element);
+        return std::nullopt;
+    }
+
+    // <matrix> with four row children (row0…row3) of four values, row-major.
+    std::pair<Affine, Affine> parseMatrix(const XMLElement& element) const {
+        expectNoAttributes(element);
+        std::vector<const XMLElement*> rows;
+        for (const XMLElement* row = element.FirstChildElement(); row; row = row->NextSiblingElement())
+            rows.push_back(row);
+        if (rows.size() != 4)
+            diagnostics_.error(element.GetLineNum(),
+                               "<matrix> has " + std::to_string(rows.size()) + " rows, not 4",
+                               "give four rows <row0 v1= v2= v3= v4=/> … <row3 …/>");
+        Affine m;
+        double lastRow[4];
+        for (int r = 0; r < 4; ++r) {
+            Values values(*rows[r], diagnostics_);
+            values.expect(4, 0, "v1 v2 v3 v4");
+            for (int c = 0; c < 4; ++c) (r < 3 ? m.m[r][c] : lastRow[c]) = values.number(c);
+        }
+        if (lastRow[0] != 0 || lastRow[1] != 0 || lastRow[2] != 0 || lastRow[3] != 1)
+            diagnostics_.error(rows[3]->GetLineNum(), "the matrix's last row is not 0 0 0 1",
+                               "give an affine transform (translation in the last column)");
+        Affine inverse = m.inverse();
+        if (!std::isfinite(inverse.m[0][0]))
+            diagnostics_.error(element.GetLineNum(), "the matrix is singular (it flattens what it holds)",
+                               "give an invertible matrix");
+        return {m, inverse};
+    }
+
+    // <object type="primitive|tree|master" ...> inside a transblock.
+    SceneItem parseObject(const XMLElement& element) {
+        Values values(element, diagnostics_);
+        if (values.count() == 0)
+            diagnostics_.error(element.GetLineNum(), "<object> has no type",
+                               "write type=\"primitive\", \"tree\" or \"master\"");
+        std::string type = lowercase(values.text(0));
+        if (type == "primitive") return parsePrimitive(element, values);
+        if (type == "tree") {
+            values.expect(1, 1, "type [name]");
+            return std::make_unique<TreeNode>(parseTree(element));
+        }
+        if (type == "master") {
+            if (values.count() < 2)
+                diagnostics_.error(element.GetLineNum(), "a master object needs the name of the tree it places",
+                                   "write <object type=\"master\" name=\"...\"/>");
+            values.expect(2, 0, "type name");
+            return MasterReference{values.text(1), element.GetLineNum(), nullptr};
+        }
+        diagnostics_.error(element.GetLineNum(), "unknown object type '" + std::string(values.text(0)) + "'",
+                           "use primitive, tree or master");
+    }
+
+    PrimitiveNode parsePrimitive(const XMLElement& element, const Values& values) {
+        if (values.count() < 2)
+            diagnostics_.error(element.GetLineNum(), "a primitive needs a name",
+                               "write name=\"cube\" (or sphere, cylinder, cone, torus, mesh)");
+        PrimitiveNode node;
+        node.line = element.GetLineNum();
+        node.type = primitiveType(element, values.text(1));
+        if (node.type == PrimitiveType::Mesh) {
+            if (values.count() < 3)
+                diagnostics_.error(element.GetLineNum(), "a mesh primitive needs its OBJ file",
+                                   "add meshfile=\"path/to/file.obj\" after the name");
+            values.expect(3, 0, "type name meshfile");
+            node.meshFile = resolveMesh(element, values.text(2));
+        } else {
+            values.expect(2, 0, "type name");
+        }
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement())
+            parseMaterialElement(*child, element, node);
+        return node;
+    }
+
+    PrimitiveType primitiveType(const XMLElement& element, const std::string& name) const {
+        static const std::pair<const char*, PrimitiveType> kNames[] = {
+            {"cube", PrimitiveType::Cube},   {"sphere", PrimitiveType::Sphere}, {"cylinder", PrimitiveType::Cylinder},
+            {"cone", PrimitiveType::Cone},   {"torus", PrimitiveType::Torus},   {"mesh", PrimitiveType::Mesh},
+        };
+        for (const auto& [known, type] : kNames)
+            if (sameName(name.c_str(), known)) return type;
+        diagnostics_.error(element.GetLineNum(), "unknown primitive '" + name + "'",
+                           "use cube, sphere, cylinder, cone, torus or mesh");
+    }
+
+    fs::path resolveMesh(const XMLElement& element, const std::string& reference) const {
+        std::vector<fs::path> tried;
+        if (std::optional<fs::path> found = search_.resolve(reference, &tried)) return *found;
+        diagnostics_.error(element.GetLineNum(),
+                           "mesh file '" + reference + "' not found (" + whereLooked(reference, tried) + ")",
+                           "put the OBJ file there, or name its folder with a search path");
+    }
+
+    // The material children of a primitive: each sets one field.
+    void parseMaterialElement(const XMLElement& element, const XMLElement& primitive, PrimitiveNode& node) {
+        Material& m = node.material;
+        const char* name = element.Name();
+        if (sameName(name, "diffuse")) m.diffuse = color(element);
+        else if (sameName(name, "ambient")) m.ambient = color(element);
+        else if (sameName(name, "specular")) m.specular = color(element);
+        else if (sameName(name, "reflective")) m.reflective = color(element);
+        else if (sameName(name, "transparent")) m.transparent = color(element);
+        else if (sameName(name, "emissive")) m.emissive = color(element);
+        else if (sameName(name, "shininess")) m.shininess = single(element);
+        else if (sameName(name, "ior")) m.ior = single(element);
+        else if (sameName(name, "blend")) m.blend = single(element);
+        else if (sameName(name, "texture")) node.texture = imageReference(element, m.texture, "texture");
+        else if (sameName(name, "bumpmap")) node.bumpMap = imageReference(element, m.bumpMap, "bump map");
+        else warnUnknown(element, primitive);
+    }
+
+    // <texture file u v> or <bumpmap file u v>: sets the repeats and resolves the file.
+    // A file that cannot be found is a warning (once per file name; scenes repeat one
+    // texture hundreds of times): the surface keeps its material colors.
+    std::optional<ImageReference> imageReference(const XMLElement& element, TextureMap& map, const char* what) {
+        Values values(element, diagnostics_);
+        values.expect(1, 2, "file [u] [v]");
+        map.repeatU = values.numberOr(1, 1.0);
+        map.repeatV = values.numberOr(2, 1.0);
+        std::string reference = values.text(0);
+        if (isBlank(reference.c_str())) {
+            diagnostics_.warning(element.GetLineNum(), std::string(what) + " without a file name; it is ignored");
+            return std::nullopt;
+        }
+        auto [known, isNew] = resolvedImages_.try_emplace(reference);
+        if (!isNew) {
+            if (!known->second) return std::nullopt;
+            return ImageReference{*known->second, element.GetLineNum()};
+        }
+        std::vector<fs::path> tried;
+        known->second = search_.resolve(reference, &tried);
+        if (known->second) return ImageReference{*known->second, element.GetLineNum()};
+        diagnostics_.warning(element.GetLineNum(), std::string(what) + " file '" + reference + "' not found (" +
+                                                       whereLooked(reference, tried) +
+                                                       "); the surface keeps its material colors");
+        return std::nullopt;
+    }
+
+    // Says where a search looked: the path as given, then the roots its trailing parts
+    // were tried under (listing every candidate would run to dozens of paths).
+    std::string whereLooked(const std::string& reference, const std::vector<fs::path>& tried) const {
+        std::vector<std::string> roots;
+        for (const fs::path& root : search_.searchRoots()) roots.push_back(root.string());
+        std::string text = "looked ";
+        if (!tried.empty() && !isWindowsDrivePath(reference)) text += "at " + tried.front().string() + ", then ";
+        return text + "for the path and each of its trailing parts under " + joined(roots, ", ");
+    }
+
+    double single(const XMLElement& element) const {
+        Values values(element, diagnostics_);
+        values.expect(1, 0, "v");
+        return values.number(0);
+    }
+
+    Vec3 triple(const XMLElement& element) const {
+        Values values(element, diagnostics_);
+        values.expect(3, 0, "x y z");
+        return values.vec3();
+    }
+
+    // r g b, and an alpha the format allows and the renderer does not use.
+    Vec3 color(const XMLElement& element) const {
+        Values values(element, diagnostics_);
+        values.expect(3, 1, "r g b [a]");
+        if (values.count() > 3) values.number(3);  // validated, then ignored
+        return values.vec3();
+    }
+
+    const Diagnostics& diagnostics_;
+    const FileSearch& search_;
+    Scene& scene_;
+    std::map<std::string, NamedTree> trees_;
+    std::map<std::string, std::optional<fs::path>> resolvedImages_;  // by reference as written
+};
+
+// ---------------------------------------------------------------------------------------
+// Pass 2: counting instances, resolving masters, finding cycles
+
+// How deep inline trees and masters may nest. Counting and flattening recurse once per
+// level; a chain of 100000 masters overflowed the stack (tests/data/limits/). tinyxml2
+// itself stops inline nesting at a few hundred XML levels.
+constexpr int kMaxNestingLevels = 1000;
+
+uint64_t saturatingAdd(uint64_t a, uint64_t b) {
+    return a > std::numeric_limits<uint64_t>::max() - b ? std::numeric_limits<uint64_t>::max() : a + b;
+}
+
+class InstanceCounter {
+public:
+    InstanceCounter(const Diagnostics& diagnostics, std::map<std::string, NamedTree>& trees)
+        : diagnostics_(diagnostics), trees_(trees) {}
+
+    // Counts every top-level tree, so that a bad master is reported even in a tree the
+    // scene does not use.
+    void countAll() {
+        for (auto& [name, tree] : trees_) count(tree, tree.line);
+    }
+
+    uint64_t count(NamedTree& tree, int referenceLine) {
+        if (tree.state == NamedTree::State::Counted) {
+            noteLevel(depth_ + tree.levels, referenceLine);  // a tree counted before, reached deeper
+            return tree.instances;
+        }
+        if (tree.state == NamedTree::State::Counting) reportCycle(tree, referenceLine);
+        tree.state = NamedTree::State::Counting;
+        path_.push_back(&tree);
+        const int entryDepth = depth_, deepestOutside = deepest_;
+        deepest_ = depth_;
+        tree.instances = count(tree.tree, referenceLine);
+        tree.levels = deepest_ - entryDepth;
+        deepest_ = std::max(deepest_, deepestOutside);
+        path_.pop_back();
+        tree.state = NamedTree::State::Counted;
+        return tree.instances;
+    }
+
+private:
+    uint64_t count(TreeNode& node, int line) {
+        noteLevel(++depth_, line);
+        uint64_t total = 0;
+        for (Block& block : node.blocks)
+            for (SceneItem& item : block.items) total = saturatingAdd(total, count(item, line));
+        --depth_;
+        return total;
+    }
+
+    void noteLevel(int level, int line) {
+        deepest_ = std::max(deepest_, level);
+        if (level > kMaxNestingLevels)
+            diagnostics_.error(line, "trees and masters nest more than " + std::to_string(kMaxNestingLevels) +
+                                         " levels deep",
+                               "flatten the hierarchy (fewer levels of masters or nested trees)");
+    }
+
+    uint64_t count(SceneItem& item, int line) {
+        if (std::holds_alternative<PrimitiveNode>(item)) return 1;
+        if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item)) return count(**subtree, line);
+        MasterReference& master = std::get<MasterReference>(item);
+        auto it = trees_.find(master.name);
+        if (it == trees_.end())
+            diagnostics_.error(master.line, "no tree named '" + master.name + "' for this master (trees: " +
+                                                treeNames() + ")",
+                               "define <object type=\"tree\" name=\"" + master.name +
+                                   "\"> at the top level, or fix the name");
+        master.target = &it->second;
+        return count(it->second, master.line);
+    }
+
+    [[noreturn]] void reportCycle(const NamedTree& tree, int line) const {
+        std::vector<std::string> cycle;
+        bool inCycle = false;
+        for (const NamedTree* step : path_) {
+            inCycle = inCycle || step == &tree;
+            if (inCycle) cycle.push_back(step->name);
+        }
+        cycle.push_back(tree.name);
+        diagnostics_.error(line, "cyclic master reference: " + joined(cycle, " -> "),
+                           "a tree cannot contain itself; break the cycle");
+    }
+
+    std::string treeNames() const {
+        std::vector<std::string> names;
+        for (const auto& [name, tree] : trees_) names.push_back(name);
+        return joined(names, ", ");
+    }
+
+    const Diagnostics& diagnostics_;
+    std::map<std::string, NamedTree>& trees_;
+    std::vector<const NamedTree*> path_;  // the trees being counted, outermost first
+    int depth_ = 0;                        // tree levels entered on the current path
+    int deepest_ = 0;                      // the deepest level reached in the tree being counted
+};
+
+// ---------------------------------------------------------------------------------------
+// Pass 3: flattening
+
+class Flattener {
+public:
+    Flattener(const Diagnostics& diagnostics, const LoadOptions& options, Scene& scene)
+        : diagnostics_(diagnostics), options_(options), scene_(scene) {}
+
+    // worldMotion: the enclosing blocks' end-of-shutter displacement, in world space. A
+    // block's own <motion> is in its parent's frame (toWorld), so it adds
+    // toWorld's linear part applied to it: translations compose exactly that way.
+    void flatten(TreeNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& worldMotion = {}) {
+        for (Block& block : node.blocks) {
+            Affine blockToWorld = toWorld * block.toParent;
+            Affine blockToObject = block.fromParent * toObject;
+            Vec3 blockMotion = worldMotion + toWorld.transformVector(block.motion);
+            for (SceneItem& item : block.items) {
+                if (auto* primitive = std::get_if<PrimitiveNode>(&item))
+                    addInstance(*primitive, blockToWorld, blockToObject, blockMotion);
+                else if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item))
+                    flatten(**subtree, blockToWorld, blockToObject, blockMotion);
+                else
+                    flatten(std::get<MasterReference>(item).target->tree, blockToWorld, blockToObject, blockMotion);
+            }
+        }
+    }
+
+private:
+    void addInstance(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& motion) {
+        PrimitiveInstance& instance = scene_.primitives.emplace_back();
+        instance.objectToWorld = toWorld;
+        instance.worldToObject = toObject;
+        instance.motion = motion;
+        instance.type = node.type;
+        instance.material = materialOf(node);
+        instance.mesh = meshOf(node);
+        if (node.type == PrimitiveType::Torus) {
+            instance.objectLo = {-kTorusMajorRadius - kTorusMinorRadius, -kTorusMinorRadius,
+                                 -kTorusMajorRadius - kTorusMinorRadius};
+            instance.objectHi = -1 * instance.objectLo;
+        } else if (node.type == PrimitiveType::Mesh) {
+            instance.objectLo = scene_.meshes[size_t(instance.mesh)].boundsLo;
+            instance.objectHi = scene_.meshes[size_t(instance.mesh)].boundsHi;
+        }
+    }
+
+    // One Material per primitive element, made on its first instance.
+    int materialOf(PrimitiveNode& node) {
+        if (node.sceneMaterial >= 0) return node.sceneMaterial;
+        Material material = node.material;
+        if (node.texture) material.texture.image = imageOf(*node.texture);
+        if (node.bumpMap) material.bumpMap.image = imageOf(*node.bumpMap);
+        node.sceneMaterial = int(scene_.materials.size());
+        scene_.materials.push_back(material);
+        return node.sceneMaterial;
+    }
+
+    int meshOf(PrimitiveNode& node) {
+        if (node.type != PrimitiveType::Mesh || node.sceneMesh >= 0) return node.sceneMesh;
+        node.sceneMesh = indexOf(node.meshFile, meshIndex_, [&](const fs::path& file) {
+            scene_.meshFiles.push_back(file);
+            scene_.meshes.push_back(loadObjMesh(file));  // an unreadable file is an InputError
+            return int(scene_.meshFiles.size()) - 1;
+        });
+        return node.sceneMesh;
+    }
+
+    // Each file is read once; one that does not decode is remembered as -1 (no texture).
+    int imageOf(const ImageReference& reference) {
+        return indexOf(reference.file, imageIndex_, [&](const fs::path& file) {
+            Image image;
+            if (options_.loadImages) {
+                try {
+                    image = readImage(file);
+                } catch (const std::exception& e) {
+                    diagnostics_.warning(reference.line, "cannot read image " + file.string() + " (" + e.what() +
+                                                             "); the surface keeps its material colors");
+                    return -1;
+                }
+            }
+            scene_.images.push_back(std::move(image));
+            scene_.imageFiles.push_back(file);
+            return int(scene_.images.size()) - 1;
+        });
+    }
+
+    // Looks `file` up by its canonical path (so two spellings of one file share an
+    // entry), adding it with `add` the first time.
+    template <typename Add>
+    static int indexOf(const fs::path& file, std::map<fs::path, int>& index, Add add) {
+        std::error_code ignored;
+        fs::path key = fs::weakly_canonical(file, ignored);
+        if (key.empty()) key = file;
+        auto it = index.find(key);
+        if (it != index.end()) return it->second;
+        int added = add(key);
+        index.emplace(key, added);
+        return added;
+    }
+
+    const Diagnostics& diagnostics_;
+    const LoadOptions& options_;
+    Scene& scene_;
+    std::map<fs::path, int> imageIndex_, meshIndex_;
+};
+
+// ---------------------------------------------------------------------------------------
+
+// What tinyxml2 found wrong, in words. Its detail names the element when it can
+// ("... Line number=2: XMLElement name=globaldata").
+std::string describeXmlError(const tinyxml2::XMLDocument& document) {
+    std::string text = document.ErrorStr() ? document.ErrorStr() : "";
+    const std::string marker = "XMLElement name=";
+    size_t at = text.find(marker);
+    std::string element = at == std::string::npos ? "an element" : "<" + text.substr(at + marker.size()) + ">";
+    switch (document.ErrorID()) {
+        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+            return element + " is not closed, or closed by the wrong end tag";
+        case tinyxml2::XML_ERROR_PARSING_ELEMENT: return element + " is malformed";
+        case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+            return "an attribute of " + element + " is malformed (values need quotes)";
+        default: {
+            // "XML_ERROR_PARSING_COMMENT" -> "parsing comment"
+            std::string name = lowercase(document.ErrorName());
+            if (name.rfind("xml_error_", 0) == 0) name.erase(0, 10);
+            for (char& c : name)
+                if (c == '_') c = ' ';
+            return "error " + name;
+        }
+    }
+}
+
+void parseXml(const std::string& xml, tinyxml2::XMLDocument& document, const Diagnostics& diagnostics) {
+    if (isBlank(xml.c_str()))
+        diagnostics.error(0, "the file is empty", "give a CS123 scene file (<scenefile> ... </scenefile>)");
+    if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
+        diagnostics.error(document.ErrorLineNum(), "malformed XML: " + describeXmlError(document),
+                          "fix the XML syntax at that line");
+}
+
+// The scene's root tree; a file without trees is an empty scene.
+NamedTree* findRoot(std::map<std::string, NamedTree>& trees, const XMLElement& scenefile,
+                    const Diagnostics& diagnostics) {
+    if (trees.empty()) {
+        diagnostics.warning(scenefile.GetLineNum(), "the scene has no <object type=\"tree\" name=\"root\">; it is empty");
+        return nullptr;
+    }
+    auto it = trees.find("root");
+    if (it == trees.end())
+        diagnostics.error(scenefile.GetLineNum(), "no tree named 'root' (the scene)",
+                          "name the scene's top-level tree <object type=\"tree\" name=\"root\">");
+    return &it->second;
+}
+
+}  // namespace
+
+Scene loadSceneFromText(const std::string& xml, const fs::path& file, const LoadOptions& options) {
+    Diagnostics diagnostics(file.string(), options);
+    tinyxml2::XMLDocument document;
+    parseXml(xml, document, diagnostics);
+    const XMLElement* scenefile = document.RootElement();
+    if (!scenefile) diagnostics.error(0, "the file has no XML element", "give a CS123 scene file");
+
+    Scene scene;
+    scene.sourceFile = file;
+    FileSearch search{options.searchPaths, file.parent_path()};
+    SceneParser parser(diagnostics, search, scene);
+    parser.parseDocument(*scenefile);
+
+    InstanceCounter counter(diagnostics, parser.trees());
+    counter.countAll();
+    NamedTree* root = findRoot(parser.trees(), *scenefile, diagnostics);
+    if (!root) return scene;
+    if (root->instances > options.maxPrimitives)
+        diagnostics.error(root->line,
+                          "the scene flattens to " + std::to_string(root->instances) +
+                              " primitive instances, more than the limit of " +
+                              std::to_string(options.maxPrimitives),
+                          "use fewer levels of masters, or raise the limit with --max-primitives");
+    // Estimated from the count before a single instance is made (memory_limits.h).
+    if (auto shortfall = hostMemoryShortfall(root->instances * kHostBytesPerInstance))
+        diagnostics.error(root->line,
+                          "the scene flattens to " + std::to_string(root->instances) + " primitive instances, which " +
+                              *shortfall,
+                          "use fewer levels of masters or a machine with more memory");
+
+    scene.primitives.reserve(root->instances);
+    Flattener(diagnostics, options, scene).flatten(root->tree, Affine::identity(), Affine::identity());
+    return scene;
+}
+
+Scene loadScene(const fs::path& file, const LoadOptions& options) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
+                         "); check the path");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return loadSceneFromText(text.str(), file, options);
+}
+
+}  // namespace ray

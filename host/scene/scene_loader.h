@@ -1,0 +1,34 @@
+// Reading a CS123 scenefile (SPEC §1) into a flattened Scene.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace ray {
+
+struct LoadOptions {
+    // Extra roots for file references, searched first (--search-path, then RAY_SEARCH_PATH).
+    std::vector<std::filesystem::path> searchPaths;
+    // Every warning becomes an error (--strict).
+    bool strict = false;
+    // Load texture and bump-map images (off for --no-textures, and for tests of the parser).
+    bool loadImages = true;
+    // Refuse scenes that flatten to more primitive instances than this, before flattening.
+    size_t maxPrimitives = 50'000'000;
+    // Receives each warning, complete ("scene.xml:7: warning: ..."). Default: stderr.
+    std::function<void(const std::string&)> warn;
+};
+
+// Loads and flattens the scene. Throws InputError for bad input (SPEC §1), with the file
+// and line in the message.
+Scene loadScene(const std::filesystem::path& file, const LoadOptions& options = {});
+
+// The same from XML text in memory; `file` names it in messages and anchors relative paths.
+Scene loadSceneFromText(const std::string& xml, const std::filesystem::path& file,
+                        const LoadOptions& options = {});
+
+}  // namespace ray
