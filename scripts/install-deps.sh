@@ -3,7 +3,7 @@
 set -euo pipefail
 
 packages=(cmake make g++ pkg-config
-          libtinyxml2-dev libtinyobjloader-dev libopenimageio-dev
+          libtinyxml2-dev libtinyobjloader-dev libopenimageio-dev libpng-dev libjpeg-dev
           ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
           catch2)
 

@@ -1,4 +1,5 @@
-// Images in memory, and reading and writing them with OpenImageIO.
+// Images in memory, and reading and writing them: PNG and JPEG with libpng and libjpeg,
+// other formats with OpenImageIO (loaded only when one is met: image/oiio_module.h).
 #pragma once
 
 #include <filesystem>
@@ -36,8 +37,9 @@ struct ImageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// Reads any format OpenImageIO understands (png, jpg, ppm, tif, exr …). Grey images are
-// expanded to RGB and alpha is dropped. Throws ImageError.
+// Reads PNG and JPEG directly and any other format OpenImageIO understands (ppm, tif, exr …),
+// chosen by the file's content. Grey images are expanded to RGB and alpha is dropped;
+// integer samples become v / max. Throws ImageError.
 Image readImage(const std::filesystem::path& file);
 
 // True for outputs that keep floats unclamped (exr, hdr, pfm); others are 8-bit.

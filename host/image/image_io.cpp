@@ -1,5 +1,5 @@
-// Reading and writing images with OpenImageIO.
-#include <OpenImageIO/imageio.h>
+// Reading and writing images: PNG and JPEG through libpng and libjpeg (png_codec.h says
+// why), every other format through OpenImageIO, loaded only when needed (oiio_module.h).
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,7 +8,9 @@
 #include <system_error>
 
 #include "image/image.h"
-#include "core/memory_limits.h"
+#include "image/jpeg_codec.h"
+#include "image/oiio_module.h"
+#include "image/png_codec.h"
 
 namespace ray {
 namespace fs = std::filesystem;
@@ -62,34 +64,10 @@ void checkPngChunkLengths(const fs::path& file) {
 
 Image readImage(const fs::path& file) {
     checkPngChunkLengths(file);
-    auto input = OIIO::ImageInput::open(file.string());
-    if (!input) throw ImageError(file.string() + ": cannot read image: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = input->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        throw ImageError(file.string() + ": image has no pixels");
-    // Refuse absurd sizes before allocating (a corrupt header can claim anything).
-    constexpr int64_t kMaxPixels = int64_t(1) << 28;
-    if (int64_t(spec.width) * spec.height > kMaxPixels)
-        throw ImageError(file.string() + ": image is " + std::to_string(spec.width) + "x" +
-                         std::to_string(spec.height) + ", larger than the 2^28-pixel limit");
-    const int channels = spec.nchannels;
-    // The decoded floats, then the RGB copy: estimated before either is allocated.
-    const uint64_t bytes = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(channels + 3) * sizeof(float);
-    if (auto shortfall = hostMemoryShortfall(bytes))
-        throw ImageError(file.string() + ": a " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                         " image " + *shortfall);
-    std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(channels));
-    // Integer formats convert to [0, 1] as v / max, i.e. v/255 for 8-bit files.
-    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw ImageError(file.string() + ": cannot decode image: " + input->geterror());
-    input->close();
-
-    Image image(spec.width, spec.height);
-    for (size_t p = 0, n = size_t(spec.width) * size_t(spec.height); p < n; ++p) {
-        const float* src = &pixels[p * size_t(channels)];
-        for (int c = 0; c < 3; ++c) image.rgb[p * 3 + size_t(c)] = channels >= 3 ? src[c] : src[0];
-    }
-    return image;
+    // By content, not by extension: a texture named .png may hold a JPEG.
+    if (hasPngSignature(file)) return readPng(file);
+    if (hasJpegSignature(file)) return readJpeg(file);
+    return readImageWithOiio(file);
 }
 
 bool isFloatFormat(const fs::path& file) {
@@ -100,34 +78,24 @@ bool isFloatFormat(const fs::path& file) {
 const char* const kOutputFormatAdvice = "use .png, .jpg, .tif, .ppm (8-bit) or .exr, .hdr (float)";
 
 bool canWriteImageFormat(const fs::path& file) {
-    return !file.extension().empty() && OIIO::ImageOutput::create(file.string()) != nullptr;
+    if (lowerExtension(file) == ".png") return true;
+    return !file.extension().empty() && oiioCanWrite(file);
 }
 
-void writeImage(const Image& image, const fs::path& file) {
-    if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
-    fs::path tmp = temporarySibling(file);
-    auto output = OIIO::ImageOutput::create(tmp.string());
-    if (!output)
-        throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
-                         kOutputFormatAdvice);
+namespace {
 
-    const bool floats = isFloatFormat(file);
-    OIIO::ImageSpec spec(image.width, image.height, 3, floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    std::vector<uint8_t> bytes;
-    const void* data = image.rgb.data();
-    if (!floats) {
-        bytes.resize(image.rgb.size());
-        for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(quantize8(image.rgb[i]));
-        data = bytes.data();
-    }
-    bool ok = output->open(tmp.string(), spec) &&
-              output->write_image(floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8, data) &&
-              output->close();
-    if (!ok) {
-        std::string why = output->geterror();
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw ImageError(file.string() + ": cannot write image: " + why);
+// Writes the file's bytes to a temporary sibling and renames it over the target.
+void writeBytesReplacing(const fs::path& file, const std::vector<uint8_t>& bytes) {
+    fs::path tmp = temporarySibling(file);
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        out.close();
+        if (!out) {
+            std::error_code ignored;
+            fs::remove(tmp, ignored);
+            throw ImageError(file.string() + ": cannot write image");
+        }
     }
     std::error_code ec;
     fs::rename(tmp, file, ec);
@@ -136,6 +104,46 @@ void writeImage(const Image& image, const fs::path& file) {
         fs::remove(tmp, ignored);
         throw ImageError(file.string() + ": cannot write image: " + ec.message());
     }
+}
+
+// Any format but PNG: OpenImageIO writes a temporary sibling, renamed over the target.
+void writeWithOiio(const Image& image, const fs::path& file) {
+    if (!oiioCanWrite(file))
+        throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
+                         kOutputFormatAdvice);
+    const bool floats = isFloatFormat(file);
+    std::vector<uint8_t> bytes;
+    const void* data = image.rgb.data();
+    if (!floats) {
+        bytes.resize(image.rgb.size());
+        for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(quantize8(image.rgb[i]));
+        data = bytes.data();
+    }
+    fs::path tmp = temporarySibling(file);
+    try {
+        writeImageWithOiio(tmp, file, image.width, image.height, floats, data);
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw;
+    }
+    std::error_code ec;
+    fs::rename(tmp, file, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw ImageError(file.string() + ": cannot write image: " + ec.message());
+    }
+}
+
+}  // namespace
+
+void writeImage(const Image& image, const fs::path& file) {
+    if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
+    if (lowerExtension(file) == ".png")
+        writeBytesReplacing(file, encodePng(image));
+    else
+        writeWithOiio(image, file);
 }
 
 }  // namespace ray

@@ -1,0 +1,25 @@
+// OpenImageIO, loaded on first use: the formats that are neither PNG nor JPEG go through
+// libray_oiio.so (oiio_plugin_abi.h), which ray opens with dlopen the first time it meets
+// one. Where the module is looked for: $RAY_OIIO_MODULE (a full path) when set; beside the
+// binary or library that holds this code (the build folder, or the install's library
+// folder); then the install's and the build's library folders compiled in.
+#pragma once
+
+#include <filesystem>
+
+#include "image/image.h"
+
+namespace ray {
+
+// Throws ImageError naming the file (also when the module cannot be found or loaded).
+Image readImageWithOiio(const std::filesystem::path& file);
+
+// Whether OpenImageIO has a writer for the file's extension; false when the module is missing.
+bool oiioCanWrite(const std::filesystem::path& file);
+
+// Writes 3-channel samples (floats or bytes) to `file` in its extension's format. Throws
+// ImageError naming `target` (the name the user asked for; `file` may be a temporary).
+void writeImageWithOiio(const std::filesystem::path& file, const std::filesystem::path& target, int width, int height,
+                        bool asFloat, const void* samples);
+
+}  // namespace ray
