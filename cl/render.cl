@@ -48,6 +48,18 @@ void addRefractedChild(Frame* frame, float3 d, float3 p, float3 normal, bool ent
     frame->childCount++;
 }
 
+/* A transparent object's surface met from inside (SPEC §4) adds nothing of its own:
+ * I = clamp(I_t) with weight 1, so that kt·Ot applies once per object, on entry. */
+inline bool leavesTransparentObject(int features, bool entering, float3 transparent) {
+    return (features & RAY_FEATURE_REFRACTION) && !entering && anyAbove(fabs(transparent), 1e-30f);
+}
+
+void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 d, float3 p, float3 normal,
+                        float materialIor) {
+    if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
+    addRefractedChild(frame, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
+}
+
 /* Traces frame's ray, shades the hit and records the rays it spawns. */
 void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, PixelTrace* counter) {
     frame->color = (float3)(0.0f);
@@ -76,12 +88,18 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     if (!entering) normal = -normal; /* face the incoming ray */
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
+    if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
+        transmitFromInside(params, frame, ray.direction, p, normal, m.specular.w);
+        return;
+    }
 
     float3 diffuse = k.y * m.diffuse.xyz;
     if ((features & RAY_FEATURE_TEXTURES) && m.maps.x >= 0) {
         float3 t = (features & RAY_FEATURE_TRILINEAR)
                        ? sampleTrilinear(scene, m.maps.x, uv, m.repeats.xy,
                                          textureFootprint(scene, params, prim, hit.part, hit.t, ray.direction, normal))
+                   : (features & RAY_FEATURE_COURSE_FILTER)
+                       ? sampleCourseBilinear(scene, m.maps.x, uv, m.repeats.xy)
                        : sampleTexture(scene, m.maps.x, uv, m.repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
         float blend = m.diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */

@@ -63,6 +63,18 @@ inline float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
     return (float3)(c.x, c.y, c.z) * (1.0f / 255.0f);
 }
 
+/* Bilinear interpolation at continuous texel coordinates (x, y) in which integers name
+ * texel corners, wrapping around (host/reference/texture_sampling.cpp bilinearAt). */
+float3 bilinearAt(const SceneBuffers* scene, int4 info, float x, float y) {
+    float x0f = floor(x), y0f = floor(y);
+    float ax = x - x0f, ay = y - y0f;
+    int x0 = ((int)x0f % info.y + info.y) % info.y, y0 = ((int)y0f % info.z + info.z) % info.z;
+    int x1 = (x0 + 1) % info.y, y1 = (y0 + 1) % info.z;
+    float3 top = mix(texel(scene, info, x0, y0), texel(scene, info, x1, y0), ax);
+    float3 bottom = mix(texel(scene, info, x0, y1), texel(scene, info, x1, y1), ax);
+    return mix(top, bottom, ay);
+}
+
 /* The color at (u, v) with the material's repeats of the image (or mipmap level) whose
  * texels start at info.x and measure info.y × info.z: nearest texel (the course's
  * behaviour) or bilinear between the four nearest texel centres, wrapping around. */
@@ -75,14 +87,16 @@ float3 sampleTextureLevel(const SceneBuffers* scene, int4 info, float2 uv, float
         int row = clamp((int)y, 0, info.z - 1);
         return texel(scene, info, column, row);
     }
-    float fx = x - 0.5f, fy = y - 0.5f;
-    float x0f = floor(fx), y0f = floor(fy);
-    float ax = fx - x0f, ay = fy - y0f;
-    int x0 = ((int)x0f % info.y + info.y) % info.y, y0 = ((int)y0f % info.z + info.z) % info.z;
-    int x1 = (x0 + 1) % info.y, y1 = (y0 + 1) % info.z;
-    float3 top = mix(texel(scene, info, x0, y0), texel(scene, info, x1, y0), ax);
-    float3 bottom = mix(texel(scene, info, x0, y1), texel(scene, info, x1, y1), ax);
-    return mix(top, bottom, ay);
+    return bilinearAt(scene, info, x - 0.5f, y - 0.5f); /* integers at texel centres */
+}
+
+/* The course's filter (SPEC §5, --texture-filter course): bilinear with texel corners at
+ * integer coordinates, i.e. without the half-texel shift. */
+float3 sampleCourseBilinear(const SceneBuffers* scene, int textureIndex, float2 uv, float2 repeats) {
+    int4 info = scene->textures[textureIndex].info;
+    float s = fractional(uv.x * repeats.x);
+    float t = fractional(uv.y * repeats.y);
+    return bilinearAt(scene, info, s * (float)info.y, (1.0f - t) * (float)info.z);
 }
 
 /* The same on a texture's full-size image. */

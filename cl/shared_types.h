@@ -65,7 +65,8 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_REFLECTIONS 2
 #define RAY_FEATURE_REFRACTION 4
 #define RAY_FEATURE_TEXTURES 8
-/* (16 is free: --no-dof sets the lens radius to 0 instead of a bit.) */
+/* (--no-dof sets the lens radius to 0 instead of a bit.) */
+#define RAY_FEATURE_COURSE_FILTER 16 /* --texture-filter course: bilinear, texel corners at integers (SPEC §5) */
 #define RAY_FEATURE_BILINEAR 32
 #define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/reference/texture_filtering.h */
 

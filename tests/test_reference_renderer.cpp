@@ -289,6 +289,23 @@ TEST_CASE("a transparent surface with nothing behind it keeps only its own shadi
     requireColor(renderOnePixel(scene), Vec3{1, 1, 1} * 0.7);
 }
 
+// SPEC §4: met from inside, a transparent surface adds nothing of its own and passes on
+// clamp(I_t) with weight 1, so kt·Ot applies once per object: through a glowing glass slab
+// (emission E) to a glowing wall (W), the camera sees E + kt·Ot·W, not E + kt·Ot·(E + kt·Ot·W).
+TEST_CASE("a transparent surface met from inside passes on what lies beyond, once weighted", "[lighting]") {
+    Scene scene = onePixelScene();
+    Material glass = diffuseMaterial({0, 0, 0});
+    glass.emissive = {0.1, 0.2, 0.3};
+    glass.transparent = {1, 1, 1};
+    glass.ior = 1.5;
+    addSlab(scene, 0, addMaterial(scene, glass));
+    Material wall = diffuseMaterial({0, 0, 0});
+    wall.emissive = {0.4, 0.2, 0.6};
+    addSlab(scene, -5, addMaterial(scene, wall));
+    const double kt = scene.globals.kt;
+    requireColor(renderOnePixel(scene), glass.emissive + kt * wall.emissive);
+}
+
 namespace {
 
 // Two parallel mirrors: the slab at z = 0 (emitting E0) and one facing it at z = 10

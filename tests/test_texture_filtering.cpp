@@ -12,6 +12,7 @@
 #include "opencl/scene_packing.h"
 #include "test_support.h"
 #include "reference/texture_filtering.h"
+#include "reference/texture_sampling.h"
 
 using namespace ray;
 
@@ -129,6 +130,24 @@ TEST_CASE("footprint and level selection", "[texture_filter]") {
     }
 }
 
+TEST_CASE("the course filter puts texel corners at integer coordinates", "[texture_filter]") {
+    Image image = ramp(4, 2);  // red = column/255, green = row/255
+    // (u, v) = (0.25, 1): s·W = 1, (1 − t)·H = 0: exactly texel (1, 0), no half-texel shift.
+    Vec3 atCorner = sampleCourseBilinear(image, 0.25, 0.999999999, 1, 1);
+    CHECK(atCorner.x * 255 == Approx(1).margin(1e-6));
+    CHECK(atCorner.y * 255 == Approx(0).margin(1e-6));
+    // Halfway between columns 1 and 2 and between rows 0 and 1.
+    Vec3 between = sampleCourseBilinear(image, 0.375, 0.75, 1, 1);
+    CHECK(between.x * 255 == Approx(1.5).margin(1e-6));
+    CHECK(between.y * 255 == Approx(0.5).margin(1e-6));
+    // The centre-aligned filter reads the same point half a texel further on.
+    Vec3 centred = sampleBilinear(image, 0.375 + 0.125, 0.75 - 0.25, 1, 1);
+    CHECK(centred.x == Approx(between.x).margin(1e-9));
+    CHECK(centred.y == Approx(between.y).margin(1e-9));
+    // Past the last column it wraps to the first: x = 3.5 mixes columns 3 and 0.
+    CHECK(sampleCourseBilinear(image, 0.875, 0.999999999, 1, 1).x * 255 == Approx(1.5).margin(1e-6));
+}
+
 TEST_CASE("kernel matches host with bilinear and trilinear filtering", "[kernel][kvh][texture_filter]") {
     auto device = test::cpuDevice();
     if (!device) {
@@ -136,7 +155,7 @@ TEST_CASE("kernel matches host with bilinear and trilinear filtering", "[kernel]
         return;
     }
     const auto scene = test::scenesDir() / "texture_filtering.xml";
-    for (const char* filter : {"bilinear", "trilinear"}) {
+    for (const char* filter : {"bilinear", "trilinear", "course"}) {
         SECTION(filter) {
             RenderSettings settings =
                 test::settingsFromOptions(std::string("--aa off --texture-filter ") + filter, 160, 120);

@@ -35,7 +35,9 @@ options:
   --strict                 treat every warning as an error
   --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
                            switch a feature off (the course's test settings)
-  --texture-filter F       nearest (default, as the course) | bilinear | trilinear
+  --texture-filter F       nearest (default, as the course) | bilinear | trilinear |
+                           course (bilinear with texel corners at integers, as the
+                           course's renders made with its texture filter on)
   --quiet                  no progress and no warnings
   --stats                  print rays traced, Mrays/s and timings on stderr
   --stats-json FILE        write the same statistics as JSON
@@ -86,7 +88,8 @@ TextureFilter parseTextureFilter(const std::string& text) {
     if (text == "nearest") return TextureFilter::Nearest;
     if (text == "bilinear") return TextureFilter::Bilinear;
     if (text == "trilinear") return TextureFilter::Trilinear;
-    throw UsageError("--texture-filter must be nearest, bilinear or trilinear, not '" + text + "'");
+    if (text == "course") return TextureFilter::Course;
+    throw UsageError("--texture-filter must be nearest, bilinear, trilinear or course, not '" + text + "'");
 }
 
 void validateDevice(const std::string& text) {

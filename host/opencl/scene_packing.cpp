@@ -206,7 +206,9 @@ gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& 
     if (s.reflections) features |= RAY_FEATURE_REFLECTIONS;
     if (s.refraction) features |= RAY_FEATURE_REFRACTION;
     if (s.textures) features |= RAY_FEATURE_TEXTURES;
-    if (s.textureFilter != TextureFilter::Nearest) features |= RAY_FEATURE_BILINEAR;
+    if (s.textureFilter == TextureFilter::Bilinear || s.textureFilter == TextureFilter::Trilinear)
+        features |= RAY_FEATURE_BILINEAR;
+    if (s.textureFilter == TextureFilter::Course) features |= RAY_FEATURE_COURSE_FILTER;
     if (s.textureFilter == TextureFilter::Trilinear) features |= RAY_FEATURE_TRILINEAR;
 
     gpu::RayRenderParams p;

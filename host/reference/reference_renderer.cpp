@@ -220,6 +220,7 @@ private:
     // I = ka·Oa + Oe + Σ lights + ks·Or·I_r + kt·Ot·I_t (SPEC §4).
     Vec3 shade(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
                const SampleId& id, RayCounts& counts) const {
+        if (leavesTransparentObject(surface)) return transmittedFromInside(surface, ray, depth, weight, media, id, counts);
         const Material& material = *surface.material;
         const GlobalCoefficients& k = scene_.globals;
         Vec3 color = k.ka * material.ambient + material.emissive;
@@ -310,29 +311,47 @@ private:
         return *factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
     }
 
-    // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4): the ray refracted by Snell's law
-    // into the medium beyond the surface, or under total internal reflection the mirrored
-    // ray, which stays in the medium it came from.
+    // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4), for a surface met from outside.
     Vec3 refraction(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
                     const SampleId& id, RayCounts& counts) const {
         const Material& material = *surface.material;
         auto factor = branchFactor(settings_.refraction, scene_.globals.kt, material.transparent, depth, weight);
         if (!factor) return {};
-        Vec3 branchWeight = weight * *factor;
 
+        return *factor * transmitted(surface, ray, depth, weight * *factor, media, id, counts);
+    }
+
+    // A transparent object's surface met from inside (SPEC §4) adds nothing of its own:
+    // I = clamp(I_t) with weight 1, so that kt·Ot applies once per object, on entry.
+    bool leavesTransparentObject(const SurfaceHit& surface) const {
+        return settings_.refraction && !surface.entering && surface.material->transparent != Vec3{};
+    }
+
+    Vec3 transmittedFromInside(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight,
+                               const MediumStack& media, const SampleId& id, RayCounts& counts) const {
+        if (depth >= settings_.maxDepth) return kBackground;
+        return transmitted(surface, ray, depth, weight, media, id, counts);
+    }
+
+    // clamp(I_t): the ray refracted by Snell's law into the medium beyond the surface, or
+    // under total internal reflection the mirrored ray, which stays in the medium it came
+    // from. branchWeight: the path weight of the branch.
+    Vec3 transmitted(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& branchWeight,
+                     const MediumStack& media, const SampleId& id, RayCounts& counts) const {
+        const Material& material = *surface.material;
         ++counts.secondary;
         double n1 = media.before(surface.entering, material.ior);
         MediumStack beyond = media.beyond(surface.entering, material.ior);
-        Vec3 transmitted;
+        Vec3 direction;
         Ray child;
         MediumStack childMedia = media;
-        if (refractDirection(ray.direction, surface.normal, n1, beyond.current(), transmitted)) {
-            child = {surface.point - surfaceOffset_ * surface.normal, transmitted};  // start on the far side
+        if (refractDirection(ray.direction, surface.normal, n1, beyond.current(), direction)) {
+            child = {surface.point - surfaceOffset_ * surface.normal, direction};  // start on the far side
             childMedia = beyond;
         } else {
             child = {surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
         }
-        return *factor * clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
+        return clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
     }
 
     // Mipmaps of every image, the meshes' UV densities and the pixel spread angle.

@@ -24,10 +24,9 @@ Vec3 sampleNearest(const Image& texture, double u, double v, double repeatU, dou
     return texture.at(column, row);
 }
 
-Vec3 sampleBilinear(const Image& texture, double u, double v, double repeatU, double repeatV) {
-    double s = fract(u * repeatU), t = fract(v * repeatV);
-    // Continuous texel coordinates, shifted so that integers are texel centres.
-    double x = s * texture.width - 0.5, y = (1 - t) * texture.height - 0.5;
+// Bilinear interpolation at continuous texel coordinates (x, y) in which integers name
+// texel corners: texel (i, j) is the sample at (i, j), neighbours wrap around.
+Vec3 bilinearAt(const Image& texture, double x, double y) {
     double x0 = std::floor(x), y0 = std::floor(y);
     double fx = x - x0, fy = y - y0;
     int left = wrap(int(x0), texture.width), right = wrap(int(x0) + 1, texture.width);
@@ -37,9 +36,21 @@ Vec3 sampleBilinear(const Image& texture, double u, double v, double repeatU, do
     return (1 - fy) * upper + fy * lower;
 }
 
+Vec3 sampleBilinear(const Image& texture, double u, double v, double repeatU, double repeatV) {
+    double s = fract(u * repeatU), t = fract(v * repeatV);
+    // Shifted by half a texel so that integers are texel centres.
+    return bilinearAt(texture, s * texture.width - 0.5, (1 - t) * texture.height - 0.5);
+}
+
+Vec3 sampleCourseBilinear(const Image& texture, double u, double v, double repeatU, double repeatV) {
+    double s = fract(u * repeatU), t = fract(v * repeatV);
+    return bilinearAt(texture, s * texture.width, (1 - t) * texture.height);
+}
+
 Vec3 sampleTexture(const Image& texture, double u, double v, double repeatU, double repeatV, TextureFilter filter) {
     switch (filter) {
         case TextureFilter::Nearest: return sampleNearest(texture, u, v, repeatU, repeatV);
+        case TextureFilter::Course: return sampleCourseBilinear(texture, u, v, repeatU, repeatV);
         case TextureFilter::Bilinear:
         case TextureFilter::Trilinear: return sampleBilinear(texture, u, v, repeatU, repeatV);
     }

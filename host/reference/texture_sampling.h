@@ -18,6 +18,11 @@ Vec3 sampleNearest(const Image& texture, double u, double v, double repeatU, dou
 // other side, as the texture itself repeats across the surface.
 Vec3 sampleBilinear(const Image& texture, double u, double v, double repeatU, double repeatV);
 
+// The course's bilinear filter (SPEC §5, --texture-filter course): the same interpolation
+// with texel corners at integer positions, i.e. without the half-texel shift, so texel
+// (i, j) is weighted fully at (i, j) and the image appears shifted by half a texel.
+Vec3 sampleCourseBilinear(const Image& texture, double u, double v, double repeatU, double repeatV);
+
 // Dispatches on the filter. Trilinear (mipmapped) filtering needs the footprint of the
 // ray on the surface, which a single ray does not have: it samples bilinearly here.
 Vec3 sampleTexture(const Image& texture, double u, double v, double repeatU, double repeatV, TextureFilter filter);

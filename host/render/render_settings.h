@@ -14,7 +14,9 @@ enum class AntialiasMode {
     Adaptive,    // stochastic refinement where neighbouring samples differ
 };
 
-enum class TextureFilter { Nearest, Bilinear, Trilinear };
+// Course: bilinear with texel corners at integer coordinates, as the course's renders
+// (SPEC §5); Bilinear and Trilinear put texel centres there.
+enum class TextureFilter { Nearest, Bilinear, Trilinear, Course };
 
 struct RenderSettings {
     int width = 1024;
