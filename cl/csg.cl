@@ -61,7 +61,7 @@ inline int csgOperandBoundaries(__global const RayPrimitive* prims, int index, f
     float3 normal;
     if (!csgCrossing(&prims[index], origin, direction, 0, &enter, &part, &normal)) return 0;
     if (!csgCrossing(&prims[index], origin, direction, 1, &leave, &part, &normal)) return 0;
-    if (!(leave > enter)) return 0;
+    if (!(leave > enter) || !isfinite(enter) || !isfinite(leave)) return 0; /* as the reference */
     times[0] = enter;
     codes[0] = index * 2;
     times[1] = leave;

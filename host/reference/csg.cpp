@@ -50,7 +50,9 @@ CsgSpans csgOperandSpans(const Scene& scene, int operand, const Vec3& origin, co
     auto exit = intersectUnitPrimitive(instance.type, o, -1 * d, -INFINITY, INFINITY);
     if (!enter || !exit) return {};
     exit->t = -exit->t;
-    if (!(exit->t > enter->t)) return {};  // grazing: no inside
+    // Grazing: no inside. Non-finite ends (overflowing transforms) are no span either: the
+    // combination compares ends for equality, which a NaN would never satisfy.
+    if (!(exit->t > enter->t) || !std::isfinite(enter->t) || !std::isfinite(exit->t)) return {};
     return {CsgSpan{{operand, true, *enter}, {operand, false, *exit}}};
 }
 

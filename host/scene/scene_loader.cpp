@@ -951,7 +951,7 @@ private:
             diagnostics_.error(build.line, "csg objects nest too deeply here (an evaluation stack of " +
                                                std::to_string(csgStackDepth(object)) + ", at most " +
                                                std::to_string(kCsgMaxStack) + ")",
-                               "list nested csg objects last among their operands, or nest fewer levels");
+                               "list nested csg objects first among their operands, or nest fewer levels");
         std::vector<Vec3> lo, hi;
         for (const CsgStep& step : object.program) {
             if (step.kind != CsgStepKind::Operand) continue;
