@@ -13,6 +13,11 @@
  * is hit, which keeps the stack small (8 bytes a boundary). */
 
 #define RAY_CSG_BOUNDARIES (2 * RAY_CSG_MAX_OPERANDS)
+#define RAY_CSG_SLIVER 1e-5f /* host/scene/csg.h kCsgSliver: thinner spans and gaps are rounding */
+
+inline bool csgSliver(float t0, float t1) {
+    return t1 - t0 <= RAY_CSG_SLIVER * fmax(fabs(t0), fabs(t1));
+}
 
 /* The nearest surface point of a unit convex primitive from o along d (t > 0). */
 inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
@@ -94,6 +99,12 @@ inline int csgCombine(int operation, const float* timesA, const int* codesA, int
         bool now = csgInside(operation, (i & 1) != 0, (j & 1) != 0);
         if (now == inside || count >= RAY_CSG_BOUNDARIES) continue;
         inside = now;
+        /* A sliver of a gap (entering just after the last exit) or of a span (leaving just
+         * after the last entry) takes back that boundary instead. */
+        if (count > 0 && csgSliver(times[count - 1], t)) {
+            --count;
+            continue;
+        }
         times[count] = t;
         codes[count] = code;
         ++count;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "kernel_comparison.h"
 #include "reference/csg.h"
 #include "reference/reference_bvh.h"
 #include "scene/scene_loader.h"
@@ -198,4 +199,59 @@ TEST_CASE("nested csg objects flatten to one postfix program; masters place them
     CHECK(scene.csgOperands[size_t(hit->csgOperand)].type == PrimitiveType::Cylinder);
     CHECK(hit->local.normal.z == Approx(-1));  // into the hole: out of the result, against the ray
     CHECK_FALSE(intersector.closestHit({2, 5, 0}, {0, -1, 0}, 1e-9, INFINITY));  // down the hole
+}
+
+namespace {
+
+// A small scene around `objects` (inside the root tree), lit and seen from the front-right.
+std::string csgTestScene(const std::string& objects) {
+    return R"(<scenefile>
+<cameradata><pos x="2.5" y="2" z="3.5"/><focus x="0" y="0" z="0"/><up x="0" y="1" z="0"/><heightangle v="45"/></cameradata>
+<lightdata><id v="0"/><type v="point"/><color r="1" g="1" b="1"/><position x="3" y="4" z="3"/></lightdata>
+<object type="tree" name="root">
+ <transblock><translate x="0" y="-0.8" z="0"/><scale x="6" y="0.1" z="6"/>
+  <object type="primitive" name="cube"><diffuse r="0.8" g="0.8" b="0.8"/><reflective r="0.3" g="0.3" b="0.3"/></object>
+ </transblock>
+)" + objects + R"(
+</object>
+</scenefile>)";
+}
+
+}  // namespace
+
+// Beyond the bundled scenes (which the kernel-versus-host test of every bundled scene covers):
+// a moving csg object, and operands with coincident faces, where float and double must
+// still agree on which surface is whose.
+TEST_CASE("kernel matches host on moving csg and coincident faces", "[csg][kernel][kvh]") {
+    auto device = test::cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    const std::string red = R"(<diffuse r="0.9" g="0.2" b="0.1"/><specular r="0.5" g="0.5" b="0.5"/><shininess v="20"/>)";
+    const std::string blue = R"(<diffuse r="0.1" g="0.3" b="0.9"/>)";
+    const std::string moving = csgTestScene(R"(<transblock><motion x="0.6" y="0" z="0"/>
+  <object type="csg" operation="difference">
+   <transblock><object type="primitive" name="sphere">)" + red + R"(</object></transblock>
+   <transblock><translate x="0.3" y="0.3" z="0.3"/><scale x="0.6" y="0.6" z="0.6"/><object type="primitive" name="cube">)" +
+                                            blue + R"(</object></transblock>
+  </object></transblock>)");
+    const std::string coincident = csgTestScene(R"(<transblock><object type="csg" operation="difference">
+   <transblock><object type="primitive" name="cube">)" + red + R"(</object></transblock>
+   <transblock><translate x="0.25" y="0.25" z="0"/><scale x="0.5" y="0.5" z="1"/><object type="primitive" name="cube">)" +
+                                                blue + R"(</object></transblock>
+  </object></transblock>
+  <transblock><translate x="-1.2" y="0" z="0"/><object type="csg" operation="union">
+   <transblock><translate x="0" y="0" z="-0.25"/><scale x="1" y="1" z="0.5"/><object type="primitive" name="cube">)" +
+                                                red + R"(</object></transblock>
+   <transblock><translate x="0" y="0" z="0.25"/><scale x="1" y="1" z="0.5"/><object type="primitive" name="cube">)" +
+                                                blue + R"(</object></transblock>
+  </object></transblock>)");
+    LoadOptions options;
+    options.warn = [](const std::string&) {};
+    RenderSettings blurred = test::settingsFromOptions("--aa stratified --samples 4", 64, 48);
+    test::compareKernelWithHost(*device, loadSceneFromText(moving, "moving.xml", options), blurred, "csg_moving");
+    RenderSettings plain = test::settingsFromOptions("--aa off", 96, 72);
+    test::compareKernelWithHost(*device, loadSceneFromText(coincident, "coincident.xml", options), plain,
+                                "csg_coincident");
 }

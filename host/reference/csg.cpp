@@ -34,7 +34,10 @@ CsgSpans combineCsgSpans(CsgStepKind kind, const CsgSpans& a, const CsgSpans& b)
         const bool now = csgCombine(kind, i % 2 == 1, j % 2 == 1);
         if (now == inside) continue;
         inside = now;
+        if (now && !result.empty() && csgSliver(result.back().exit.hit.t, t))
+            continue;  // a sliver of a gap: the previous span goes on
         if (now) result.push_back({*crossed, *crossed});
+        else if (csgSliver(result.back().enter.hit.t, t)) result.pop_back();  // a sliver of a span
         else result.back().exit = *crossed;
     }
     return result;

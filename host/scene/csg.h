@@ -34,6 +34,22 @@ struct CsgObject {
 constexpr int kCsgMaxOperands = 32;
 constexpr int kCsgMaxStack = 4;
 
+// Spans and gaps thinner than this fraction of their distance along the ray are slivers of
+// rounding, not geometry: where two operands share a face (a cube cut by a box flush with
+// its front), their two planes are computed through different transforms and land a few
+// ulps apart, leaving a film that shadow rays would hit (speckle in float). Both renderers
+// drop such spans and close such gaps at every combination (equal to cl/csg.cl's
+// RAY_CSG_SLIVER). 1e-5 is about 100 float ulps of the distance, and invisibly thin.
+constexpr double kCsgSliver = 1e-5;
+
+// Whether the stretch from t0 to t1 (t0 <= t1) is a sliver.
+inline bool csgSliver(double t0, double t1) {
+    double reach = t0 < 0 ? -t0 : t0;
+    if (t1 > reach) reach = t1;
+    if (-t1 > reach) reach = -t1;
+    return t1 - t0 <= kCsgSliver * reach;
+}
+
 // How deep the program's evaluation stack gets.
 int csgStackDepth(const CsgObject& object);
 
