@@ -255,3 +255,14 @@ TEST_CASE("kernel matches host on moving csg and coincident faces", "[csg][kerne
     test::compareKernelWithHost(*device, loadSceneFromText(coincident, "coincident.xml", options), plain,
                                 "csg_coincident");
 }
+
+TEST_CASE("slivers of rounding between nearly coincident faces are dropped", "[csg]") {
+    CsgSpans a{span(0, 2, 0)}, b{span(1, 2 - 1e-7, 1)};
+    CHECK(times(combineCsgSpans(CsgStepKind::Difference, a, b)) == Pairs{{0, 1}});  // no film at t = 2
+    CsgSpans left{span(0, 1, 0)}, right{span(1 + 1e-7, 2, 1)};
+    CHECK(times(combineCsgSpans(CsgStepKind::Union, left, right)) == Pairs{{0, 2}});  // no gap at t = 1
+    CHECK(combineCsgSpans(CsgStepKind::Intersection, CsgSpans{span(0, 1 + 1e-7, 0)}, CsgSpans{span(1, 2, 1)}).empty());
+    // A thin wall that is geometry stays: 1e-3 of the distance.
+    CHECK(times(combineCsgSpans(CsgStepKind::Difference, a, CsgSpans{span(1, 1.999, 1)})) ==
+          Pairs{{0, 1}, {1.999, 2}});
+}
