@@ -189,6 +189,11 @@ void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
 void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, float* best, int* part, float3* normal, float2* barycentric);
 
+/* Constructive solid geometry: cl/csg.cl. prims is the primitive buffer (the program's
+ * records are indexed in it), csg the object's own record. */
+void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
+                  Hit* hit);
+
 /* Intersects one primitive, updating hit when it is nearer than hit->t.
  * Motion blur: at time t the instance is translated by t·motion (motions[index], world
  * space), which is the same as moving the ray's origin back by it. The host sets every
@@ -198,6 +203,10 @@ inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const 
                                Hit* hit) {
     float3 origin = ray.origin;
     if (ray.time != 0.0f) origin -= ray.time * motions[index].xyz;
+    if (prim->info.x == RAY_PRIM_CSG) { /* its operands have transforms of their own */
+        intersectCsg(prim - index, prim, origin, ray.direction, hit);
+        return;
+    }
     float3 o = transformPoint(prim->worldToObject, origin);
     float3 d = transformVector(prim->worldToObject, ray.direction);
     float best = hit->t;

@@ -38,6 +38,21 @@ struct alignas(16) int4 {
 #define RAY_PRIM_CONE 3
 #define RAY_PRIM_TORUS 4
 #define RAY_PRIM_MESH 5
+#define RAY_PRIM_CSG 6 /* info: (RAY_PRIM_CSG, material of the first operand, program start, program length) */
+
+/* Constructive solid geometry (host/scene/csg.h, cl/csg.cl). A csg object's postfix program
+ * is a run of records in the primitive buffer, after the primitives the BVH indexes (so no
+ * BVH leaf names them): an operand step is the operand's own RayPrimitive (info.x a
+ * RAY_PRIM_* of a convex primitive), an operator step has info.x = RAY_CSG_UNION,
+ * RAY_CSG_INTERSECTION or RAY_CSG_DIFFERENCE (the rest of the record unused). A hit on a
+ * csg object reports the operand record as the hit primitive, so shading reads its
+ * transform and material as it does any primitive's. The limits equal ray::kCsgMaxOperands
+ * and ray::kCsgMaxStack (checked on the host); the loader refuses objects beyond them. */
+#define RAY_CSG_UNION 16
+#define RAY_CSG_INTERSECTION 17
+#define RAY_CSG_DIFFERENCE 18
+#define RAY_CSG_MAX_OPERANDS 32
+#define RAY_CSG_MAX_STACK 4
 
 /* Values of RayLight.info.x; equal to ray::LightType on the host. */
 #define RAY_LIGHT_POINT 0

@@ -794,3 +794,48 @@ TEST_CASE("RAY_SEARCH_PATH lists folders separated by ':'", "[loader]") {
     CHECK(paths[2] == "rel");
     CHECK(ray::searchPathsFromEnvironment().empty());
 }
+
+// ---------------------------------------------------------------------------------------
+// Constructive solid geometry (scene/csg.h)
+
+namespace {
+
+std::string csg(const std::string& operation, const std::string& operands) {
+    return "<object type=\"csg\" operation=\"" + operation + "\">\n" + operands + "</object>\n";
+}
+
+}  // namespace
+
+TEST_CASE("a csg object becomes one instance whose operands stay out of the primitive list", "[loader][csg]") {
+    Loaded loaded = load(rootScene(block(csg("union", block(primitive("sphere")) + block(primitive("cube")))) +
+                                   block(primitive("cone"))));
+    CHECK(loaded.warnings.empty());
+    REQUIRE(loaded.scene.primitives.size() == 2);
+    CHECK(loaded.scene.primitives[0].type == ray::PrimitiveType::Csg);
+    CHECK(loaded.scene.csgOperands.size() == 2);
+}
+
+TEST_CASE("bad csg objects are errors at their line", "[loader][csg]") {
+    std::string one = rootScene(block(csg("union", block(primitive()))));
+    CHECK_THAT(errorOf(one), Contains(at(one, "type=\"csg\"") + "error: a csg object needs two or more operands but has 1"));
+    std::string unknown = rootScene(block(csg("xor", block(primitive()) + block(primitive()))));
+    CHECK_THAT(errorOf(unknown), Contains(at(unknown, "type=\"csg\"") + "error: unknown csg operation 'xor'"));
+    std::string noOperation = rootScene(block("<object type=\"csg\">" + block(primitive()) + block(primitive()) +
+                                              "</object>"));
+    CHECK_THAT(errorOf(noOperation), Contains(at(noOperation, "type=\"csg\"") + "error: a csg object needs an operation"));
+    std::string torus = rootScene(block(csg("difference", block(primitive()) + block(primitive("torus")))));
+    CHECK_THAT(errorOf(torus), Contains(at(torus, "name=\"torus\"") + "error: a torus cannot be an operand"));
+    std::string empty = rootScene(block(csg("union", block(primitive()) + "<transblock/>\n")));
+    CHECK_THAT(errorOf(empty), Contains(at(empty, "type=\"csg\"") + "error: operand 2 of this csg object is empty"));
+    std::string moving = rootScene(block(
+        csg("union", block(primitive()) + block("<motion x=\"1\" y=\"0\" z=\"0\"/>" + primitive("sphere")))));
+    CHECK_THAT(errorOf(moving), Contains(at(moving, "name=\"sphere\"") + "error: a <motion> inside a csg object"));
+    std::string operands;
+    for (int i = 0; i < ray::kCsgMaxOperands + 1; ++i) operands += block(primitive("sphere"));
+    std::string many = rootScene(block(csg("union", operands)));
+    CHECK_THAT(errorOf(many), Contains(at(many, "type=\"csg\"") + "error: this csg object holds 33 primitives"));
+    std::string deep = block(primitive()) + block(primitive());
+    for (int level = 0; level < ray::kCsgMaxStack; ++level) deep = block(primitive()) + block(csg("union", deep));
+    std::string nested = rootScene(block(csg("union", deep)));
+    CHECK_THAT(errorOf(nested), Contains(at(nested, "type=\"csg\"") + "error: csg objects nest too deeply"));
+}

@@ -30,6 +30,8 @@ static_assert(sizeof(gpu::RayRenderParams) == 176);
 static_assert(offsetof(gpu::RayRenderParams, tile) == 160);
 static_assert(offsetof(gpu::RayRenderParams, limits) == 96);  // .z: the pixel spread angle (trilinear)
 static_assert(int(PrimitiveType::Cone) == RAY_PRIM_CONE && int(PrimitiveType::Mesh) == RAY_PRIM_MESH);
+static_assert(int(PrimitiveType::Csg) == RAY_PRIM_CSG);
+static_assert(kCsgMaxOperands == RAY_CSG_MAX_OPERANDS && kCsgMaxStack == RAY_CSG_MAX_STACK);
 static_assert(int(LightType::Area) == RAY_LIGHT_AREA && int(LightType::Spot) == RAY_LIGHT_SPOT);
 static_assert(int(AntialiasMode::Course) == RAY_AA_COURSE && int(AntialiasMode::Adaptive) == RAY_AA_ADAPTIVE);
 
@@ -46,6 +48,33 @@ gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, const std::ve
     int root = instance.type == PrimitiveType::Mesh ? meshRoots[size_t(instance.mesh)] : -1;
     p.info = {int(instance.type), instance.material, instance.mesh, root};
     return p;
+}
+
+// Every csg object's program, appended to the primitive buffer (cl/shared_types.h), and
+// the program's place in the csg object's own record (in BVH order already in packed).
+void packCsgPrograms(const Scene& scene, const std::vector<uint32_t>& bvhOrder, PackedScene& packed) {
+    std::vector<int> programStart;
+    for (const CsgObject& object : scene.csgObjects) {
+        programStart.push_back(int(packed.primitives.size()));
+        for (const CsgStep& step : object.program) {
+            if (step.kind == CsgStepKind::Operand) {
+                packed.primitives.push_back(packPrimitive(scene.csgOperands[size_t(step.operand)], packed.meshRoots));
+                continue;
+            }
+            gpu::RayPrimitive op;
+            int code = step.kind == CsgStepKind::Union          ? RAY_CSG_UNION
+                       : step.kind == CsgStepKind::Intersection ? RAY_CSG_INTERSECTION
+                                                                : RAY_CSG_DIFFERENCE;
+            op.info = {code, 0, -1, -1};
+            packed.primitives.push_back(op);
+        }
+    }
+    for (size_t i = 0; i < bvhOrder.size(); ++i) {
+        const PrimitiveInstance& instance = scene.primitives[bvhOrder[i]];
+        if (instance.type != PrimitiveType::Csg) continue;
+        packed.primitives[i].info.z = programStart[size_t(instance.csg)];
+        packed.primitives[i].info.w = int(scene.csgObjects[size_t(instance.csg)].program.size());
+    }
 }
 
 gpu::RayMaterial packMaterial(const Material& m, const Scene& scene) {
@@ -183,6 +212,7 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
     packed.primitives.reserve(scene.primitives.size());
     for (uint32_t index : bvh.primitiveOrder)
         packed.primitives.push_back(packPrimitive(scene.primitives[index], packed.meshRoots));
+    packCsgPrograms(scene, bvh.primitiveOrder, packed);
     bool anyMotion = std::any_of(scene.primitives.begin(), scene.primitives.end(),
                                  [](const PrimitiveInstance& p) { return p.motion != Vec3{}; });
     if (anyMotion)

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "reference/csg.h"
+
 namespace ray::reference {
 
 namespace {
@@ -70,7 +72,7 @@ std::optional<double> intersectBox(const Aabb& box, const Vec3& origin, const Ve
 }
 
 SceneIntersector::SceneIntersector(const Scene& scene, SceneSearch search)
-    : primitives_(scene.primitives), search_(search) {
+    : scene_(scene), primitives_(scene.primitives), search_(search) {
     meshes_.reserve(scene.meshes.size());
     for (const TriangleMesh& mesh : scene.meshes) meshes_.emplace_back(mesh);
     const int count = int(primitives_.size());
@@ -119,18 +121,26 @@ int SceneIntersector::build(int begin, int end, const std::vector<Aabb>& boxes, 
     return index;
 }
 
-std::optional<ShapeHit> SceneIntersector::intersectPrimitive(int index, const Vec3& rayOrigin, const Vec3& direction,
+std::optional<SceneHit> SceneIntersector::intersectPrimitive(int index, const Vec3& rayOrigin, const Vec3& direction,
                                                              double tMin, double tMax, double time) const {
     // Object space through the inverse transform. The direction is not renormalized,
     // so t means the same distance along the ray in both spaces. An instance moved by
     // time·motion is the same as the ray moved back by it.
     const PrimitiveInstance& instance = primitives_[index];
     const Vec3 origin = rayOrigin - time * instance.motion;
+    auto found = [index](std::optional<ShapeHit> hit) {
+        return hit ? std::optional<SceneHit>(SceneHit{index, *hit}) : std::nullopt;
+    };
+    if (instance.type == PrimitiveType::Csg) {
+        auto hit = intersectCsg(scene_, scene_.csgObjects[size_t(instance.csg)], origin, direction, tMin, tMax);
+        return hit ? std::optional<SceneHit>(SceneHit{index, hit->local, hit->operand}) : std::nullopt;
+    }
     if (instance.type == PrimitiveType::Mesh)
-        return meshes_[size_t(instance.mesh)].intersect(instance.worldToObject.transformPoint(origin),
-                                                        instance.worldToObject.transformVector(direction), tMin, tMax);
-    return intersectUnitPrimitive(instance.type, instance.worldToObject.transformPoint(origin),
-                                  instance.worldToObject.transformVector(direction), tMin, tMax);
+        return found(meshes_[size_t(instance.mesh)].intersect(instance.worldToObject.transformPoint(origin),
+                                                              instance.worldToObject.transformVector(direction), tMin,
+                                                              tMax));
+    return found(intersectUnitPrimitive(instance.type, instance.worldToObject.transformPoint(origin),
+                                        instance.worldToObject.transformVector(direction), tMin, tMax));
 }
 
 template <class Test>
@@ -186,8 +196,8 @@ std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const V
         // does not depend on the order in which the BVH happens to visit them.
         double limit = best && primitive < best->primitive ? std::nextafter(tLimit, INFINITY) : tLimit;
         if (auto hit = intersectPrimitive(primitive, origin, direction, tMin, limit, time)) {
-            best = SceneHit{primitive, *hit};
-            return hit->t;
+            best = *hit;
+            return hit->local.t;
         }
         return tLimit;
     });

@@ -49,7 +49,14 @@ std::optional<double> intersectBox(const Aabb& box, const Vec3& origin, const Ve
 struct SceneHit {
     int primitive = -1;  // index into Scene::primitives
     ShapeHit local;      // t, object-space normal, texture coordinates
+    int csgOperand = -1;  // a csg object's hit: the operand (Scene::csgOperands) whose surface it is
 };
+
+// The instance whose surface was hit: the primitive, or for a csg object the operand
+// (its transform, material and type; local is in its object space).
+inline const PrimitiveInstance& surfaceInstance(const Scene& scene, const SceneHit& hit) {
+    return hit.csgOperand >= 0 ? scene.csgOperands[size_t(hit.csgOperand)] : scene.primitives[size_t(hit.primitive)];
+}
 
 enum class SceneSearch { Bvh, BruteForce };
 
@@ -76,7 +83,7 @@ private:
     };
 
     int build(int begin, int end, const std::vector<Aabb>& boxes, const std::vector<Vec3>& centres);
-    std::optional<ShapeHit> intersectPrimitive(int index, const Vec3& origin, const Vec3& direction, double tMin,
+    std::optional<SceneHit> intersectPrimitive(int index, const Vec3& origin, const Vec3& direction, double tMin,
                                                double tMax, double time) const;
     // Calls test(primitive index) for every primitive whose box the ray reaches before
     // the current tMax; test returns the new tMax (smaller after a hit), or a negative
@@ -84,6 +91,7 @@ private:
     template <class Test>
     void traverse(const Vec3& origin, const Vec3& direction, double tMin, double tMax, Test&& test) const;
 
+    const Scene& scene_;
     const std::vector<PrimitiveInstance>& primitives_;
     std::vector<MeshIntersector> meshes_;  // one per Scene::meshes entry
     SceneSearch search_;

@@ -183,7 +183,7 @@ private:
 
     // The object-space normal, tilted by the material's bump map if it has one.
     Vec3 shadingObjectNormal(const SceneHit& hit, const Ray& ray, double time) const {
-        const PrimitiveInstance& instance = scene_.primitives[hit.primitive];
+        const PrimitiveInstance& instance = surfaceInstance(scene_, hit);
         const TextureMap& map = scene_.materials[instance.material].bumpMap;
         if (!settings_.textures || map.image < 0 || scene_.images[map.image].empty()) return hit.local.normal;
         Vec3 objectPoint =
@@ -196,7 +196,7 @@ private:
     }
 
     SurfaceHit surfaceAt(const SceneHit& hit, const Ray& ray, double time) const {
-        const PrimitiveInstance& instance = scene_.primitives[hit.primitive];
+        const PrimitiveInstance& instance = surfaceInstance(scene_, hit);
         SurfaceHit surface;
         surface.point = ray.origin + hit.local.t * ray.direction;
         // Normals go to world space by the inverse transpose of object-to-world: the

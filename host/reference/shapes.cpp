@@ -283,7 +283,8 @@ std::optional<ShapeHit> intersectUnitPrimitive(PrimitiveType type, const Vec3& o
         case PrimitiveType::Cylinder: return intersectCylinder(origin, direction, tMin, tMax);
         case PrimitiveType::Cone: return intersectCone(origin, direction, tMin, tMax);
         case PrimitiveType::Torus: return intersectTorus(origin, direction, tMin, tMax);
-        case PrimitiveType::Mesh: return std::nullopt;
+        case PrimitiveType::Mesh:
+        case PrimitiveType::Csg: return std::nullopt;  // intersected by their own code (reference_bvh)
     }
     return std::nullopt;
 }

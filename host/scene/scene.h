@@ -12,6 +12,7 @@
 
 #include "image/image.h"
 #include "core/math.h"
+#include "scene/csg.h"
 #include "scene/mesh.h"
 
 namespace ray {
@@ -69,7 +70,7 @@ struct Material {
 };
 
 // The values of these are part of the packed device layout too (cl/shared_types.h).
-enum class PrimitiveType : int { Cube = 0, Sphere = 1, Cylinder = 2, Cone = 3, Torus = 4, Mesh = 5 };
+enum class PrimitiveType : int { Cube = 0, Sphere = 1, Cylinder = 2, Cone = 3, Torus = 4, Mesh = 5, Csg = 6 };
 
 const char* primitiveTypeName(PrimitiveType type);
 
@@ -79,6 +80,7 @@ struct PrimitiveInstance {
     PrimitiveType type = PrimitiveType::Cube;
     int material = 0;
     int mesh = -1;  // index into Scene::meshFiles (and Scene::meshes) for PrimitiveType::Mesh
+    int csg = -1;   // index into Scene::csgObjects for PrimitiveType::Csg (scene/csg.h)
     // The object-space box holding the primitive: the unit cube [−0.5, 0.5]³ by default, the
     // torus's own slimmer box, a mesh's bounds. Both BVHs box instances with it.
     Vec3 objectLo{-0.5, -0.5, -0.5}, objectHi{0.5, 0.5, 0.5};
@@ -102,6 +104,11 @@ struct Scene {
     // from meshFiles[i]), each stored once however many instances use it.
     std::vector<std::filesystem::path> meshFiles;
     std::vector<TriangleMesh> meshes;
+    // Constructive solid geometry (scene/csg.h): each PrimitiveType::Csg instance names one
+    // object here, whose program combines operand instances kept in csgOperands (never in
+    // primitives: they are only ever intersected through their csg object).
+    std::vector<CsgObject> csgObjects;
+    std::vector<PrimitiveInstance> csgOperands;
 };
 
 // Bad input: the message is complete ("scene.xml:12: error: ..."), ready to print.

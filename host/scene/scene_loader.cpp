@@ -46,6 +46,7 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -244,7 +245,9 @@ struct MasterReference {
     NamedTree* target = nullptr;  // set by the count pass
 };
 
-using SceneItem = std::variant<PrimitiveNode, std::unique_ptr<TreeNode>, MasterReference>;
+struct CsgNode;
+
+using SceneItem = std::variant<PrimitiveNode, std::unique_ptr<TreeNode>, MasterReference, std::unique_ptr<CsgNode>>;
 
 struct Block {
     Affine toParent;    // T1 · T2 · … · Tn
@@ -255,6 +258,14 @@ struct Block {
 
 struct TreeNode {
     std::vector<Block> blocks;
+};
+
+// <object type="csg" operation="..."> (scene/csg.h): each operand is written as a tree's
+// children are, one <transblock> (or one bare <object>) per operand.
+struct CsgNode {
+    CsgStepKind operation = CsgStepKind::Union;
+    int line = 0;
+    std::vector<TreeNode> operands;
 };
 
 struct NamedTree {
@@ -570,6 +581,7 @@ private:
             values.expect(1, 1, "type [name]");
             return std::make_unique<TreeNode>(parseTree(element));
         }
+        if (type == "csg") return parseCsg(element, values);
         if (type == "master") {
             if (values.count() < 2)
                 diagnostics_.error(element.GetLineNum(), "a master object needs the name of the tree it places",
@@ -578,7 +590,41 @@ private:
             return MasterReference{values.text(1), element.GetLineNum(), nullptr};
         }
         diagnostics_.error(element.GetLineNum(), "unknown object type '" + std::string(values.text(0)) + "'",
-                           "use primitive, tree or master");
+                           "use primitive, tree, master or csg");
+    }
+
+    // <object type="csg" operation="union|intersection|difference">: every child
+    // <transblock> (or bare <object>) is one operand.
+    std::unique_ptr<CsgNode> parseCsg(const XMLElement& element, const Values& values) {
+        const char* usage = "write <object type=\"csg\" operation=\"union\"> (or intersection, difference)";
+        if (values.count() < 2)
+            diagnostics_.error(element.GetLineNum(), "a csg object needs an operation", usage);
+        values.expect(2, 0, "type operation");
+        auto node = std::make_unique<CsgNode>();
+        node->line = element.GetLineNum();
+        std::string operation = lowercase(values.text(1));
+        if (operation == "union") node->operation = CsgStepKind::Union;
+        else if (operation == "intersection") node->operation = CsgStepKind::Intersection;
+        else if (operation == "difference") node->operation = CsgStepKind::Difference;
+        else diagnostics_.error(element.GetLineNum(), "unknown csg operation '" + std::string(values.text(1)) + "'", usage);
+        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+            TreeNode operand;
+            if (sameName(child->Name(), "transblock")) {
+                operand.blocks.push_back(parseBlock(*child));
+            } else if (sameName(child->Name(), "object")) {
+                operand.blocks.emplace_back().items.push_back(parseObject(*child));
+            } else {
+                warnUnknown(*child, element);
+                continue;
+            }
+            node->operands.push_back(std::move(operand));
+        }
+        if (node->operands.size() < 2)
+            diagnostics_.error(element.GetLineNum(),
+                               "a csg object needs two or more operands but has " +
+                                   std::to_string(node->operands.size()),
+                               "put each operand in a <transblock> of its own inside the csg object");
+        return node;
     }
 
     PrimitiveNode parsePrimitive(const XMLElement& element, const Values& values) {
@@ -765,6 +811,11 @@ private:
     uint64_t count(SceneItem& item, int line) {
         if (std::holds_alternative<PrimitiveNode>(item)) return 1;
         if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item)) return count(**subtree, line);
+        if (auto* csg = std::get_if<std::unique_ptr<CsgNode>>(&item)) {
+            uint64_t total = 0;
+            for (TreeNode& operand : (*csg)->operands) total = saturatingAdd(total, count(operand, line));
+            return total;
+        }
         MasterReference& master = std::get<MasterReference>(item);
         auto it = trees_.find(master.name);
         if (it == trees_.end())
@@ -822,6 +873,8 @@ public:
                     addInstance(*primitive, blockToWorld, blockToObject, blockMotion);
                 else if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item))
                     flatten(**subtree, blockToWorld, blockToObject, blockMotion);
+                else if (auto* csg = std::get_if<std::unique_ptr<CsgNode>>(&item))
+                    flattenCsg(**csg, blockToWorld, blockToObject, blockMotion);
                 else
                     flatten(std::get<MasterReference>(item).target->tree, blockToWorld, blockToObject, blockMotion);
             }
@@ -829,8 +882,119 @@ public:
     }
 
 private:
-    void addInstance(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& motion) {
+    // A csg object being flattened: its program grows as operands are met; nested csg
+    // objects write their sub-programs into the outermost one's.
+    struct CsgBuild {
+        CsgObject object;
+        int line = 0;
+        Vec3 motion;          // the object's own; an operand may not move otherwise
+        int valuesPushed = 0;  // solids pushed for the operand being flattened
+    };
+
+    void flattenCsg(CsgNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& motion) {
+        const bool outermost = csg_ == nullptr;
+        CsgBuild build;
+        if (outermost) {
+            build.line = node.line;
+            build.motion = motion;
+            csg_ = &build;
+        }
+        const int outerValues = csg_->valuesPushed;
+        for (size_t k = 0; k < node.operands.size(); ++k) {
+            csg_->valuesPushed = 0;
+            flatten(node.operands[k], toWorld, toObject, motion);
+            if (csg_->valuesPushed == 0)
+                diagnostics_.error(node.line, "operand " + std::to_string(k + 1) + " of this csg object is empty",
+                                   "give every operand at least one primitive");
+            if (k > 0) csg_->object.program.push_back({node.operation, -1});
+        }
+        csg_->valuesPushed = outerValues;
+        if (!outermost) {
+            notePushedSolid();  // the nested object is one solid of the enclosing operand
+            return;
+        }
+        csg_ = nullptr;
+        addCsgInstance(build);
+    }
+
+    // A solid pushed for the current operand: the second and later ones are unioned in.
+    void notePushedSolid() {
+        if (++csg_->valuesPushed > 1) csg_->object.program.push_back({CsgStepKind::Union, -1});
+    }
+
+    void addCsgOperand(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& motion) {
+        if (node.type == PrimitiveType::Torus || node.type == PrimitiveType::Mesh)
+            diagnostics_.error(node.line, std::string("a ") + primitiveTypeName(node.type) +
+                                              " cannot be an operand of a csg object (line " +
+                                              std::to_string(csg_->line) + ")",
+                               "use cubes, spheres, cylinders and cones (convex solids) as csg operands");
+        if (motion != csg_->motion)
+            diagnostics_.error(node.line, "a <motion> inside a csg object (line " + std::to_string(csg_->line) + ")",
+                               "move the whole csg object: put the <motion> in a transblock around it");
+        if (int(scene_.csgOperands.size()) >= std::numeric_limits<int>::max() / 2)
+            diagnostics_.error(node.line, "too many csg operands", "use fewer csg objects");
+        csg_->object.program.push_back({CsgStepKind::Operand, int(scene_.csgOperands.size())});
+        scene_.csgOperands.push_back(makeInstance(node, toWorld, toObject, motion));
+        notePushedSolid();
+    }
+
+    void addCsgInstance(CsgBuild& build) {
+        const CsgObject& object = build.object;
+        int operands = int(std::count_if(object.program.begin(), object.program.end(),
+                                         [](const CsgStep& s) { return s.kind == CsgStepKind::Operand; }));
+        if (operands > kCsgMaxOperands)
+            diagnostics_.error(build.line, "this csg object holds " + std::to_string(operands) +
+                                               " primitives; at most " + std::to_string(kCsgMaxOperands) +
+                                               " are allowed",
+                               "split it into several csg objects");
+        if (csgStackDepth(object) > kCsgMaxStack)
+            diagnostics_.error(build.line, "csg objects nest too deeply here (an evaluation stack of " +
+                                               std::to_string(csgStackDepth(object)) + ", at most " +
+                                               std::to_string(kCsgMaxStack) + ")",
+                               "list nested csg objects first among their operands, or nest fewer levels");
+        std::vector<Vec3> lo, hi;
+        for (const CsgStep& step : object.program) {
+            if (step.kind != CsgStepKind::Operand) continue;
+            if (lo.size() <= size_t(step.operand)) {
+                lo.resize(size_t(step.operand) + 1);
+                hi.resize(size_t(step.operand) + 1);
+            }
+            worldBox(scene_.csgOperands[size_t(step.operand)], lo[size_t(step.operand)], hi[size_t(step.operand)]);
+        }
         PrimitiveInstance& instance = scene_.primitives.emplace_back();
+        instance.type = PrimitiveType::Csg;
+        instance.motion = build.motion;
+        instance.material = scene_.csgOperands[size_t(object.program.front().operand)].material;
+        instance.csg = int(scene_.csgObjects.size());
+        csgBounds(object, lo, hi, instance.objectLo, instance.objectHi);
+        scene_.csgObjects.push_back(std::move(build.object));
+    }
+
+    // The world box of an instance at rest (its object box's eight corners carried over).
+    static void worldBox(const PrimitiveInstance& instance, Vec3& lo, Vec3& hi) {
+        lo = {INFINITY, INFINITY, INFINITY};
+        hi = -1 * lo;
+        for (int corner = 0; corner < 8; ++corner) {
+            Vec3 p{corner & 1 ? instance.objectHi.x : instance.objectLo.x,
+                   corner & 2 ? instance.objectHi.y : instance.objectLo.y,
+                   corner & 4 ? instance.objectHi.z : instance.objectLo.z};
+            Vec3 world = instance.objectToWorld.transformPoint(p);
+            lo = componentMin(lo, world);
+            hi = componentMax(hi, world);
+        }
+    }
+
+    void addInstance(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject, const Vec3& motion) {
+        if (csg_) {
+            addCsgOperand(node, toWorld, toObject, motion);
+            return;
+        }
+        scene_.primitives.push_back(makeInstance(node, toWorld, toObject, motion));
+    }
+
+    PrimitiveInstance makeInstance(PrimitiveNode& node, const Affine& toWorld, const Affine& toObject,
+                                   const Vec3& motion) {
+        PrimitiveInstance instance;
         instance.objectToWorld = toWorld;
         instance.worldToObject = toObject;
         instance.motion = motion;
@@ -845,6 +1009,7 @@ private:
             instance.objectLo = scene_.meshes[size_t(instance.mesh)].boundsLo;
             instance.objectHi = scene_.meshes[size_t(instance.mesh)].boundsHi;
         }
+        return instance;
     }
 
     // One Material per primitive element, made on its first instance.
@@ -905,6 +1070,7 @@ private:
     const LoadOptions& options_;
     Scene& scene_;
     std::map<fs::path, int> imageIndex_, meshIndex_;
+    CsgBuild* csg_ = nullptr;  // the csg object being flattened, if any
 };
 
 // ---------------------------------------------------------------------------------------

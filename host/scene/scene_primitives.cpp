@@ -10,6 +10,7 @@ const char* primitiveTypeName(PrimitiveType type) {
         case PrimitiveType::Cone: return "cone";
         case PrimitiveType::Torus: return "torus";
         case PrimitiveType::Mesh: return "mesh";
+        case PrimitiveType::Csg: return "csg";
     }
     return "unknown";
 }

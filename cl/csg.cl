@@ -1,0 +1,164 @@
+/* Constructive solid geometry (host/scene/csg.h; the reference: host/reference/csg.cpp).
+ *
+ * Along the ray each operand's solid is one span (every operand is convex), from where the
+ * line enters it to where it leaves, over the whole line (negative t too, so a ray starting
+ * inside an operand needs no special case). The object's postfix program combines span lists
+ * on an explicit stack of RAY_CSG_MAX_STACK lists of at most RAY_CSG_MAX_OPERANDS spans
+ * (lists of m and n spans combine into at most m + n, and the host refuses objects with more
+ * operands or a deeper stack), with no recursion. The combined solid's surface is where its
+ * spans begin and end: the first such boundary in (0, hit->t) is the hit.
+ *
+ * A boundary is kept as its t and a code, operand record index · 2 + (1 where the ray
+ * leaves that operand): the normal and the part are recomputed for the one boundary that
+ * is hit, which keeps the stack small (8 bytes a boundary). */
+
+#define RAY_CSG_BOUNDARIES (2 * RAY_CSG_MAX_OPERANDS)
+#define RAY_CSG_SLIVER 1e-5f /* host/scene/csg.h kCsgSliver: thinner spans and gaps are rounding */
+
+inline bool csgSliver(float t0, float t1) {
+    return t1 - t0 <= RAY_CSG_SLIVER * fmax(fabs(t0), fabs(t1));
+}
+
+/* The nearest surface point of a unit convex primitive from o along d (t > 0). */
+inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
+    float best = RAY_INFINITY;
+    *part = 0;
+    *normal = (float3)(0.0f);
+    switch (type) {
+        case RAY_PRIM_CUBE: intersectCube(o, d, &best, part, normal); break;
+        case RAY_PRIM_SPHERE: intersectSphere(o, d, &best, part, normal); break;
+        case RAY_PRIM_CYLINDER: intersectCylinder(o, d, &best, part, normal); break;
+        case RAY_PRIM_CONE: intersectCone(o, d, &best, part, normal); break;
+        default: return false; /* the loader refuses other operands */
+    }
+    *t = best;
+    return best < RAY_INFINITY;
+}
+
+/* Where the line origin + t·direction crosses an operand's surface on entering it
+ * (leaving = 0) or on leaving it (leaving = 1), with that surface's part and outward object
+ * normal. The primitive intersectors find the nearest hit ahead of a ray; started from a
+ * point before the operand's unit box (after it, looking back, for the exit) they find the
+ * entry (the exit) of the whole line. The start lies a quarter of the box outside it, far
+ * more than the rounding of moving the origin there. */
+inline bool csgCrossing(__global const RayPrimitive* operand, float3 origin, float3 direction, int leaving, float* t,
+                        int* part, float3* normal) {
+    float3 o = transformPoint(operand->worldToObject, origin);
+    float3 d = transformVector(operand->worldToObject, direction);
+    float3 inverse = safeInverse(d);
+    float3 t0 = (-0.5f - o) * inverse, t1 = (0.5f - o) * inverse;
+    float3 lo = fmin(t0, t1), hi = fmax(t0, t1);
+    float boxEnter = fmax(fmax(lo.x, lo.y), lo.z), boxLeave = fmin(fmin(hi.x, hi.y), hi.z);
+    if (!(boxEnter <= boxLeave)) return false;
+    float margin = 0.25f / length(d);
+    float start = leaving ? boxLeave + margin : boxEnter - margin;
+    float s;
+    if (!csgNearestSurface(operand->info.x, o + start * d, leaving ? -d : d, &s, part, normal)) return false;
+    *t = leaving ? start - s : start + s;
+    return true;
+}
+
+/* The span list of one operand: two boundaries, or none where the line misses or grazes it. */
+inline int csgOperandBoundaries(__global const RayPrimitive* prims, int index, float3 origin, float3 direction,
+                                float* times, int* codes) {
+    float enter, leave;
+    int part;
+    float3 normal;
+    if (!csgCrossing(&prims[index], origin, direction, 0, &enter, &part, &normal)) return 0;
+    if (!csgCrossing(&prims[index], origin, direction, 1, &leave, &part, &normal)) return 0;
+    if (!(leave > enter) || !isfinite(enter) || !isfinite(leave)) return 0; /* as the reference */
+    times[0] = enter;
+    codes[0] = index * 2;
+    times[1] = leave;
+    codes[1] = index * 2 + 1;
+    return 2;
+}
+
+inline bool csgInside(int operation, bool a, bool b) {
+    if (operation == RAY_CSG_UNION) return a || b;
+    if (operation == RAY_CSG_INTERSECTION) return a && b;
+    return a && !b; /* RAY_CSG_DIFFERENCE */
+}
+
+/* Combines lists a (countA boundaries) and b into out; returns out's count. Boundaries at
+ * the same t are taken together, and a result boundary on both surfaces is a's, as
+ * host/reference/csg.cpp combineCsgSpans does. */
+inline int csgCombine(int operation, const float* timesA, const int* codesA, int countA, const float* timesB,
+                      const int* codesB, int countB, float* times, int* codes) {
+    int i = 0, j = 0, count = 0;
+    bool inside = false;
+    while (i < countA || j < countB) {
+        float ta = i < countA ? timesA[i] : RAY_INFINITY, tb = j < countB ? timesB[j] : RAY_INFINITY;
+        float t = fmin(ta, tb);
+        int code = -1;
+        if (i < countA && ta == t) code = codesA[i++];
+        if (j < countB && tb == t) {
+            if (code < 0) code = codesB[j];
+            ++j;
+        }
+        bool now = csgInside(operation, (i & 1) != 0, (j & 1) != 0);
+        if (now == inside || count >= RAY_CSG_BOUNDARIES) continue;
+        inside = now;
+        /* A sliver of a gap (entering just after the last exit) or of a span (leaving just
+         * after the last entry) takes back that boundary instead. */
+        if (count > 0 && csgSliver(times[count - 1], t)) {
+            --count;
+            continue;
+        }
+        times[count] = t;
+        codes[count] = code;
+        ++count;
+    }
+    return count;
+}
+
+void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
+                  Hit* hit) {
+    /* One level more than the stack: the scratch list a combination is written to. */
+    float times[RAY_CSG_MAX_STACK + 1][RAY_CSG_BOUNDARIES];
+    int codes[RAY_CSG_MAX_STACK + 1][RAY_CSG_BOUNDARIES];
+    int counts[RAY_CSG_MAX_STACK + 1];
+    int top = 0;
+    int first = csg->info.z, end = csg->info.z + csg->info.w;
+    for (int step = first; step < end; ++step) {
+        int kind = prims[step].info.x;
+        if (kind < RAY_CSG_UNION) {
+            if (top >= RAY_CSG_MAX_STACK) return; /* the host never packs such a program */
+            counts[top] = csgOperandBoundaries(prims, step, origin, direction, times[top], codes[top]);
+            ++top;
+            continue;
+        }
+        if (top < 2) return;
+        int a = top - 2, b = top - 1;
+        int n = csgCombine(kind, times[a], codes[a], counts[a], times[b], codes[b], counts[b], times[top], codes[top]);
+        for (int k = 0; k < n; ++k) {
+            times[a][k] = times[top][k];
+            codes[a][k] = codes[top][k];
+        }
+        counts[a] = n;
+        top = b;
+    }
+    if (top != 1) return;
+    for (int k = 0; k < counts[0]; ++k) {
+        float t = times[0][k];
+        if (!(t < hit->t)) return;
+        if (!(t > 0.0f)) continue;
+        int operand = codes[0][k] >> 1, leaving = codes[0][k] & 1;
+        float tAgain;
+        int part;
+        float3 normal;
+        if (!csgCrossing(&prims[operand], origin, direction, leaving, &tAgain, &part, &normal)) return;
+        /* Even boundaries enter the result. Where a subtracted operand is entered the result
+         * is left (and the other way round): its outward normal turns to face out of the result. */
+        bool entersResult = (k & 1) == 0;
+        if (entersResult == (leaving != 0)) normal = -normal;
+        hit->t = t;
+        hit->primitive = operand;
+        hit->part = part;
+        hit->objectPoint = transformPoint(prims[operand].worldToObject, origin) +
+                           t * transformVector(prims[operand].worldToObject, direction);
+        hit->objectNormal = normal;
+        hit->barycentric = (float2)(0.0f);
+        return;
+    }
+}
