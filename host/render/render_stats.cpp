@@ -1,28 +1,13 @@
 #include "render/render_stats.h"
 
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <fstream>
 #include <ostream>
-#include <sstream>
 #include <stdexcept>
 #include <unistd.h>
 
 namespace ray {
-
-namespace {
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\', out += c;
-        else if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            out += buf;
-        } else out += c;
-    }
-    return out + "\"";
-}
-}  // namespace
 
 void printStats(const RenderStats& s, std::ostream& out) {
     char line[256];
@@ -42,25 +27,23 @@ void printStats(const RenderStats& s, std::ostream& out) {
 }
 
 std::string statsToJson(const RenderStats& s) {
-    std::ostringstream o;
-    o.precision(9);
-    o << "{\n"
-      << "  \"width\": " << s.width << ",\n"
-      << "  \"height\": " << s.height << ",\n"
-      << "  \"samples\": " << s.samples << ",\n"
-      << "  \"depth\": " << s.depth << ",\n"
-      << "  \"device\": " << jsonString(s.device) << ",\n"
-      << "  \"primary_rays\": " << s.primaryRays << ",\n"
-      << "  \"shadow_rays\": " << s.shadowRays << ",\n"
-      << "  \"secondary_rays\": " << s.secondaryRays << ",\n"
-      << "  \"total_rays\": " << s.totalRays() << ",\n"
-      << "  \"load_seconds\": " << s.loadSeconds << ",\n"
-      << "  \"bvh_build_seconds\": " << s.bvhBuildSeconds << ",\n"
-      << "  \"kernel_build_seconds\": " << s.kernelBuildSeconds << ",\n"
-      << "  \"render_seconds\": " << s.renderSeconds << ",\n"
-      << "  \"mrays_per_second\": " << s.mraysPerSecond() << "\n"
-      << "}\n";
-    return o.str();
+    // ordered_json keeps the keys in the order written here, the order scripts have seen.
+    nlohmann::ordered_json json;
+    json["width"] = s.width;
+    json["height"] = s.height;
+    json["samples"] = s.samples;
+    json["depth"] = s.depth;
+    json["device"] = s.device;
+    json["primary_rays"] = s.primaryRays;
+    json["shadow_rays"] = s.shadowRays;
+    json["secondary_rays"] = s.secondaryRays;
+    json["total_rays"] = s.totalRays();
+    json["load_seconds"] = s.loadSeconds;
+    json["bvh_build_seconds"] = s.bvhBuildSeconds;
+    json["kernel_build_seconds"] = s.kernelBuildSeconds;
+    json["render_seconds"] = s.renderSeconds;
+    json["mrays_per_second"] = s.mraysPerSecond();
+    return json.dump(2) + "\n";
 }
 
 void writeStatsJson(const RenderStats& stats, const std::filesystem::path& file) {
