@@ -1,5 +1,7 @@
 #include "app/cli.h"
 
+#include "render/renderer.h"
+
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
@@ -106,9 +108,8 @@ TextureFilter parseTextureFilter(const std::string& text) {
 }
 
 void validateDevice(const std::string& text) {
-    if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || text == "ref" || text == "reference")
-        return;
-    parseInt(text, "--device (auto, cpu, gpu, all, ref or a device index)", 0, 1 << 20);
+    if (!isDeviceSelection(text))
+        throw UsageError("--device must be auto, cpu, gpu, all, ref or a device index, not '" + text + "'");
 }
 
 void applyPositionals(const std::vector<std::string>& positionals, CliOptions& options) {

@@ -44,10 +44,4 @@ std::filesystem::path outputPathFor(const CliOptions& options);
 
 extern const char* const kUsageText;
 
-// Limits on what the command line accepts (each refused with a message naming it).
-constexpr int kMaxImageSide = 16384;
-constexpr int kMaxDepth = 64;
-constexpr int kMaxSamples = 4096;
-constexpr int kMaxAreaSamples = 1024;  // 32 × 32: the random dimensions reserved per area light (optics.h)
-
 }  // namespace ray

@@ -65,6 +65,11 @@ bool isReference(const std::string& device) { return device == "ref" || device =
 
 }  // namespace
 
+bool isDeviceSelection(const std::string& text) {
+    if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || isReference(text)) return true;
+    return !text.empty() && text.size() <= 7 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 RenderOutput render(const RenderJob& job) {
     RenderOutput out;
     if (isReference(job.device)) {

@@ -38,6 +38,10 @@ struct RenderOutput {
     bool interrupted = false;  // stopped by RenderJob::cancel: the image is partial
 };
 
+// Whether text is a device selection: auto, cpu, gpu, all, ref (or reference), or a
+// device index (a whole number).
+bool isDeviceSelection(const std::string& text);
+
 // Renders on the device the job names. With "all" it renders on every device in turn and
 // returns the last image (the stats name every device). Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);
