@@ -70,19 +70,15 @@ RenderOutput render(const RenderJob& job) {
     if (isReference(job.device)) {
         out = renderOnReference(job);
     } else {
-        std::string devicesUsed;
-        for (const OpenClDevice& device : selectOpenClDevices(job.device)) {
-            OpenClRenderOptions options;
-            options.progress = job.progress;
-            options.cancel = job.cancel;
-            // A cancellable render uses smaller tiles: the tiles already queued must finish
-            // before it stops, and at 128x128 with many samples that can take seconds.
-            if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
-            out = RenderOutput{};
-            out.image = renderOpenCl(device, job.scene, job.settings, options, &out.stats);
-            devicesUsed += (devicesUsed.empty() ? "" : ", ") + out.stats.device;
-        }
-        out.stats.device = devicesUsed;
+        OpenClRenderOptions options;
+        options.progress = job.progress;
+        options.cancel = job.cancel;
+        // A cancellable render uses smaller tiles: the tiles already queued must finish
+        // before it stops, and at 128x128 with many samples that can take seconds.
+        if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
+        if (job.tileSize > 0) options.tileSize = job.tileSize;
+        // Every device of the selection ("all", "0,2") cooperates on the one frame.
+        out.image = renderOpenCl(selectOpenClDevices(job.device), job.scene, job.settings, options, &out.stats);
     }
     out.interrupted = job.cancel && job.cancel->load();
     out.stats.width = job.settings.width;
