@@ -1,5 +1,7 @@
 #include "app/cli.h"
 
+#include <sstream>
+
 #include <charconv>
 #include <cmath>
 
@@ -25,7 +27,9 @@ options:
                            in every channel (default 1/256)
   --device D               auto (default: a GPU, else a CPU OpenCL device) | cpu | gpu |
                            all | ref (the host reference renderer) | an index from
-                           --list-devices
+                           --list-devices | a list of indices (0,2); several devices
+                           (all, a list) cooperate on the frame, tile by tile
+  --tile-size N            side of the square OpenCL tiles (8..4096; default automatic)
   --list-devices           list the OpenCL platforms and devices, then exit
   --no-bvh                 with --device ref: test every primitive for every ray instead
                            of searching the reference renderer's BVH (slow: the plainest
@@ -92,7 +96,10 @@ TextureFilter parseTextureFilter(const std::string& text) {
 void validateDevice(const std::string& text) {
     if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || text == "ref" || text == "reference")
         return;
-    parseInt(text, "--device (auto, cpu, gpu, all, ref or a device index)", 0, 1 << 20);
+    std::stringstream list(text);
+    for (std::string item; std::getline(list, item, ',');)
+        parseInt(item, "--device (auto, cpu, gpu, all, ref, a device index or a list such as 0,2)", 0, 1 << 20);
+    if (text.empty() || text.back() == ',') throw UsageError("--device needs a device name, index or list such as 0,2");
 }
 
 void applyPositionals(const std::vector<std::string>& positionals, CliOptions& options) {
@@ -148,6 +155,7 @@ CliOptions parseCommandLine(const std::vector<std::string>& args) {
         }
         else if (arg == "--device") { options.device = value(); validateDevice(options.device); }
         else if (arg == "--list-devices") options.listDevices = true;
+        else if (arg == "--tile-size") options.tileSize = parseInt(value(), "--tile-size", 8, 4096);
         else if (arg == "--no-bvh") options.referenceBruteForce = true;
         else if (arg == "--search-path") options.searchPaths.emplace_back(value());
         else if (arg == "--strict") options.strict = true;

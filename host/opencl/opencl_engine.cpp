@@ -451,7 +451,9 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     frame.stats = &stats;
     frame.pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
     stats.devices.resize(e.slots.size());
-    for (size_t i = 0; i < e.slots.size(); ++i) stats.devices[i].device = e.slots[i]->device.description();
+    // The index too: two devices of one kind have the same name.
+    for (size_t i = 0; i < e.slots.size(); ++i)
+        stats.devices[i].device = std::to_string(e.slots[i]->device.index) + ": " + e.slots[i]->device.description();
 
     std::vector<std::string> failures(e.slots.size());
     std::vector<double> uploads(e.slots.size(), 0), builds(e.slots.size(), 0);
@@ -493,7 +495,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     std::string allFailures;
     for (size_t i = 0; i < failures.size(); ++i) {
         if (failures[i].empty()) continue;
-        stats.warnings.push_back("device " + e.slots[i]->device.description() + " dropped: " + failures[i]);
+        stats.warnings.push_back("device " + std::to_string(e.slots[i]->device.index) + " (" + e.slots[i]->device.description() + ")" + " dropped: " + failures[i]);
         allFailures += (allFailures.empty() ? "" : "; ") + failures[i];
     }
     if (frame.devicesLeft == 0) {

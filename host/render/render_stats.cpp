@@ -39,6 +39,16 @@ void printStats(const RenderStats& s, std::ostream& out) {
     out << line;
     std::snprintf(line, sizeof line, "speed        %.2f Mrays/s\n", s.mraysPerSecond());
     out << line;
+    // Several devices (or ranks): each one's share of the frame.
+    if (s.devices.size() < 2) return;
+    for (size_t i = 0; i < s.devices.size(); ++i) {
+        const DeviceStats& d = s.devices[i];
+        std::string who = i < s.deviceRanks.size() ? "rank " + std::to_string(s.deviceRanks[i]) + " " : "";
+        std::snprintf(line, sizeof line, "device       %s%s: %d tiles, %llu pixels, %llu rays, busy %.3f s, %.2f Mrays/s%s\n",
+                      who.c_str(), d.device.c_str(), d.tiles, (unsigned long long)d.pixels, (unsigned long long)d.rays,
+                      d.busySeconds, d.mraysPerSecond(), d.failed ? " (failed, dropped)" : "");
+        out << line;
+    }
 }
 
 std::string statsToJson(const RenderStats& s) {
@@ -58,8 +68,18 @@ std::string statsToJson(const RenderStats& s) {
       << "  \"bvh_build_seconds\": " << s.bvhBuildSeconds << ",\n"
       << "  \"kernel_build_seconds\": " << s.kernelBuildSeconds << ",\n"
       << "  \"render_seconds\": " << s.renderSeconds << ",\n"
-      << "  \"mrays_per_second\": " << s.mraysPerSecond() << "\n"
-      << "}\n";
+      << "  \"upload_seconds\": " << s.uploadSeconds << ",\n"
+      << "  \"mrays_per_second\": " << s.mraysPerSecond() << ",\n"
+      << "  \"devices\": [";
+    for (size_t i = 0; i < s.devices.size(); ++i) {
+        const DeviceStats& d = s.devices[i];
+        o << (i ? "," : "") << "\n    {\"device\": " << jsonString(d.device);
+        if (i < s.deviceRanks.size()) o << ", \"rank\": " << s.deviceRanks[i];
+        o << ", \"tiles\": " << d.tiles << ", \"pixels\": " << d.pixels << ", \"rays\": " << d.rays
+          << ", \"busy_seconds\": " << d.busySeconds << ", \"mrays_per_second\": " << d.mraysPerSecond()
+          << ", \"failed\": " << (d.failed ? "true" : "false") << "}";
+    }
+    o << (s.devices.empty() ? "" : "\n  ") << "]\n}\n";
     return o.str();
 }
 
