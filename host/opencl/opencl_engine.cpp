@@ -156,11 +156,23 @@ struct Frame {
     std::deque<int> queue;     // tiles put back by a failed device
     bool sourceDone = false;
     int done = 0, devicesLeft = 0;
+    int preparing = 0;  // devices still uploading or building: tiles wait for all of them
     uint64_t pixelsDone = 0, pixelsTotal = 0;
     Image* image = nullptr;
     FrameStats* stats = nullptr;
 
     bool cancelled() const { return options->cancel && options->cancel->load(); }
+    // The first tiles wait until every device has its scene and program: a device whose
+    // cached kernel loads first would otherwise take a small frame's every tile.
+    void deviceReady() {
+        std::lock_guard lock(mutex);
+        --preparing;
+        changed.notify_all();
+    }
+    void waitForEveryDevice() {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return preparing == 0; });
+    }
     bool allDone() const { return sourceDone && queue.empty() && done == int(tiles.size()); }
 };
 
@@ -458,6 +470,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     std::vector<std::string> failures(e.slots.size());
     std::vector<double> uploads(e.slots.size(), 0), builds(e.slots.size(), 0);
     for (const auto& slot : e.slots) frame.devicesLeft += slot->dropped ? 0 : 1;
+    frame.preparing = frame.devicesLeft;
     auto renderStart = Clock::now();
     std::vector<std::thread> threads;
     for (size_t i = 0; i < e.slots.size(); ++i) {
@@ -468,8 +481,16 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
             DeviceWorker worker(frame, s, int(i), params);
             try {
                 try {
-                    cl::Kernel& kernel = prepareDevice(s, e.packed, e.packVersion, settings, uploads[i], builds[i]);
-                    worker.run(kernel);
+                    cl::Kernel* kernel = nullptr;
+                    try {
+                        kernel = &prepareDevice(s, e.packed, e.packVersion, settings, uploads[i], builds[i]);
+                    } catch (...) {
+                        frame.deviceReady();
+                        throw;
+                    }
+                    frame.deviceReady();
+                    frame.waitForEveryDevice();
+                    worker.run(*kernel);
                 } catch (const cl::Error& err) {
                     throw describeClError(s.device, err);
                 }
