@@ -30,7 +30,9 @@ options:
                            in every channel (default 1/256)
   --device D               auto (default: a GPU, else a CPU OpenCL device) | cpu | gpu |
                            all | ref (the host reference renderer) | an index from
-                           --list-devices
+                           --list-devices | a list of indices (0,2); several devices
+                           (all, a list) cooperate on the frame, tile by tile
+  --tile-size N            side of the square OpenCL tiles (8..4096; default automatic)
   --list-devices           list the OpenCL platforms and devices, then exit
   --no-bvh                 with --device ref: test every primitive for every ray instead
                            of searching the reference renderer's BVH (slow: the plainest
@@ -109,7 +111,8 @@ TextureFilter parseTextureFilter(const std::string& text) {
 
 void validateDevice(const std::string& text) {
     if (!isDeviceSelection(text))
-        throw UsageError("--device must be auto, cpu, gpu, all, ref or a device index, not '" + text + "'");
+        throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
+                         text + "'");
 }
 
 void applyPositionals(const std::vector<std::string>& positionals, CliOptions& options) {
@@ -161,6 +164,7 @@ void addOptions(CLI::App& app, CliOptions& options) {
     text("--threshold", [&](const std::string& v) { s.weightThreshold = parseDoubleBetween(v, "--threshold", 0, 1); });
     text("--device", [&](const std::string& v) { validateDevice(v); options.device = v; });
     flag("--list-devices", options.listDevices, true);
+    text("--tile-size", [&](const std::string& v) { options.tileSize = parseInt(v, "--tile-size", 8, 4096); });
     flag("--no-bvh", options.referenceBruteForce, true);
     app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
         for (const std::string& dir : dirs) options.searchPaths.emplace_back(dir);

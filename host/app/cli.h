@@ -14,7 +14,8 @@ struct CliOptions {
     std::filesystem::path scene;
     std::filesystem::path output;  // empty: <scene name>.png in the current folder
     RenderSettings settings;
-    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index>
+    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index> | <index>,<index>...
+    int tileSize = 0;             // --tile-size; 0: automatic
     std::vector<std::filesystem::path> searchPaths;
     bool strict = false;
     bool quiet = false;

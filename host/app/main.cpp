@@ -127,9 +127,11 @@ int run(const CliOptions& options) {
     job.progress = [&](double f) { progress.update(f); };
     job.cancel = &gInterrupted;
     job.referenceBruteForce = options.referenceBruteForce;
+    job.tileSize = options.tileSize;
     gRendering = true;
     RenderOutput result = render(job);
     progress.finish();
+    for (const std::string& warning : result.stats.warnings) std::cerr << "ray: warning: " << warning << "\n";
     result.stats.loadSeconds = loadSeconds;
     if (result.interrupted) return finishInterrupted(result, output, options);
 

@@ -24,6 +24,16 @@ void printStats(const RenderStats& s, std::ostream& out) {
     out << line;
     std::snprintf(line, sizeof line, "speed        %.2f Mrays/s\n", s.mraysPerSecond());
     out << line;
+    // Several devices (or ranks): each one's share of the frame.
+    if (s.devices.size() < 2) return;
+    for (size_t i = 0; i < s.devices.size(); ++i) {
+        const DeviceStats& d = s.devices[i];
+        std::string who = i < s.deviceRanks.size() ? "rank " + std::to_string(s.deviceRanks[i]) + " " : "";
+        std::snprintf(line, sizeof line, "device       %s%s: %d tiles, %llu pixels, %llu rays, busy %.3f s, %.2f Mrays/s%s\n",
+                      who.c_str(), d.device.c_str(), d.tiles, (unsigned long long)d.pixels, (unsigned long long)d.rays,
+                      d.busySeconds, d.mraysPerSecond(), d.failed ? " (failed, dropped)" : "");
+        out << line;
+    }
 }
 
 std::string statsToJson(const RenderStats& s) {
@@ -42,7 +52,22 @@ std::string statsToJson(const RenderStats& s) {
     json["bvh_build_seconds"] = s.bvhBuildSeconds;
     json["kernel_build_seconds"] = s.kernelBuildSeconds;
     json["render_seconds"] = s.renderSeconds;
+    json["upload_seconds"] = s.uploadSeconds;
     json["mrays_per_second"] = s.mraysPerSecond();
+    json["devices"] = nlohmann::ordered_json::array();
+    for (size_t i = 0; i < s.devices.size(); ++i) {
+        const DeviceStats& d = s.devices[i];
+        nlohmann::ordered_json device;
+        device["device"] = d.device;
+        if (i < s.deviceRanks.size()) device["rank"] = s.deviceRanks[i];
+        device["tiles"] = d.tiles;
+        device["pixels"] = d.pixels;
+        device["rays"] = d.rays;
+        device["busy_seconds"] = d.busySeconds;
+        device["mrays_per_second"] = d.mraysPerSecond();
+        device["failed"] = d.failed;
+        json["devices"].push_back(device);
+    }
     return json.dump(2) + "\n";
 }
 
