@@ -1,6 +1,7 @@
 // The public C++ API (include/ray/): loading, building, rendering frames, errors.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 
@@ -168,12 +169,40 @@ TEST_CASE("API: one renderer, three frames of a moving camera, each equal to a f
                 api::FrameStats stats;
                 const std::vector<float> moving = renderer.render(&stats);
                 CHECK(stats.primaryRays > 0);
+                if (devices == "cpu") {
+                    // The scene is packed and uploaded by the first frame only.
+                    if (frame == 0) CHECK(stats.uploadSeconds > 0);
+                    else CHECK((stats.packSeconds == 0 && stats.uploadSeconds == 0));
+                }
                 api::Scene fresh = scene;
                 fresh.setCamera(camera);
                 CHECK(moving == renderFresh(fresh, devices, small()));
             }
         }
     }
+}
+
+TEST_CASE("API: the tile callback sees every pixel of an OpenCL frame once", "[api][kernel]") {
+    if (!haveCpuDevice()) {
+        ray::test::skip("no OpenCL CPU device");
+        return;
+    }
+    api::Renderer renderer(sphereSceneInCode(), "cpu");
+    renderer.setSettings(small());
+    std::vector<float> rgb(64 * 48 * 3);
+    std::vector<int> covered(64 * 48, 0);
+    std::vector<float> fromTiles(rgb.size(), -1.0f);
+    renderer.render(rgb.data(), rgb.size(), {}, nullptr, [&](const api::Tile& tile) {
+        for (int y = 0; y < tile.height; ++y)
+            for (int x = 0; x < tile.width; ++x) {
+                const size_t pixel = size_t(tile.y + y) * 64 + size_t(tile.x + x);
+                ++covered[pixel];
+                for (size_t c = 0; c < 3; ++c)
+                    fromTiles[pixel * 3 + c] = tile.rgb[(size_t(y) * size_t(tile.width) + size_t(x)) * 3 + c];
+            }
+    });
+    CHECK(fromTiles == rgb);  // the tiles hold the frame's pixels
+    CHECK(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
 }
 
 TEST_CASE("API: cancellation, progress, and refused settings and buffers", "[api]") {

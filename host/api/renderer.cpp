@@ -8,6 +8,7 @@
 #include "api/scene_impl.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
+#include "opencl/opencl_engine.h"
 #include "render/renderer.h"
 
 namespace ray::api {
@@ -53,15 +54,22 @@ ray::RenderSettings internal(const Settings& s) {
     return r;
 }
 
+// The counts and timings both internal statistics (render/render_stats.h RenderStats, the
+// engine's FrameStats) name alike.
+template <class InternalStats>
+void copyCommonStats(const InternalStats& in, FrameStats& out) {
+    out.primaryRays = in.primaryRays;
+    out.shadowRays = in.shadowRays;
+    out.secondaryRays = in.secondaryRays;
+    out.bvhBuildSeconds = in.bvhBuildSeconds;
+    out.kernelBuildSeconds = in.kernelBuildSeconds;
+    out.renderSeconds = in.renderSeconds;
+}
+
 FrameStats external(const ray::RenderOutput& output) {
     FrameStats stats;
+    copyCommonStats(output.stats, stats);
     stats.device = output.stats.device;
-    stats.primaryRays = output.stats.primaryRays;
-    stats.shadowRays = output.stats.shadowRays;
-    stats.secondaryRays = output.stats.secondaryRays;
-    stats.bvhBuildSeconds = output.stats.bvhBuildSeconds;
-    stats.kernelBuildSeconds = output.stats.kernelBuildSeconds;
-    stats.renderSeconds = output.stats.renderSeconds;
     stats.cancelled = output.interrupted;
     return stats;
 }
@@ -78,10 +86,52 @@ std::vector<Device> listDevices() {
 }
 
 struct Renderer::Impl {
-    ray::Scene scene;
+    ray::Scene scene;  // the engine keeps a reference to it: Impl never moves (unique_ptr)
     std::string devices;
     Settings settings;
+    std::unique_ptr<ray::OpenClEngine> engine;  // OpenCL selections: made on the first frame
+
+    FrameStats renderOnReference(float* rgb, const ProgressCallback& progress, const std::atomic<bool>* cancel,
+                                 const TileCallback& onTile);
+    FrameStats renderOnEngine(float* rgb, const ProgressCallback& progress, const std::atomic<bool>* cancel,
+                              const TileCallback& onTile);
 };
+
+FrameStats Renderer::Impl::renderOnReference(float* rgb, const ProgressCallback& progress,
+                                             const std::atomic<bool>* cancel, const TileCallback& onTile) {
+    const ray::RenderSettings internalSettings = internal(settings);
+    ray::RenderJob job{scene, internalSettings, devices, progress};
+    job.cancel = cancel;
+    ray::RenderOutput output = ray::render(job);
+    std::copy(output.image.rgb.begin(), output.image.rgb.end(), rgb);
+    if (onTile) onTile({0, 0, output.image.width, output.image.height, rgb});
+    return external(output);
+}
+
+FrameStats Renderer::Impl::renderOnEngine(float* rgb, const ProgressCallback& progress,
+                                          const std::atomic<bool>* cancel, const TileCallback& onTile) {
+    if (!engine) engine = std::make_unique<ray::OpenClEngine>(scene, ray::selectOpenClDevices(devices));
+    const ray::RenderSettings internalSettings = internal(settings);
+    ray::FrameOptions options;
+    options.progress = progress;
+    options.cancel = cancel;
+    // A cancellable frame uses smaller tiles, so that those in flight finish within a second.
+    if (cancel) options.tileSize = ray::cancellableTileSize(internalSettings, scene);
+    if (onTile)
+        options.onTile = [&onTile](const ray::FinishedTile& tile) {
+            onTile({tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.rgb});
+        };
+    ray::FrameResult frame = engine->renderFrame(scene.camera, internalSettings, options);
+    std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
+    FrameStats stats;
+    for (const ray::DeviceStats& device : frame.stats.devices)
+        stats.device += (stats.device.empty() ? "" : ", ") + device.device;
+    copyCommonStats(frame.stats, stats);
+    stats.packSeconds = frame.stats.packSeconds;
+    stats.uploadSeconds = frame.stats.uploadSeconds;
+    stats.cancelled = frame.cancelled;
+    return stats;
+}
 
 Renderer::Renderer(const Scene& scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
     impl_->scene = scene.impl().scene;
@@ -109,7 +159,7 @@ void Renderer::setSettings(const Settings& settings) {
 const Settings& Renderer::settings() const { return impl_->settings; }
 
 FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallback& progress,
-                            const std::atomic<bool>* cancel) {
+                            const std::atomic<bool>* cancel, const TileCallback& onTile) {
     const Settings& s = impl_->settings;
     const size_t needed = size_t(s.width) * size_t(s.height) * 3;
     if (rgb == nullptr || floatCount < needed)
@@ -118,12 +168,8 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
                              std::to_string(needed),
                          "", 0);
     return detail::translatingErrors([&] {
-        const ray::RenderSettings settings = internal(s);
-        ray::RenderJob job{impl_->scene, settings, impl_->devices, progress};
-        job.cancel = cancel;
-        ray::RenderOutput output = ray::render(job);
-        std::copy(output.image.rgb.begin(), output.image.rgb.end(), rgb);
-        return external(output);
+        return isReference(impl_->devices) ? impl_->renderOnReference(rgb, progress, cancel, onTile)
+                                           : impl_->renderOnEngine(rgb, progress, cancel, onTile);
     });
 }
 

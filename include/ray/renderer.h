@@ -45,7 +45,9 @@ std::vector<Device> listDevices();
 struct FrameStats {
     std::string device;                     // the device(s) used
     uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
-    double bvhBuildSeconds = 0;             // building and packing the scene's tables
+    double packSeconds = 0;                 // packing the scene (0 when an earlier frame's is kept)
+    double bvhBuildSeconds = 0;             // building the BVH (part of packing)
+    double uploadSeconds = 0;               // uploading it to the devices (0 when kept)
     double kernelBuildSeconds = 0;          // compiling (or loading the cached) kernel
     double renderSeconds = 0;
     bool cancelled = false;                 // stopped early: unrendered pixels are black
@@ -54,12 +56,26 @@ struct FrameStats {
 // Called now and then with the fraction of the frame done, from a worker thread.
 using ProgressCallback = std::function<void(double fraction)>;
 
+// A finished tile: its rectangle and its pixels (width × height RGB floats, row by row).
+struct Tile {
+    int x = 0, y = 0, width = 0, height = 0;
+    const float* rgb = nullptr;
+};
+// Called once for each finished tile, one call at a time, from a worker thread (for a
+// progressive display). The reference renderer ("ref") has no tiles: it calls it once,
+// with the whole frame, at the end.
+using TileCallback = std::function<void(const Tile& tile)>;
+
 // Renders one scene on one device selection, frame after frame.
 //
 // devices: "auto" (a GPU, else an OpenCL CPU device), "cpu", "gpu", "all", an index from
-// listDevices(), or "ref", the double-precision host reference renderer (no OpenCL
-// needed). The Renderer keeps its own copy of the scene; change the camera or the
-// settings between frames. Not safe to use from two threads at once.
+// listDevices(), a list of indices ("0,2": the devices share each frame), or "ref", the
+// double-precision host reference renderer (no OpenCL needed). The Renderer keeps its own
+// copy of the scene. On OpenCL devices the scene is packed and uploaded on the first frame
+// and kept: later frames with another camera or settings cost only their rendering
+// (FrameStats::packSeconds and uploadSeconds are 0), except when the area-light samples or
+// the trilinear filter change, which reshape the packed tables. Not safe to use from two
+// threads at once.
 class Renderer {
 public:
     // Throws DeviceError when the selection names no device, InputError for a bad name.
@@ -78,7 +94,7 @@ public:
     // top, linear, unclamped). cancel (optional), set from any thread, stops the frame
     // within about a second. Throws InputError when the buffer is too small, DeviceError.
     FrameStats render(float* rgb, size_t floatCount, const ProgressCallback& progress = {},
-                      const std::atomic<bool>* cancel = nullptr);
+                      const std::atomic<bool>* cancel = nullptr, const TileCallback& onTile = {});
     // The same into a new buffer.
     std::vector<float> render(FrameStats* stats = nullptr);
 
