@@ -3,6 +3,8 @@
 // See bench/README.md. Not a test: nothing here runs under CTest.
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
+
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -93,37 +95,32 @@ fs::path defaultRayBinary() {
     return fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "ray";
 }
 
-double parseNumber(const std::string& text, const std::string& option) {
-    char* end = nullptr;
-    double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || value < 0)
-        throw UsageError(option + " needs a number >= 0, not '" + text + "'");
-    return value;
-}
-
+// The options, parsed by CLI11 (as the ray command's are); kUsage is the help text.
 BenchOptions parseOptions(int argc, char** argv) {
     BenchOptions options;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-            return argv[++i];
-        };
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kUsage;
-            std::exit(0);
-        } else if (arg == "--quick") options.quick = true;
-        else if (arg == "--keep") options.keep = true;
-        else if (arg == "--features") options.featuresOnly = true;
-        else if (arg == "--meshes") options.meshesOnly = true;
-        else if (arg == "--out") options.out = value();
-        else if (arg == "--scenes") options.scenesDir = value();
-        else if (arg == "--ray") options.rayBinary = value();
-        else if (arg == "--write-scenes") options.writeScenesTo = value();
-        else if (arg == "--ref-timeout") options.referenceTimeoutSeconds = parseNumber(value(), arg);
-        else if (arg == "--ref-max-prims") options.referenceMaxPrimitives = uint64_t(parseNumber(value(), arg));
-        else if (arg == "--plain-max-prims") options.plainMaxPrimitives = uint64_t(parseNumber(value(), arg));
-        else throw UsageError("unknown option '" + arg + "'");
+    CLI::App app("ray_bench", "ray_bench");
+    app.set_help_flag();  // -h prints kUsage below
+    bool help = false;
+    app.add_flag("-h,--help", help);
+    app.add_flag("--quick", options.quick);
+    app.add_flag("--keep", options.keep);
+    app.add_flag("--features", options.featuresOnly);
+    app.add_flag("--meshes", options.meshesOnly);
+    app.add_option("--out", options.out);
+    app.add_option("--scenes", options.scenesDir);
+    app.add_option("--ray", options.rayBinary);
+    app.add_option("--write-scenes", options.writeScenesTo);
+    app.add_option("--ref-timeout", options.referenceTimeoutSeconds)->check(CLI::Range(0.0, 1e6));  // seconds
+    app.add_option("--ref-max-prims", options.referenceMaxPrimitives);
+    app.add_option("--plain-max-prims", options.plainMaxPrimitives);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        throw UsageError(e.what());
+    }
+    if (help) {
+        std::cout << kUsage;
+        std::exit(0);
     }
     if (options.scenesDir.empty()) options.scenesDir = defaultScenesDir();
     if (options.rayBinary.empty()) options.rayBinary = defaultRayBinary();

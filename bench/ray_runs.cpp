@@ -6,6 +6,8 @@
 #include <regex>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "child_process.h"
 
 namespace bench {
@@ -21,42 +23,6 @@ std::string readText(const fs::path& file) {
     return text.str();
 }
 
-// The text right after `"key":`, or nullptr. The statistics file is flat and written by
-// ray itself, so finding the key is all the parsing it needs.
-const char* valueOf(const std::string& json, const std::string& key) {
-    size_t at = json.find("\"" + key + "\":");
-    if (at == std::string::npos) return nullptr;
-    const char* value = json.c_str() + at + key.size() + 3;
-    while (*value == ' ') ++value;
-    return value;
-}
-
-bool readNumber(const std::string& json, const std::string& key, double& out) {
-    const char* value = valueOf(json, key);
-    if (!value) return false;
-    char* end = nullptr;
-    out = std::strtod(value, &end);
-    return end != value;
-}
-
-template <typename Integer>
-bool readInteger(const std::string& json, const std::string& key, Integer& out) {
-    double value = 0;
-    if (!readNumber(json, key, value)) return false;
-    out = Integer(value);
-    return true;
-}
-
-std::string readString(const std::string& json, const std::string& key) {
-    const char* value = valueOf(json, key);
-    if (!value || *value != '"') return {};
-    std::string text;
-    for (++value; *value && *value != '"'; ++value) {
-        if (*value == '\\' && value[1]) ++value;
-        text += *value;
-    }
-    return text;
-}
 
 std::string fileStem(const BenchScene& scene, const BenchDevice& device, Phase phase) {
     return scene.name + "." + device.label + "." + phaseName(phase);
@@ -96,22 +62,29 @@ const char* phaseName(Phase phase) {
 }
 
 std::optional<RayStats> readStatsJson(const fs::path& file) {
-    std::string json = readText(file);
-    RayStats s;
-    bool complete = readInteger(json, "width", s.width) && readInteger(json, "height", s.height) &&
-                    readInteger(json, "samples", s.samples) && readInteger(json, "depth", s.depth) &&
-                    readInteger(json, "primary_rays", s.primaryRays) &&
-                    readInteger(json, "shadow_rays", s.shadowRays) &&
-                    readInteger(json, "secondary_rays", s.secondaryRays) &&
-                    readInteger(json, "total_rays", s.totalRays) &&
-                    readNumber(json, "load_seconds", s.loadSeconds) &&
-                    readNumber(json, "bvh_build_seconds", s.bvhBuildSeconds) &&
-                    readNumber(json, "kernel_build_seconds", s.kernelBuildSeconds) &&
-                    readNumber(json, "render_seconds", s.renderSeconds) &&
-                    readNumber(json, "mrays_per_second", s.mraysPerSecond);
-    if (!complete) return std::nullopt;
-    s.device = readString(json, "device");
-    return s;
+    // ray writes the file with nlohmann-json (render_stats.cpp); a missing key or a file
+    // cut short by a killed run means no statistics.
+    try {
+        const nlohmann::json json = nlohmann::json::parse(readText(file));
+        RayStats s;
+        json.at("width").get_to(s.width);
+        json.at("height").get_to(s.height);
+        json.at("samples").get_to(s.samples);
+        json.at("depth").get_to(s.depth);
+        json.at("primary_rays").get_to(s.primaryRays);
+        json.at("shadow_rays").get_to(s.shadowRays);
+        json.at("secondary_rays").get_to(s.secondaryRays);
+        json.at("total_rays").get_to(s.totalRays);
+        json.at("load_seconds").get_to(s.loadSeconds);
+        json.at("bvh_build_seconds").get_to(s.bvhBuildSeconds);
+        json.at("kernel_build_seconds").get_to(s.kernelBuildSeconds);
+        json.at("render_seconds").get_to(s.renderSeconds);
+        json.at("mrays_per_second").get_to(s.mraysPerSecond);
+        s.device = json.value("device", "");
+        return s;
+    } catch (const nlohmann::json::exception&) {
+        return std::nullopt;
+    }
 }
 
 RunRecord runRay(const RayInvocation& invocation, const BenchScene& scene, const BenchDevice& device,

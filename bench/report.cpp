@@ -1,5 +1,7 @@
 #include "report.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -145,89 +147,81 @@ void printScalingForDevice(const BenchResults& results, const BenchDevice& devic
     }
 }
 
-// --- JSON -------------------------------------------------------------------------------
+// --- JSON (nlohmann-json; ordered_json keeps the keys in the order written) ------------
 
-std::string jsonString(const std::string& text) {
-    std::string out = "\"";
-    for (char c : text) {
-        if (c == '"' || c == '\\') out += '\\', out += c;
-        else if (static_cast<unsigned char>(c) < 0x20) out += formatted("\\u%04x", double(int(c)));
-        else out += c;
-    }
-    return out + "\"";
+using Json = nlohmann::ordered_json;
+
+// A finite number, else null (a run that timed out has no time).
+Json number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+Json number(const std::optional<double>& value) { return value ? number(*value) : Json(nullptr); }
+
+Json statsJson(const RayStats& s) {
+    return Json{{"width", s.width},
+                {"height", s.height},
+                {"samples", s.samples},
+                {"depth", s.depth},
+                {"device", s.device},
+                {"primary_rays", s.primaryRays},
+                {"shadow_rays", s.shadowRays},
+                {"secondary_rays", s.secondaryRays},
+                {"total_rays", s.totalRays},
+                {"load_seconds", number(s.loadSeconds)},
+                {"bvh_build_seconds", number(s.bvhBuildSeconds)},
+                {"kernel_build_seconds", number(s.kernelBuildSeconds)},
+                {"render_seconds", number(s.renderSeconds)},
+                {"mrays_per_second", number(s.mraysPerSecond)}};
 }
 
-std::string jsonNumber(double value) {
-    return std::isfinite(value) ? formatted("%.6g", value) : "null";
+Json runJson(const RunRecord& run) {
+    return Json{{"scene", run.scene->name},
+                {"file", run.scene->file.string()},
+                {"primitives", run.scene->primitives ? Json(*run.scene->primitives) : Json(nullptr)},
+                {"device", run.device->label},
+                {"device_name", run.device->name},
+                {"phase", phaseName(run.phase)},
+                {"status", run.status},
+                {"wall_seconds", number(run.wallSeconds)},
+                {"peak_mib", number(run.peakMiB)},
+                {"stats", run.ok() ? statsJson(*run.stats) : Json(nullptr)}};
 }
 
-std::string statsJson(const RayStats& s) {
-    std::ostringstream o;
-    o << "{\"width\": " << s.width << ", \"height\": " << s.height << ", \"samples\": " << s.samples
-      << ", \"depth\": " << s.depth << ", \"device\": " << jsonString(s.device)
-      << ", \"primary_rays\": " << s.primaryRays << ", \"shadow_rays\": " << s.shadowRays
-      << ", \"secondary_rays\": " << s.secondaryRays << ", \"total_rays\": " << s.totalRays
-      << ", \"load_seconds\": " << jsonNumber(s.loadSeconds)
-      << ", \"bvh_build_seconds\": " << jsonNumber(s.bvhBuildSeconds)
-      << ", \"kernel_build_seconds\": " << jsonNumber(s.kernelBuildSeconds)
-      << ", \"render_seconds\": " << jsonNumber(s.renderSeconds)
-      << ", \"mrays_per_second\": " << jsonNumber(s.mraysPerSecond) << "}";
-    return o.str();
+// The render seconds of a run that finished, else null.
+Json renderSeconds(const RunRecord* run) {
+    return run && run->ok() ? number(run->stats->renderSeconds) : Json(nullptr);
 }
 
-std::string runJson(const RunRecord& run) {
-    std::ostringstream o;
-    o << "{\"scene\": " << jsonString(run.scene->name) << ", \"file\": " << jsonString(run.scene->file.string())
-      << ", \"primitives\": " << (run.scene->primitives ? std::to_string(*run.scene->primitives) : "null")
-      << ", \"device\": " << jsonString(run.device->label) << ", \"device_name\": " << jsonString(run.device->name)
-      << ", \"phase\": " << jsonString(phaseName(run.phase)) << ", \"status\": " << jsonString(run.status)
-      << ", \"wall_seconds\": " << jsonNumber(run.wallSeconds) << ", \"peak_mib\": " << jsonNumber(run.peakMiB)
-      << ", \"stats\": " << (run.ok() ? statsJson(*run.stats) : "null") << "}";
-    return o.str();
-}
-
-std::string ratioJson(const BenchResults& results, const RunRecord& warm) {
+Json ratioJson(const BenchResults& results, const RunRecord& warm) {
     const RunRecord* cold = findRun(results, *warm.scene, *warm.device, Phase::Cold);
     const BenchDevice* referenceDev = referenceDevice(results);
     const RunRecord* reference =
         referenceDev ? findRun(results, *warm.scene, *referenceDev, Phase::Reference) : nullptr;
-    std::optional<double> speedup = speedupOverReference(results, warm);
     const BenchDevice* plainDev = referenceDevice(results, true);
     const RunRecord* plain = plainDev ? findRun(results, *warm.scene, *plainDev, Phase::Reference) : nullptr;
-    std::optional<double> plainSpeedup = speedupOverReference(results, warm, true);
-    std::ostringstream o;
-    o << "{\"scene\": " << jsonString(warm.scene->name) << ", \"device\": " << jsonString(warm.device->label)
-      << ", \"kernel_render_seconds\": " << jsonNumber(warm.stats->renderSeconds)
-      << ", \"reference_render_seconds\": "
-      << (reference && reference->ok() ? jsonNumber(reference->stats->renderSeconds) : "null")
-      << ", \"reference_status\": " << jsonString(reference ? reference->status : "not run")
-      << ", \"reference_over_kernel\": " << (speedup ? jsonNumber(*speedup) : "null")
-      << ", \"plain_reference_render_seconds\": "
-      << (plain && plain->ok() ? jsonNumber(plain->stats->renderSeconds) : "null")
-      << ", \"plain_reference_status\": " << jsonString(plain ? plain->status : "not run")
-      << ", \"plain_reference_over_kernel\": " << (plainSpeedup ? jsonNumber(*plainSpeedup) : "null")
-      << ", \"kernel_build_cold_seconds\": "
-      << (cold && cold->ok() ? jsonNumber(cold->stats->kernelBuildSeconds) : "null")
-      << ", \"kernel_build_warm_seconds\": " << jsonNumber(warm.stats->kernelBuildSeconds) << "}";
-    return o.str();
+    return Json{{"scene", warm.scene->name},
+                {"device", warm.device->label},
+                {"kernel_render_seconds", number(warm.stats->renderSeconds)},
+                {"reference_render_seconds", renderSeconds(reference)},
+                {"reference_status", reference ? reference->status : "not run"},
+                {"reference_over_kernel", number(speedupOverReference(results, warm))},
+                {"plain_reference_render_seconds", renderSeconds(plain)},
+                {"plain_reference_status", plain ? plain->status : "not run"},
+                {"plain_reference_over_kernel", number(speedupOverReference(results, warm, true))},
+                {"kernel_build_cold_seconds",
+                 cold && cold->ok() ? number(cold->stats->kernelBuildSeconds) : Json(nullptr)},
+                {"kernel_build_warm_seconds", number(warm.stats->kernelBuildSeconds)}};
 }
 
-template <typename Item, typename ToJson>
-void writeArray(std::ostream& out, const std::vector<Item>& items, ToJson toJson) {
-    out << "[";
-    for (size_t i = 0; i < items.size(); ++i) out << (i ? ",\n    " : "\n    ") << toJson(items[i]);
-    out << (items.empty() ? "]" : "\n  ]");
-}
-
-std::string settingsJson(const BenchResults& r) {
-    std::ostringstream o;
-    o << "{\"width\": " << r.size.width << ", \"height\": " << r.size.height << ", \"depth\": " << r.size.depth
-      << ", \"aa\": \"off\", \"quick\": " << (r.quick ? "true" : "false")
-      << ", \"ray_binary\": " << jsonString(r.rayBinary) << ", \"scenes_dir\": " << jsonString(r.scenesDir)
-      << ", \"reference_timeout_seconds\": " << jsonNumber(r.referenceTimeoutSeconds)
-      << ", \"reference_max_primitives\": " << r.referenceMaxPrimitives
-      << ", \"plain_max_primitives\": " << r.plainMaxPrimitives << "}";
-    return o.str();
+Json settingsJson(const BenchResults& r) {
+    return Json{{"width", r.size.width},
+                {"height", r.size.height},
+                {"depth", r.size.depth},
+                {"aa", "off"},
+                {"quick", r.quick},
+                {"ray_binary", r.rayBinary},
+                {"scenes_dir", r.scenesDir},
+                {"reference_timeout_seconds", number(r.referenceTimeoutSeconds)},
+                {"reference_max_primitives", r.referenceMaxPrimitives},
+                {"plain_max_primitives", r.plainMaxPrimitives}};
 }
 
 }  // namespace
@@ -254,24 +248,20 @@ void printSphereScaling(const BenchResults& results, std::ostream& out) {
 }
 
 void writeResultsJson(const BenchResults& results, const fs::path& file) {
-    std::vector<const RunRecord*> warmRuns;
+    Json json;
+    json["settings"] = settingsJson(results);
+    json["devices"] = Json::array();
+    for (const BenchDevice& d : results.devices)
+        json["devices"].push_back(Json{{"device", d.label}, {"argument", d.argument}, {"name", d.name}});
+    json["runs"] = Json::array();
+    for (const RunRecord& run : results.runs) json["runs"].push_back(runJson(run));
+    json["ratios"] = Json::array();
     for (const RunRecord& run : results.runs)
-        if (run.phase == Phase::Warm && run.ok()) warmRuns.push_back(&run);
-
-    std::ostringstream out;
-    out << "{\n  \"settings\": " << settingsJson(results) << ",\n  \"devices\": ";
-    writeArray(out, results.devices, [](const BenchDevice& d) {
-        return "{\"device\": " + jsonString(d.label) + ", \"argument\": " + jsonString(d.argument) +
-               ", \"name\": " + jsonString(d.name) + "}";
-    });
-    out << ",\n  \"runs\": ";
-    writeArray(out, results.runs, runJson);
-    out << ",\n  \"ratios\": ";
-    writeArray(out, warmRuns, [&](const RunRecord* run) { return ratioJson(results, *run); });
-    out << ",\n  \"total_wall_seconds\": " << jsonNumber(results.totalWallSeconds) << "\n}\n";
+        if (run.phase == Phase::Warm && run.ok()) json["ratios"].push_back(ratioJson(results, run));
+    json["total_wall_seconds"] = number(results.totalWallSeconds);
 
     std::ofstream stream(file);
-    stream << out.str();
+    stream << json.dump(2) << "\n";
     if (!stream) throw std::runtime_error(file.string() + ": cannot write the results");
 }
 

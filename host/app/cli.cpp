@@ -1,7 +1,12 @@
 #include "app/cli.h"
 
+#include "render/renderer.h"
+
+#include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
+#include <functional>
+#include <sstream>
 
 namespace ray {
 
@@ -25,7 +30,9 @@ options:
                            in every channel (default 1/256)
   --device D               auto (default: a GPU, else a CPU OpenCL device) | cpu | gpu |
                            all | ref (the host reference renderer) | an index from
-                           --list-devices
+                           --list-devices | a list of indices (0,2); several devices
+                           (all, a list) cooperate on the frame, tile by tile
+  --tile-size N            side of the square OpenCL tiles (8..4096; default automatic)
   --list-devices           list the OpenCL platforms and devices, then exit
   --no-bvh                 with --device ref: test every primitive for every ray instead
                            of searching the reference renderer's BVH (slow: the plainest
@@ -66,6 +73,12 @@ int parseInt(const std::string& text, const std::string& what, int lo, int hi) {
     return value;
 }
 
+std::string formatNumber(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
 double parseDouble(const std::string& text, const std::string& what) {
     try {
         size_t used = 0;
@@ -74,6 +87,13 @@ double parseDouble(const std::string& text, const std::string& what) {
     } catch (const std::exception&) {
     }
     throw UsageError(what + " must be a number, not '" + text + "'");
+}
+
+double parseDoubleBetween(const std::string& text, const std::string& what, double lo, double hi) {
+    const double value = parseDouble(text, what);
+    if (!(value >= lo && value <= hi))
+        throw UsageError(what + " must be between " + formatNumber(lo) + " and " + formatNumber(hi));
+    return value;
 }
 
 AntialiasMode parseAntialias(const std::string& text) {
@@ -93,9 +113,9 @@ TextureFilter parseTextureFilter(const std::string& text) {
 }
 
 void validateDevice(const std::string& text) {
-    if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || text == "ref" || text == "reference")
-        return;
-    parseInt(text, "--device (auto, cpu, gpu, all, ref or a device index)", 0, 1 << 20);
+    if (!isDeviceSelection(text))
+        throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
+                         text + "'");
 }
 
 void applyPositionals(const std::vector<std::string>& positionals, CliOptions& options) {
@@ -122,58 +142,90 @@ void applyPositionals(const std::vector<std::string>& positionals, CliOptions& o
 
 }  // namespace
 
+namespace {
+
+// The option table. Each option is one line: its names, and what its value does to the
+// options (the converters above keep ray's messages). To add an option, add a line here and
+// its entry in kUsageText. CLI11 does the matching: names, values, repeats, unknown options.
+void addOptions(CLI::App& app, CliOptions& options) {
+    RenderSettings& s = options.settings;
+    auto text = [&](const char* names, std::function<void(const std::string&)> apply) {
+        return app.add_option_function<std::string>(names, std::move(apply))->take_last();
+    };
+    auto flag = [&](const char* names, bool& target, bool value) {
+        return app.add_flag_callback(names, [&target, value] { target = value; });
+    };
+    flag("-h,--help", options.help, true);
+    flag("--version", options.version, true);
+    text("-o,--output", [&](const std::string& v) { options.output = v; });
+    text("--aa", [&](const std::string& v) { s.antialias = parseAntialias(v); });
+    text("--samples", [&](const std::string& v) { s.samples = parseInt(v, "--samples", 1, kMaxSamples); });
+    text("--area-samples",
+         [&](const std::string& v) { s.areaSamples = parseInt(v, "--area-samples", 1, kMaxAreaSamples); });
+    text("--seed", [&](const std::string& v) { s.seed = uint32_t(parseInt(v, "--seed", 0, 2147483647)); });
+    text("--shutter", [&](const std::string& v) { s.shutter = parseDoubleBetween(v, "--shutter", 0, 1); });
+    text("--threshold", [&](const std::string& v) { s.weightThreshold = parseDoubleBetween(v, "--threshold", 0, 1); });
+    text("--device", [&](const std::string& v) { validateDevice(v); options.device = v; });
+    flag("--list-devices", options.listDevices, true);
+    text("--tile-size", [&](const std::string& v) { options.tileSize = parseInt(v, "--tile-size", 8, 4096); });
+    flag("--no-bvh", options.referenceBruteForce, true);
+    app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
+        for (const std::string& dir : dirs) options.searchPaths.emplace_back(dir);
+    })->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    flag("--strict", options.strict, true);
+    flag("--no-shadows", s.shadows, false);
+    flag("--no-reflections", s.reflections, false);
+    flag("--no-refraction", s.refraction, false);
+    flag("--no-textures", s.textures, false);
+    flag("--no-dof", s.depthOfField, false);
+    text("--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });
+    flag("-q,--quiet", options.quiet, true);
+    flag("--stats", options.stats, true);
+    text("--stats-json", [&](const std::string& v) { options.statsJson = v; });
+    flag("--partial", options.partial, true);
+    text("--max-primitives",
+         [&](const std::string& v) { options.maxPrimitives = size_t(parseInt(v, "--max-primitives", 1, 2147483647)); });
+}
+
+// CLI11's own errors in ray's words (the tests and scripts match on these).
+UsageError usageErrorFrom(const CLI::ParseError& error, const CLI::App& app) {
+    if (dynamic_cast<const CLI::ExtrasError*>(&error)) {
+        const std::vector<std::string> extras = app.remaining();
+        const std::string first = extras.empty() ? std::string() : extras.front();
+        return UsageError("unknown option '" + first + "'");
+    }
+    const std::string message = error.what();
+    if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) {
+        // CLI11 names the option before the first ':' ("--output: 1 required TEXT missing").
+        return UsageError(message.substr(0, message.find(':')) + " needs a value");
+    }
+    return UsageError(message);
+}
+
+}  // namespace
+
 CliOptions parseCommandLine(const std::vector<std::string>& args) {
     CliOptions options;
-    RenderSettings& s = options.settings;
     std::vector<std::string> positionals;
-    bool samplesGiven = false;
+    CLI::App app("ray", "ray");
+    app.set_help_flag();  // ray prints its own kUsageText for -h/--help
+    addOptions(app, options);
+    app.add_option("positionals", positionals);  // <scene.xml> [<width> <height>] [<depth>]
 
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& arg = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(arg + " needs a value");
-            return args[++i];
-        };
-        if (arg == "-h" || arg == "--help") options.help = true;
-        else if (arg == "--version") options.version = true;
-        else if (arg == "-o" || arg == "--output") options.output = value();
-        else if (arg == "--aa") s.antialias = parseAntialias(value());
-        else if (arg == "--samples") { s.samples = parseInt(value(), "--samples", 1, kMaxSamples); samplesGiven = true; }
-        else if (arg == "--area-samples") s.areaSamples = parseInt(value(), "--area-samples", 1, kMaxAreaSamples);
-        else if (arg == "--seed") s.seed = uint32_t(parseInt(value(), "--seed", 0, 2147483647));
-        else if (arg == "--shutter") {
-            s.shutter = parseDouble(value(), "--shutter");
-            if (!(s.shutter >= 0 && s.shutter <= 1)) throw UsageError("--shutter must be between 0 and 1");
-        }
-        else if (arg == "--threshold") {
-            s.weightThreshold = parseDouble(value(), "--threshold");
-            if (s.weightThreshold < 0 || s.weightThreshold > 1) throw UsageError("--threshold must be between 0 and 1");
-        }
-        else if (arg == "--device") { options.device = value(); validateDevice(options.device); }
-        else if (arg == "--list-devices") options.listDevices = true;
-        else if (arg == "--no-bvh") options.referenceBruteForce = true;
-        else if (arg == "--search-path") options.searchPaths.emplace_back(value());
-        else if (arg == "--strict") options.strict = true;
-        else if (arg == "--no-shadows") s.shadows = false;
-        else if (arg == "--no-reflections") s.reflections = false;
-        else if (arg == "--no-refraction") s.refraction = false;
-        else if (arg == "--no-textures") s.textures = false;
-        else if (arg == "--no-dof") s.depthOfField = false;
-        else if (arg == "--texture-filter") s.textureFilter = parseTextureFilter(value());
-        else if (arg == "--quiet" || arg == "-q") options.quiet = true;
-        else if (arg == "--stats") options.stats = true;
-        else if (arg == "--stats-json") options.statsJson = value();
-        else if (arg == "--partial") options.partial = true;
-        else if (arg == "--max-primitives") options.maxPrimitives = size_t(parseInt(value(), "--max-primitives", 1, 2147483647));
-        else if (arg.size() > 1 && arg[0] == '-' && !(arg[1] >= '0' && arg[1] <= '9'))
-            throw UsageError("unknown option '" + arg + "'");
-        else positionals.push_back(arg);
+    // CLI11 takes a vector in reverse order (it pops arguments off the back).
+    std::vector<std::string> reversed(args.rbegin(), args.rend());
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+        throw usageErrorFrom(e, app);
     }
     if (options.help || options.version || options.listDevices) {
         if (!positionals.empty()) applyPositionals(positionals, options);
         return options;
     }
     applyPositionals(positionals, options);
+    const RenderSettings& s = options.settings;
+    const bool samplesGiven = app.get_option("--samples")->count() > 0;
     if (samplesGiven && (s.antialias == AntialiasMode::Off || s.antialias == AntialiasMode::Course))
         throw UsageError("--samples applies to --aa stratified or adaptive; add one of those");
     if (options.referenceBruteForce && options.device != "ref" && options.device != "reference")

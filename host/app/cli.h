@@ -14,7 +14,8 @@ struct CliOptions {
     std::filesystem::path scene;
     std::filesystem::path output;  // empty: <scene name>.png in the current folder
     RenderSettings settings;
-    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index>
+    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index> | <index>,<index>...
+    int tileSize = 0;             // --tile-size; 0: automatic
     std::vector<std::filesystem::path> searchPaths;
     bool strict = false;
     bool quiet = false;
@@ -43,11 +44,5 @@ CliOptions parseCommandLine(const std::vector<std::string>& args);
 std::filesystem::path outputPathFor(const CliOptions& options);
 
 extern const char* const kUsageText;
-
-// Limits on what the command line accepts (each refused with a message naming it).
-constexpr int kMaxImageSide = 16384;
-constexpr int kMaxDepth = 64;
-constexpr int kMaxSamples = 4096;
-constexpr int kMaxAreaSamples = 1024;  // 32 × 32: the random dimensions reserved per area light (optics.h)
 
 }  // namespace ray

@@ -5,6 +5,8 @@
 #include <signal.h>
 #include <unistd.h>
 #include <iostream>
+#include <string_view>
+#include <vector>
 
 #include "app/cli.h"
 #include "scene/file_search.h"
@@ -125,9 +127,11 @@ int run(const CliOptions& options) {
     job.progress = [&](double f) { progress.update(f); };
     job.cancel = &gInterrupted;
     job.referenceBruteForce = options.referenceBruteForce;
+    job.tileSize = options.tileSize;
     gRendering = true;
     RenderOutput result = render(job);
     progress.finish();
+    for (const std::string& warning : result.stats.warnings) std::cerr << "ray: warning: " << warning << "\n";
     result.stats.loadSeconds = loadSeconds;
     if (result.interrupted) return finishInterrupted(result, output, options);
 
@@ -138,12 +142,27 @@ int run(const CliOptions& options) {
     return 0;
 }
 
+// `ray <name> ...` runs a subcommand with a CLI11 parser of its own (in its own file);
+// any other first argument is the render command's course form. A subcommand registers a
+// line here: {"view", runView}. Its exceptions get the exit codes below.
+struct Subcommand {
+    std::string_view name;
+    int (*run)(const std::vector<std::string>& args);  // the arguments after the name
+};
+const std::vector<Subcommand> kSubcommands = {};
+
+int dispatch(const std::vector<std::string>& args) {
+    for (const Subcommand& subcommand : kSubcommands)
+        if (!args.empty() && args.front() == subcommand.name)
+            return subcommand.run(std::vector<std::string>(args.begin() + 1, args.end()));
+    return run(parseCommandLine(args));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     try {
-        CliOptions options = parseCommandLine(std::vector<std::string>(argv + 1, argv + argc));
-        return run(options);
+        return dispatch(std::vector<std::string>(argv + 1, argv + argc));
     } catch (const UsageError& e) {
         std::cerr << "ray: " << e.what() << "\n(see ray --help)\n";
         return kExitBadInput;

@@ -1,5 +1,8 @@
 #include "opencl/opencl_device.h"
 
+#include <sstream>
+#include <thread>
+
 #include <unistd.h>
 
 #include <chrono>
@@ -62,7 +65,9 @@ void writeFileAtomically(const fs::path& file, const std::vector<unsigned char>&
     std::error_code ec;
     fs::create_directories(file.parent_path(), ec);
     fs::path tmp = file;
-    tmp += ".tmp" + std::to_string(getpid());
+    // Unique per process and thread: the engine builds on several devices at once, and
+    // two devices of one kind write the same cache entry.
+    tmp += ".tmp" + std::to_string(getpid()) + "." + std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
     {
         std::ofstream out(tmp, std::ios::binary);
         out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
@@ -179,11 +184,21 @@ std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
         auto cpus = ofType(false);
         return {cpus.empty() ? all.front() : cpus.front()};
     }
-    int index = std::atoi(selector.c_str());
-    if (index < 0 || index >= int(all.size()))
-        throw DeviceError("there is no OpenCL device " + selector + "; ray --list-devices shows " +
-                          std::to_string(all.size()) + " (0 to " + std::to_string(all.size() - 1) + ")");
-    return {all[size_t(index)]};
+    // An index or a comma-separated list of them ("0,2"), each device once.
+    std::vector<OpenClDevice> chosen;
+    std::stringstream list(selector);
+    for (std::string item; std::getline(list, item, ',');) {
+        char* end = nullptr;
+        long index = std::strtol(item.c_str(), &end, 10);
+        if (item.empty() || *end != '\0' || index < 0 || index >= long(all.size()))
+            throw DeviceError("there is no OpenCL device " + item + "; ray --list-devices shows " +
+                              std::to_string(all.size()) + " (0 to " + std::to_string(all.size() - 1) + ")");
+        bool seen = false;
+        for (const OpenClDevice& d : chosen) seen = seen || d.index == int(index);
+        if (!seen) chosen.push_back(all[size_t(index)]);
+    }
+    if (chosen.empty()) throw DeviceError("--device " + selector + " names no device; see ray --list-devices");
+    return chosen;
 }
 
 void printOpenClDevices(std::ostream& out) {
@@ -204,9 +219,13 @@ void printOpenClDevices(std::ostream& out) {
 }
 
 KernelProgram buildKernelProgram(const OpenClDevice& device, const std::string& options) {
+    return buildKernelProgram(device, cl::Context(device.device), options);
+}
+
+KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options) {
     auto start = std::chrono::steady_clock::now();
     KernelProgram result;
-    result.context = cl::Context(device.device);
+    result.context = context;
     const std::string source = kernelProgramSource();
     const fs::path cacheFile = cacheFileFor(device, source, options);
 

@@ -1,8 +1,10 @@
-// The fast path: renders a packed scene with the OpenCL kernel, tile by tile.
+// One frame on a selection of OpenCL devices, through the engine (opencl_engine.h): the
+// command line's path, which renders a single frame.
 #pragma once
 
 #include <atomic>
 #include <functional>
+#include <vector>
 
 #include "image/image.h"
 #include "opencl/opencl_device.h"
@@ -13,8 +15,8 @@
 namespace ray {
 
 struct OpenClRenderOptions {
-    // Side of the square tiles launched one at a time: short launches keep GPU watchdogs
-    // quiet and let the progress bar move.
+    // Side of the square tiles: short launches keep GPU watchdogs quiet and let the
+    // progress bar move.
     int tileSize = 128;
     // Work-group side. Left to the driver, PoCL picks groups of one work-item, whose
     // per-group overhead dominates; 8×8 suits CPUs and GPUs alike.
@@ -25,7 +27,11 @@ struct OpenClRenderOptions {
     const std::atomic<bool>* cancel = nullptr;
 };
 
-// Throws DeviceError (build failure, device limits, out of memory) and InputError.
+// Every device of the list cooperates on the frame. Throws DeviceError (build failure,
+// device limits, out of memory, every device failed) and InputError. Devices dropped on
+// the way are named in stats->warnings.
+Image renderOpenCl(const std::vector<OpenClDevice>& devices, const Scene& scene, const RenderSettings& settings,
+                   const OpenClRenderOptions& options, RenderStats* stats);
 Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
                    const OpenClRenderOptions& options, RenderStats* stats);
 

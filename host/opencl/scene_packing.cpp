@@ -224,7 +224,11 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
 }
 
 gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& s, const PackedScene& packed) {
-    const Camera& camera = scene.camera;
+    return makeRenderParams(scene.camera, scene.globals, s, packed);
+}
+
+gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoefficients& g, const RenderSettings& s,
+                                      const PackedScene& packed) {
     Vec3 forward = normalize(camera.look);
     Vec3 right = normalize(cross(forward, camera.up));
     Vec3 up = cross(right, forward);
@@ -254,7 +258,6 @@ gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& 
     // Motion blur: the shutter, 0 (every ray at time 0, no motion read) when nothing moves.
     double shutter = packed.motions.empty() ? 0 : s.shutter;
     p.lens = {float(lensRadius), float(focalDistance), float(shutter), 0};
-    const GlobalCoefficients& g = scene.globals;
     p.globals = {float(g.ka), float(g.kd), float(g.ks), float(g.kt)};
     p.limits = {float(s.weightThreshold), kKernelRayOffset, float(pixelSpreadAngle(camera.heightAngleDegrees, s.height)), 0};
     p.image = {s.width, s.height, 0, 0};

@@ -40,6 +40,9 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings = {});
 
 // The launch parameters for an image (the tile fields are set per launch).
 gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& settings, const PackedScene& packed);
+// The same from another camera than the scene's (the engine's frames).
+gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoefficients& globals,
+                                      const RenderSettings& settings, const PackedScene& packed);
 
 // How far secondary and shadow rays start off a surface, relative to the magnitude of
 // the hit point's coordinates (see offsetFromSurface in cl/shading.cl).

@@ -44,6 +44,12 @@ struct RenderSettings {
     double shutter = 1;
 };
 
+// Limits on what the command line and the API accept (each refused with a message naming it).
+constexpr int kMaxImageSide = 16384;
+constexpr int kMaxDepth = 64;
+constexpr int kMaxSamples = 4096;
+constexpr int kMaxAreaSamples = 1024;  // 32 × 32: the random dimensions reserved per area light (optics.h)
+
 // k = floor(√areaSamples), at least 1: the side of an area light's sample grid.
 int areaLightGridSide(const RenderSettings& settings);
 

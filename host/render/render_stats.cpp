@@ -1,28 +1,13 @@
 #include "render/render_stats.h"
 
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <fstream>
 #include <ostream>
-#include <sstream>
 #include <stdexcept>
 #include <unistd.h>
 
 namespace ray {
-
-namespace {
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\', out += c;
-        else if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            out += buf;
-        } else out += c;
-    }
-    return out + "\"";
-}
-}  // namespace
 
 void printStats(const RenderStats& s, std::ostream& out) {
     char line[256];
@@ -39,28 +24,51 @@ void printStats(const RenderStats& s, std::ostream& out) {
     out << line;
     std::snprintf(line, sizeof line, "speed        %.2f Mrays/s\n", s.mraysPerSecond());
     out << line;
+    // Several devices (or ranks): each one's share of the frame.
+    if (s.devices.size() < 2) return;
+    for (size_t i = 0; i < s.devices.size(); ++i) {
+        const DeviceStats& d = s.devices[i];
+        std::string who = i < s.deviceRanks.size() ? "rank " + std::to_string(s.deviceRanks[i]) + " " : "";
+        std::snprintf(line, sizeof line, "device       %s%s: %d tiles, %llu pixels, %llu rays, busy %.3f s, %.2f Mrays/s%s\n",
+                      who.c_str(), d.device.c_str(), d.tiles, (unsigned long long)d.pixels, (unsigned long long)d.rays,
+                      d.busySeconds, d.mraysPerSecond(), d.failed ? " (failed, dropped)" : "");
+        out << line;
+    }
 }
 
 std::string statsToJson(const RenderStats& s) {
-    std::ostringstream o;
-    o.precision(9);
-    o << "{\n"
-      << "  \"width\": " << s.width << ",\n"
-      << "  \"height\": " << s.height << ",\n"
-      << "  \"samples\": " << s.samples << ",\n"
-      << "  \"depth\": " << s.depth << ",\n"
-      << "  \"device\": " << jsonString(s.device) << ",\n"
-      << "  \"primary_rays\": " << s.primaryRays << ",\n"
-      << "  \"shadow_rays\": " << s.shadowRays << ",\n"
-      << "  \"secondary_rays\": " << s.secondaryRays << ",\n"
-      << "  \"total_rays\": " << s.totalRays() << ",\n"
-      << "  \"load_seconds\": " << s.loadSeconds << ",\n"
-      << "  \"bvh_build_seconds\": " << s.bvhBuildSeconds << ",\n"
-      << "  \"kernel_build_seconds\": " << s.kernelBuildSeconds << ",\n"
-      << "  \"render_seconds\": " << s.renderSeconds << ",\n"
-      << "  \"mrays_per_second\": " << s.mraysPerSecond() << "\n"
-      << "}\n";
-    return o.str();
+    // ordered_json keeps the keys in the order written here, the order scripts have seen.
+    nlohmann::ordered_json json;
+    json["width"] = s.width;
+    json["height"] = s.height;
+    json["samples"] = s.samples;
+    json["depth"] = s.depth;
+    json["device"] = s.device;
+    json["primary_rays"] = s.primaryRays;
+    json["shadow_rays"] = s.shadowRays;
+    json["secondary_rays"] = s.secondaryRays;
+    json["total_rays"] = s.totalRays();
+    json["load_seconds"] = s.loadSeconds;
+    json["bvh_build_seconds"] = s.bvhBuildSeconds;
+    json["kernel_build_seconds"] = s.kernelBuildSeconds;
+    json["render_seconds"] = s.renderSeconds;
+    json["upload_seconds"] = s.uploadSeconds;
+    json["mrays_per_second"] = s.mraysPerSecond();
+    json["devices"] = nlohmann::ordered_json::array();
+    for (size_t i = 0; i < s.devices.size(); ++i) {
+        const DeviceStats& d = s.devices[i];
+        nlohmann::ordered_json device;
+        device["device"] = d.device;
+        if (i < s.deviceRanks.size()) device["rank"] = s.deviceRanks[i];
+        device["tiles"] = d.tiles;
+        device["pixels"] = d.pixels;
+        device["rays"] = d.rays;
+        device["busy_seconds"] = d.busySeconds;
+        device["mrays_per_second"] = d.mraysPerSecond();
+        device["failed"] = d.failed;
+        json["devices"].push_back(device);
+    }
+    return json.dump(2) + "\n";
 }
 
 void writeStatsJson(const RenderStats& stats, const std::filesystem::path& file) {

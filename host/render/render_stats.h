@@ -5,14 +5,32 @@
 #include <filesystem>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace ray {
+
+// One OpenCL device's share of a frame rendered on several.
+struct DeviceStats {
+    std::string device;  // "NAME (PLATFORM)"
+    int tiles = 0;       // kept (a duplicate dropped at the end of a frame is not counted)
+    uint64_t pixels = 0, rays = 0;
+    double busySeconds = 0;  // from its first launch to its last tile of the frame
+    bool failed = false;
+    std::string failure;  // why it was dropped
+
+    double mraysPerSecond() const { return busySeconds > 0 ? double(rays) / busySeconds / 1e6 : 0; }
+};
 
 struct RenderStats {
     int width = 0, height = 0, samples = 0, depth = 0;
     std::string device;
     uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
     double loadSeconds = 0, bvhBuildSeconds = 0, kernelBuildSeconds = 0, renderSeconds = 0;
+    double uploadSeconds = 0;
+    // OpenCL: every device of the selection; the distributed render adds a rank to each.
+    std::vector<DeviceStats> devices;
+    std::vector<int> deviceRanks;  // parallel to devices when rendered through MPI, else empty
+    std::vector<std::string> warnings;  // devices dropped
 
     uint64_t totalRays() const { return primaryRays + shadowRays + secondaryRays; }
     double mraysPerSecond() const { return renderSeconds > 0 ? double(totalRays()) / renderSeconds / 1e6 : 0; }

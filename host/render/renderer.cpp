@@ -65,24 +65,27 @@ bool isReference(const std::string& device) { return device == "ref" || device =
 
 }  // namespace
 
+bool isDeviceSelection(const std::string& text) {
+    if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || isReference(text)) return true;
+    // An index, or a list of them such as 0,2.
+    if (text.empty() || text.front() == ',' || text.back() == ',' || text.find(",,") != std::string::npos) return false;
+    return std::all_of(text.begin(), text.end(), [](char c) { return c == ',' || (c >= '0' && c <= '9'); });
+}
+
 RenderOutput render(const RenderJob& job) {
     RenderOutput out;
     if (isReference(job.device)) {
         out = renderOnReference(job);
     } else {
-        std::string devicesUsed;
-        for (const OpenClDevice& device : selectOpenClDevices(job.device)) {
-            OpenClRenderOptions options;
-            options.progress = job.progress;
-            options.cancel = job.cancel;
-            // A cancellable render uses smaller tiles: the tiles already queued must finish
-            // before it stops, and at 128x128 with many samples that can take seconds.
-            if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
-            out = RenderOutput{};
-            out.image = renderOpenCl(device, job.scene, job.settings, options, &out.stats);
-            devicesUsed += (devicesUsed.empty() ? "" : ", ") + out.stats.device;
-        }
-        out.stats.device = devicesUsed;
+        OpenClRenderOptions options;
+        options.progress = job.progress;
+        options.cancel = job.cancel;
+        // A cancellable render uses smaller tiles: the tiles already queued must finish
+        // before it stops, and at 128x128 with many samples that can take seconds.
+        if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
+        if (job.tileSize > 0) options.tileSize = job.tileSize;
+        // Every device of the selection ("all", "0,2") cooperates on the one frame.
+        out.image = renderOpenCl(selectOpenClDevices(job.device), job.scene, job.settings, options, &out.stats);
     }
     out.interrupted = job.cancel && job.cancel->load();
     out.stats.width = job.settings.width;

@@ -23,13 +23,15 @@ struct DeviceError : std::runtime_error {
 struct RenderJob {
     const Scene& scene;
     const RenderSettings& settings;
-    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index>
+    std::string device = "auto";  // auto | cpu | gpu | all | ref | <index> | <index>,<index>...
     std::function<void(double)> progress;
     // Set to true (e.g. from a signal handler) to stop early: the render returns within
     // about a second with RenderOutput::interrupted set and unrendered pixels black.
     const std::atomic<bool>* cancel = nullptr;
     // The reference renderer tests every primitive for every ray (--no-bvh).
     bool referenceBruteForce = false;
+    // OpenCL tile side (--tile-size); 0: automatic.
+    int tileSize = 0;
 };
 
 struct RenderOutput {
@@ -38,8 +40,12 @@ struct RenderOutput {
     bool interrupted = false;  // stopped by RenderJob::cancel: the image is partial
 };
 
-// Renders on the device the job names. With "all" it renders on every device in turn and
-// returns the last image (the stats name every device). Throws DeviceError, InputError.
+// Whether text is a device selection: auto, cpu, gpu, all, ref (or reference), or a
+// device index, or a list of indices such as 0,2.
+bool isDeviceSelection(const std::string& text);
+
+// Renders on the devices the job names; several ("all", a list) cooperate on the frame,
+// tile by tile (opencl/opencl_engine.h). Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);
 
 // The side of the square tiles of a cancellable render (RenderJob::cancel set), a multiple

@@ -90,6 +90,10 @@ struct PrimitiveInstance {
     Vec3 motion{0, 0, 0};
 };
 
+// Sets the instance's object-space box for its type (the unit cube, the torus's box, its
+// mesh's bounds: instance.mesh indexes meshes).
+void fitObjectBox(PrimitiveInstance& instance, const std::vector<TriangleMesh>& meshes);
+
 struct Scene {
     std::filesystem::path sourceFile;
     GlobalCoefficients globals;

@@ -65,7 +65,6 @@
 
 #include "scene/file_search.h"
 #include "core/memory_limits.h"
-#include "reference/shapes.h"  // the torus radii, for its bounds
 
 namespace fs = std::filesystem;
 using tinyxml2::XMLAttribute;
@@ -1001,14 +1000,7 @@ private:
         instance.type = node.type;
         instance.material = materialOf(node);
         instance.mesh = meshOf(node);
-        if (node.type == PrimitiveType::Torus) {
-            instance.objectLo = {-kTorusMajorRadius - kTorusMinorRadius, -kTorusMinorRadius,
-                                 -kTorusMajorRadius - kTorusMinorRadius};
-            instance.objectHi = -1 * instance.objectLo;
-        } else if (node.type == PrimitiveType::Mesh) {
-            instance.objectLo = scene_.meshes[size_t(instance.mesh)].boundsLo;
-            instance.objectHi = scene_.meshes[size_t(instance.mesh)].boundsHi;
-        }
+        fitObjectBox(instance, scene_.meshes);
         return instance;
     }
 

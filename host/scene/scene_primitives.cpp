@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "reference/shapes.h"  // the torus radii, for its bounds
+
 namespace ray {
 
 const char* primitiveTypeName(PrimitiveType type) {
@@ -13,6 +15,20 @@ const char* primitiveTypeName(PrimitiveType type) {
         case PrimitiveType::Csg: return "csg";
     }
     return "unknown";
+}
+
+void fitObjectBox(PrimitiveInstance& instance, const std::vector<TriangleMesh>& meshes) {
+    if (instance.type == PrimitiveType::Torus) {
+        instance.objectLo = {-kTorusMajorRadius - kTorusMinorRadius, -kTorusMinorRadius,
+                             -kTorusMajorRadius - kTorusMinorRadius};
+        instance.objectHi = -1 * instance.objectLo;
+    } else if (instance.type == PrimitiveType::Mesh) {
+        instance.objectLo = meshes[size_t(instance.mesh)].boundsLo;
+        instance.objectHi = meshes[size_t(instance.mesh)].boundsHi;
+    } else {
+        instance.objectLo = {-0.5, -0.5, -0.5};
+        instance.objectHi = {0.5, 0.5, 0.5};
+    }
 }
 
 }  // namespace ray

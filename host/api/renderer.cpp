@@ -1,0 +1,199 @@
+// The public Renderer (include/ray/renderer.h) over render/renderer.h.
+#include "ray/renderer.h"
+
+#include <algorithm>
+
+#include "api/camera_conversion.h"
+#include "api/error_translation.h"
+#include "api/scene_impl.h"
+#include "image/image.h"
+#include "opencl/opencl_device.h"
+#include "opencl/opencl_engine.h"
+#include "render/renderer.h"
+
+namespace ray::api {
+
+namespace {
+
+bool isReference(const std::string& devices) { return devices == "ref" || devices == "reference"; }
+
+void checkRange(const char* what, double value, double lo, double hi) {
+    if (!(value >= lo && value <= hi))
+        throw InputError("error: " + std::string(what) + " must be between " + std::to_string(lo) + " and " +
+                             std::to_string(hi) + ", not " + std::to_string(value),
+                         "", 0);
+}
+
+void validate(const Settings& s) {
+    checkRange("width", s.width, 1, kMaxImageSide);
+    checkRange("height", s.height, 1, kMaxImageSide);
+    checkRange("depth", s.depth, 0, kMaxDepth);
+    checkRange("samples", s.samples, 1, kMaxSamples);
+    checkRange("areaSamples", s.areaSamples, 1, kMaxAreaSamples);
+    checkRange("shutter", s.shutter, 0, 1);
+    checkRange("threshold", s.threshold, 0, 1);
+}
+
+ray::RenderSettings internal(const Settings& s) {
+    ray::RenderSettings r;
+    r.width = s.width;
+    r.height = s.height;
+    r.maxDepth = s.depth;
+    r.antialias = ray::AntialiasMode(int(s.antialias));  // same order: Off, Course, Stratified, Adaptive
+    r.samples = s.samples;
+    r.seed = s.seed;
+    r.areaSamples = s.areaSamples;
+    r.shutter = s.shutter;
+    r.weightThreshold = s.threshold;
+    r.shadows = s.shadows;
+    r.reflections = s.reflections;
+    r.refraction = s.refraction;
+    r.textures = s.textures;
+    r.depthOfField = s.depthOfField;
+    r.textureFilter = ray::TextureFilter(int(s.textureFilter));  // same order
+    return r;
+}
+
+// The counts and timings both internal statistics (render/render_stats.h RenderStats, the
+// engine's FrameStats) name alike.
+template <class InternalStats>
+void copyCommonStats(const InternalStats& in, FrameStats& out) {
+    out.primaryRays = in.primaryRays;
+    out.shadowRays = in.shadowRays;
+    out.secondaryRays = in.secondaryRays;
+    out.bvhBuildSeconds = in.bvhBuildSeconds;
+    out.kernelBuildSeconds = in.kernelBuildSeconds;
+    out.renderSeconds = in.renderSeconds;
+}
+
+FrameStats external(const ray::RenderOutput& output) {
+    FrameStats stats;
+    copyCommonStats(output.stats, stats);
+    stats.device = output.stats.device;
+    stats.cancelled = output.interrupted;
+    return stats;
+}
+
+}  // namespace
+
+std::vector<Device> listDevices() {
+    return detail::translatingErrors([] {
+        std::vector<Device> devices;
+        for (const ray::OpenClDevice& d : ray::enumerateOpenClDevices())
+            devices.push_back({d.index, d.name, d.platformName, d.isGpu, d.isCpu});
+        return devices;
+    });
+}
+
+struct Renderer::Impl {
+    ray::Scene scene;  // the engine keeps a reference to it: Impl never moves (unique_ptr)
+    std::string devices;
+    Settings settings;
+    std::unique_ptr<ray::OpenClEngine> engine;  // OpenCL selections: made on the first frame
+
+    FrameStats renderOnReference(float* rgb, const ProgressCallback& progress, const std::atomic<bool>* cancel,
+                                 const TileCallback& onTile);
+    FrameStats renderOnEngine(float* rgb, const ProgressCallback& progress, const std::atomic<bool>* cancel,
+                              const TileCallback& onTile);
+};
+
+FrameStats Renderer::Impl::renderOnReference(float* rgb, const ProgressCallback& progress,
+                                             const std::atomic<bool>* cancel, const TileCallback& onTile) {
+    const ray::RenderSettings internalSettings = internal(settings);
+    ray::RenderJob job{scene, internalSettings, devices, progress};
+    job.cancel = cancel;
+    ray::RenderOutput output = ray::render(job);
+    std::copy(output.image.rgb.begin(), output.image.rgb.end(), rgb);
+    if (onTile) onTile({0, 0, output.image.width, output.image.height, rgb});
+    return external(output);
+}
+
+FrameStats Renderer::Impl::renderOnEngine(float* rgb, const ProgressCallback& progress,
+                                          const std::atomic<bool>* cancel, const TileCallback& onTile) {
+    if (!engine) engine = std::make_unique<ray::OpenClEngine>(scene, ray::selectOpenClDevices(devices));
+    const ray::RenderSettings internalSettings = internal(settings);
+    ray::FrameOptions options;
+    options.progress = progress;
+    options.cancel = cancel;
+    // A cancellable frame uses smaller tiles, so that those in flight finish within a second.
+    if (cancel) options.tileSize = ray::cancellableTileSize(internalSettings, scene);
+    if (onTile)
+        options.onTile = [&onTile](const ray::FinishedTile& tile) {
+            onTile({tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.rgb});
+        };
+    ray::FrameResult frame = engine->renderFrame(scene.camera, internalSettings, options);
+    std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
+    FrameStats stats;
+    for (const ray::DeviceStats& device : frame.stats.devices)
+        stats.device += (stats.device.empty() ? "" : ", ") + device.device;
+    copyCommonStats(frame.stats, stats);
+    stats.packSeconds = frame.stats.packSeconds;
+    stats.uploadSeconds = frame.stats.uploadSeconds;
+    stats.cancelled = frame.cancelled;
+    return stats;
+}
+
+Renderer::Renderer(const Scene& scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
+    impl_->scene = scene.impl().scene;
+    impl_->devices = devices;
+    if (!ray::isDeviceSelection(devices))
+        throw InputError("error: the device selection must be auto, cpu, gpu, all, ref or an index from listDevices(), "
+                         "not '" + devices + "'", "", 0);
+    // The selection is checked now, so that a bad one fails here rather than at the first frame.
+    if (!isReference(devices)) detail::translatingErrors([&] { ray::selectOpenClDevices(devices); });
+}
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+void Renderer::setCamera(const Camera& camera) { impl_->scene.camera = detail::toInternal(camera); }
+
+Camera Renderer::camera() const { return detail::toPublic(impl_->scene.camera); }
+
+void Renderer::setSettings(const Settings& settings) {
+    validate(settings);
+    impl_->settings = settings;
+}
+
+const Settings& Renderer::settings() const { return impl_->settings; }
+
+FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallback& progress,
+                            const std::atomic<bool>* cancel, const TileCallback& onTile) {
+    const Settings& s = impl_->settings;
+    const size_t needed = size_t(s.width) * size_t(s.height) * 3;
+    if (rgb == nullptr || floatCount < needed)
+        throw InputError("error: the buffer holds " + std::to_string(floatCount) + " floats; a " +
+                             std::to_string(s.width) + "x" + std::to_string(s.height) + " frame needs " +
+                             std::to_string(needed),
+                         "", 0);
+    return detail::translatingErrors([&] {
+        return isReference(impl_->devices) ? impl_->renderOnReference(rgb, progress, cancel, onTile)
+                                           : impl_->renderOnEngine(rgb, progress, cancel, onTile);
+    });
+}
+
+std::vector<float> Renderer::render(FrameStats* stats) {
+    std::vector<float> rgb(size_t(impl_->settings.width) * size_t(impl_->settings.height) * 3);
+    FrameStats frame = render(rgb.data(), rgb.size());
+    if (stats) *stats = frame;
+    return rgb;
+}
+
+void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file) {
+    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
+        throw InputError("error: an image of " + std::to_string(width) + "x" + std::to_string(height) +
+                             " needs width*height*3 floats, not " + std::to_string(rgb.size()),
+                         file.string(), 0);
+    if (!ray::canWriteImageFormat(file))
+        throw InputError("error: cannot write an image in the format of '" + file.string() + "'; " +
+                             ray::kOutputFormatAdvice,
+                         file.string(), 0);
+    ray::Image image(width, height);
+    image.rgb = rgb;
+    detail::translatingErrors([&] { ray::writeImage(image, file); });
+}
+
+uint8_t toByte(float channel) { return uint8_t(ray::quantize8(channel)); }
+
+}  // namespace ray::api

@@ -1,0 +1,532 @@
+#include "opencl/opencl_engine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "core/memory_limits.h"
+#include "opencl/scene_packing.h"
+#include "render/renderer.h"
+
+namespace ray {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string mebibytes(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
+
+// Refuses, before any upload, a scene whose buffers exceed what the device allows.
+void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t imageBytes) {
+    struct Buffer {
+        const char* what;
+        size_t bytes;
+    };
+    const Buffer buffers[] = {{"BVH nodes", packed.nodes.size() * sizeof(gpu::RayBvhNode)},
+                              {"primitives", packed.primitives.size() * sizeof(gpu::RayPrimitive)},
+                              {"textures", packed.texels.size()},
+                              {"mesh triangles", packed.triangleShading.size() * sizeof(gpu::RayTriangleShading)},
+                              {"image", imageBytes}};
+    const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
+    for (const Buffer& b : buffers) {
+        if (b.bytes > device.maxAllocation)
+            throw DeviceError("the scene's " + std::string(b.what) + " need a " + mebibytes(b.bytes) +
+                              " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
+                              device.description() + " allows in one allocation" + advice);
+    }
+    // The colors and the ray counts: two buffers of imageBytes each.
+    uint64_t total = packed.totalBytes() + 2 * uint64_t(imageBytes);
+    if (total > device.globalMemory)
+        throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
+                          mebibytes(device.globalMemory) + " of " + device.description() + advice);
+    // On the host: both buffers read back, and on a CPU device the device's memory too.
+    uint64_t hostBytes = 2 * uint64_t(imageBytes) + (device.isCpu ? total : 0);
+    if (auto shortfall = hostMemoryShortfall(hostBytes))
+        throw DeviceError("rendering on " + device.description() + " " + *shortfall + " on the host" + advice);
+}
+
+// OpenCL refuses zero-sized buffers; an empty table gets one unused element.
+template <typename T>
+cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data) {
+    static const T placeholder{};
+    const void* source = data.empty() ? static_cast<const void*>(&placeholder) : data.data();
+    size_t bytes = std::max<size_t>(1, data.size()) * sizeof(T);
+    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(source));
+}
+
+std::string buildOptions(int maxDepth) {
+    // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
+    // the intersection code relies on IEEE infinities.
+    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1);
+}
+
+DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
+    std::string what = openClErrorName(e.err());
+    std::string advice = (e.err() == CL_MEM_OBJECT_ALLOCATION_FAILURE || e.err() == CL_OUT_OF_RESOURCES ||
+                          e.err() == CL_OUT_OF_HOST_MEMORY)
+                             ? "the device ran out of memory; try a smaller image or scene, or --device ref"
+                             : "try another device (ray --list-devices) or --device ref";
+    return DeviceError(device.description() + ": " + e.what() + " failed with " + what + "; " + advice);
+}
+
+// RAY_TEST_FAIL_DEVICE="k:n": device k of the selection fails after n tiles of a frame.
+std::optional<int> testFailureAfter(int deviceSlot) {
+    const char* hook = std::getenv("RAY_TEST_FAIL_DEVICE");
+    if (!hook) return std::nullopt;
+    int k = -1, n = -1;
+    if (std::sscanf(hook, "%d:%d", &k, &n) != 2 || k != deviceSlot || n < 0) return std::nullopt;
+    return n;
+}
+
+// The engine's own tile source: the image cut into a grid of square tiles, row by row.
+class GridTiles : public TileSource {
+public:
+    GridTiles(int width, int height, int side) : width_(width), height_(height), side_(side) {
+        tilesX_ = (width + side - 1) / side;
+        count_ = tilesX_ * ((height + side - 1) / side);
+    }
+    bool next(TileRect& tile) override {
+        std::lock_guard lock(mutex_);
+        if (nextIndex_ >= count_) return false;
+        const int tx = nextIndex_ % tilesX_, ty = nextIndex_ / tilesX_;
+        ++nextIndex_;
+        tile = {tx * side_, ty * side_, std::min(side_, width_ - tx * side_), std::min(side_, height_ - ty * side_)};
+        return true;
+    }
+
+private:
+    std::mutex mutex_;
+    int width_, height_, side_, tilesX_ = 0, count_ = 0, nextIndex_ = 0;
+};
+
+// A tile of a frame as the scheduler sees it.
+enum class TileState { Queued, InFlight, Done };
+
+}  // namespace
+
+// What one device keeps between frames: its context, queue, uploaded scene, programs.
+struct DeviceSlot {
+    OpenClDevice device;
+    bool dropped = false;
+    cl::Context context;
+    cl::CommandQueue queue;
+    int uploadedVersion = -1;  // the engine's packVersion these buffers hold
+    cl::Buffer nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions;
+    size_t outputPixels = 0;
+    cl::Buffer colors, counts;
+    struct Program {
+        KernelProgram program;
+        cl::Kernel kernel;
+    };
+    std::map<int, Program> programs;  // by maximum depth
+};
+
+struct OpenClEngine::Impl {
+    const Scene& scene;
+    std::vector<OpenClDevice> selection;
+    std::vector<std::unique_ptr<DeviceSlot>> slots;
+    PackedScene packed;
+    int packVersion = 0;
+    bool packed_ = false;
+    int packedGridSide = -1;
+    bool packedTrilinear = false;
+
+    Impl(const Scene& s, std::vector<OpenClDevice> d) : scene(s), selection(std::move(d)) {}
+};
+
+namespace {
+
+// The state of one frame shared by the device threads.
+struct Frame {
+    std::mutex mutex;
+    std::condition_variable changed;
+    const FrameOptions* options = nullptr;
+    TileSource* source = nullptr;
+    std::vector<TileRect> tiles;
+    std::vector<TileState> state;
+    std::vector<int> flights;  // devices rendering each tile now
+    std::deque<int> queue;     // tiles put back by a failed device
+    bool sourceDone = false;
+    int done = 0, devicesLeft = 0;
+    int preparing = 0;  // devices still uploading or building: tiles wait for all of them
+    uint64_t pixelsDone = 0, pixelsTotal = 0;
+    Image* image = nullptr;
+    FrameStats* stats = nullptr;
+
+    bool cancelled() const { return options->cancel && options->cancel->load(); }
+    // The first tiles wait until every device has its scene and program: a device whose
+    // cached kernel loads first would otherwise take a small frame's every tile.
+    void deviceReady() {
+        std::lock_guard lock(mutex);
+        --preparing;
+        changed.notify_all();
+    }
+    void waitForEveryDevice() {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return preparing == 0; });
+    }
+    bool allDone() const { return sourceDone && queue.empty() && done == int(tiles.size()); }
+};
+
+// One device's part of a frame, run on its own host thread.
+class DeviceWorker {
+public:
+    DeviceWorker(Frame& frame, DeviceSlot& slot, int slotIndex, const gpu::RayRenderParams& params)
+        : frame_(frame), slot_(slot), index_(slotIndex), params_(params), failAfter_(testFailureAfter(slotIndex)) {}
+
+    void run(cl::Kernel& kernel) {
+        const size_t kTilesInFlight = 4;  // the device never idles between launches
+        auto start = Clock::now();
+        bool started = false;
+        while (true) {
+            if (failAfter_ && finished_ >= *failAfter_)
+                throw DeviceError(slot_.device.description() + ": failed on purpose (RAY_TEST_FAIL_DEVICE)");
+            while (inFlight_.size() < kTilesInFlight) {
+                std::optional<int> tile = acquire();
+                if (!tile) break;
+                if (!started) start = Clock::now(), started = true;
+                launch(kernel, *tile);
+            }
+            if (inFlight_.empty()) {
+                std::unique_lock lock(frame_.mutex);
+                if (frame_.cancelled() || frame_.allDone()) break;
+                frame_.changed.wait_for(lock, std::chrono::milliseconds(50));
+                continue;
+            }
+            finishOldest();
+            busySeconds_ = secondsSince(start);
+        }
+        std::lock_guard lock(frame_.mutex);
+        frame_.stats->devices[size_t(index_)].busySeconds = busySeconds_;
+    }
+
+    // Puts every tile this device still holds back in the queue.
+    void abandonTiles() {
+        std::lock_guard lock(frame_.mutex);
+        for (const Launch& l : inFlight_) {
+            if (frame_.state[size_t(l.tile)] == TileState::Done) continue;
+            if (--frame_.flights[size_t(l.tile)] == 0) {
+                frame_.state[size_t(l.tile)] = TileState::Queued;
+                frame_.queue.push_back(l.tile);
+            }
+        }
+        inFlight_.clear();
+        frame_.stats->devices[size_t(index_)].busySeconds = busySeconds_;
+    }
+
+private:
+    struct Launch {
+        int tile;
+        cl::Event event;
+    };
+
+    // The next tile for this device: one put back, else a new one from the source, else
+    // (when this device is idle) one still pending on another device.
+    std::optional<int> acquire() {
+        std::unique_lock lock(frame_.mutex);
+        if (frame_.cancelled()) return std::nullopt;
+        if (!frame_.queue.empty()) return take(frame_.queue.front(), true);
+        if (!frame_.sourceDone) {
+            lock.unlock();
+            TileRect rect;
+            bool more = frame_.source->next(rect);  // may block (a distributed source)
+            lock.lock();
+            if (more) {
+                frame_.tiles.push_back(rect);
+                frame_.state.push_back(TileState::Queued);
+                frame_.flights.push_back(0);
+                return take(int(frame_.tiles.size()) - 1, false);
+            }
+            frame_.sourceDone = true;
+            if (!frame_.queue.empty()) return take(frame_.queue.front(), true);
+        }
+        if (!inFlight_.empty()) return std::nullopt;
+        // End of the frame: duplicate the pending tile with the fewest devices on it.
+        int best = -1;
+        for (size_t t = 0; t < frame_.tiles.size(); ++t)
+            if (frame_.state[t] == TileState::InFlight && (best < 0 || frame_.flights[t] < frame_.flights[size_t(best)]))
+                best = int(t);
+        if (best < 0) return std::nullopt;
+        return take(best, false);
+    }
+
+    int take(int tile, bool fromQueue) {
+        if (fromQueue) frame_.queue.pop_front();
+        frame_.state[size_t(tile)] = TileState::InFlight;
+        ++frame_.flights[size_t(tile)];
+        return tile;
+    }
+
+    void launch(cl::Kernel& kernel, int tile) {
+        TileRect rect;
+        {
+            std::lock_guard lock(frame_.mutex);
+            rect = frame_.tiles[size_t(tile)];
+        }
+        const size_t group = size_t(frame_.options->workGroupSize);
+        auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
+        gpu::RayRenderParams params = params_;
+        params.image.z = rect.x;
+        params.image.w = rect.y;
+        params.tile = {rect.width, rect.height, 0, 0};
+        kernel.setArg(0, sizeof(params), &params);  // captured at enqueue time
+        Launch l{tile, {}};
+        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width), roundUp(rect.height)),
+                                         cl::NDRange(group, group), nullptr, &l.event);
+        slot_.queue.flush();
+        inFlight_.push_back(l);
+    }
+
+    // Waits for the oldest launch, reads its tile back and keeps it unless another device
+    // finished it first.
+    void finishOldest() {
+        Launch l = inFlight_.front();
+        l.event.wait();
+        TileRect rect;
+        {
+            std::lock_guard lock(frame_.mutex);
+            rect = frame_.tiles[size_t(l.tile)];
+        }
+        const int width = frame_.image->width;
+        const size_t n = size_t(rect.width) * size_t(rect.height);
+        std::vector<cl_float4> rgba(n);
+        std::vector<cl_uint4> rays(n);
+        auto readRect = [&](const cl::Buffer& buffer, size_t elementBytes, void* out) {
+            slot_.queue.enqueueReadBufferRect(buffer, CL_TRUE, {size_t(rect.x) * elementBytes, size_t(rect.y), 0},
+                                              {0, 0, 0}, {size_t(rect.width) * elementBytes, size_t(rect.height), 1},
+                                              size_t(width) * elementBytes, 0, size_t(rect.width) * elementBytes, 0, out);
+        };
+        readRect(slot_.colors, sizeof(cl_float4), rgba.data());
+        readRect(slot_.counts, sizeof(cl_uint4), rays.data());
+        inFlight_.pop_front();
+
+        FinishedTile result;
+        result.rect = rect;
+        result.device = index_;
+        std::vector<float> rgb(n * 3);
+        for (size_t p = 0; p < n; ++p) {
+            for (int c = 0; c < 3; ++c) rgb[p * 3 + size_t(c)] = rgba[p].s[c];
+            result.primaryRays += rays[p].s[0];
+            result.shadowRays += rays[p].s[1];
+            result.secondaryRays += rays[p].s[2];
+        }
+        result.rgb = rgb.data();
+        keep(l.tile, result);
+    }
+
+    void keep(int tile, const FinishedTile& result) {
+        std::lock_guard lock(frame_.mutex);
+        --frame_.flights[size_t(tile)];
+        if (frame_.state[size_t(tile)] == TileState::Done) {
+            ++frame_.stats->duplicatesDropped;
+            return;
+        }
+        frame_.state[size_t(tile)] = TileState::Done;
+        ++frame_.done;
+        ++finished_;
+        const TileRect& r = result.rect;
+        for (int row = 0; row < r.height; ++row)
+            std::copy_n(result.rgb + size_t(row) * size_t(r.width) * 3, size_t(r.width) * 3,
+                        frame_.image->rgb.begin() + ptrdiff_t((size_t(r.y + row) * size_t(frame_.image->width) + size_t(r.x)) * 3));
+        FrameStats& s = *frame_.stats;
+        s.primaryRays += result.primaryRays;
+        s.shadowRays += result.shadowRays;
+        s.secondaryRays += result.secondaryRays;
+        DeviceStats& d = s.devices[size_t(index_)];
+        ++d.tiles;
+        d.pixels += uint64_t(r.width) * uint64_t(r.height);
+        d.rays += result.primaryRays + result.shadowRays + result.secondaryRays;
+        frame_.pixelsDone += uint64_t(r.width) * uint64_t(r.height);
+        if (frame_.options->onTile) frame_.options->onTile(result);
+        if (frame_.options->progress && frame_.pixelsTotal > 0)
+            frame_.options->progress(std::min(1.0, double(frame_.pixelsDone) / double(frame_.pixelsTotal)));
+        frame_.changed.notify_all();
+    }
+
+    Frame& frame_;
+    DeviceSlot& slot_;
+    int index_;
+    gpu::RayRenderParams params_;
+    std::optional<int> failAfter_;
+    std::deque<Launch> inFlight_;
+    int finished_ = 0;
+    double busySeconds_ = 0;
+};
+
+}  // namespace
+
+OpenClEngine::OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices)
+    : impl_(std::make_unique<Impl>(scene, std::move(devices))) {
+    if (impl_->selection.empty()) throw DeviceError("no OpenCL device selected; see ray --list-devices");
+    for (const OpenClDevice& d : impl_->selection) {
+        auto slot = std::make_unique<DeviceSlot>();
+        slot->device = d;
+        impl_->slots.push_back(std::move(slot));
+    }
+}
+
+OpenClEngine::~OpenClEngine() = default;
+
+const std::vector<OpenClDevice>& OpenClEngine::devices() const { return impl_->selection; }
+
+int OpenClEngine::devicesLeft() const {
+    int n = 0;
+    for (const auto& s : impl_->slots) n += s->dropped ? 0 : 1;
+    return n;
+}
+
+namespace {
+
+// Uploads the scene (when the device holds an older packing), sizes the output buffers,
+// builds (or reuses) the program for the frame's depth and binds the buffers.
+cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packVersion, const RenderSettings& settings,
+                          double& uploadSeconds, double& buildSeconds) {
+    const size_t pixels = size_t(settings.width) * size_t(settings.height);
+    if (slot.uploadedVersion != packVersion || slot.outputPixels != pixels)
+        checkDeviceLimits(slot.device, packed, pixels * sizeof(cl_float4));
+    if (!slot.context()) {
+        slot.context = cl::Context(slot.device.device);
+        slot.queue = cl::CommandQueue(slot.context, slot.device.device);
+    }
+    auto start = Clock::now();
+    if (slot.uploadedVersion != packVersion) {
+        slot.nodes = uploadBuffer(slot.context, packed.nodes);
+        slot.primitives = uploadBuffer(slot.context, packed.primitives);
+        slot.materials = uploadBuffer(slot.context, packed.materials);
+        slot.lights = uploadBuffer(slot.context, packed.lights);
+        slot.textures = uploadBuffer(slot.context, packed.textures);
+        slot.texels = uploadBuffer(slot.context, packed.texels);
+        slot.triangles = uploadBuffer(slot.context, packed.triangles);
+        slot.triangleShading = uploadBuffer(slot.context, packed.triangleShading);
+        slot.motions = uploadBuffer(slot.context, packed.motions);  // one placeholder when nothing moves
+        slot.uploadedVersion = packVersion;
+        uploadSeconds = secondsSince(start);
+    }
+    if (slot.outputPixels != pixels) {
+        // Host-allocatable: zero-copy reads on CPU devices (PoCL).
+        slot.colors = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_float4));
+        slot.counts = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_uint4));
+        slot.outputPixels = pixels;
+    }
+    auto found = slot.programs.find(settings.maxDepth);
+    if (found == slot.programs.end()) {
+        DeviceSlot::Program p;
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(settings.maxDepth));
+        p.kernel = cl::Kernel(p.program.program, "renderTile");
+        buildSeconds = p.program.buildSeconds;
+        found = slot.programs.emplace(settings.maxDepth, std::move(p)).first;
+    }
+    cl::Kernel& kernel = found->second.kernel;
+    const cl::Buffer* args[] = {&slot.nodes,  &slot.primitives, &slot.materials, &slot.lights,
+                                &slot.textures, &slot.texels,   &slot.colors,    &slot.counts,
+                                &slot.triangles, &slot.triangleShading, &slot.motions};
+    for (size_t i = 0; i < std::size(args); ++i) kernel.setArg(cl_uint(i + 1), *args[i]);
+    return kernel;
+}
+
+}  // namespace
+
+FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings& settings, const FrameOptions& options) {
+    Impl& e = *impl_;
+    FrameResult result;
+    FrameStats& stats = result.stats;
+    // Repack only when a setting that shapes the buffers changed.
+    const int gridSide = areaLightGridSide(settings);
+    const bool trilinear = settings.textureFilter == TextureFilter::Trilinear;
+    if (!e.packed_ || gridSide != e.packedGridSide || trilinear != e.packedTrilinear) {
+        auto start = Clock::now();
+        e.packed = packScene(e.scene, settings);
+        stats.packSeconds = secondsSince(start);
+        stats.bvhBuildSeconds = e.packed.bvhBuildSeconds;
+        e.packed_ = true;
+        e.packedGridSide = gridSide;
+        e.packedTrilinear = trilinear;
+        ++e.packVersion;
+    }
+    const gpu::RayRenderParams params = makeRenderParams(camera, e.scene.globals, settings, e.packed);
+
+    result.image = Image(settings.width, settings.height);
+    const int side = std::max(8, options.tileSize > 0 ? options.tileSize : 128);
+    GridTiles grid(settings.width, settings.height, side);
+    Frame frame;
+    frame.options = &options;
+    frame.source = options.tiles ? options.tiles : &grid;
+    frame.image = &result.image;
+    frame.stats = &stats;
+    frame.pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
+    stats.devices.resize(e.slots.size());
+    // The index too: two devices of one kind have the same name.
+    for (size_t i = 0; i < e.slots.size(); ++i)
+        stats.devices[i].device = std::to_string(e.slots[i]->device.index) + ": " + e.slots[i]->device.description();
+
+    std::vector<std::string> failures(e.slots.size());
+    std::vector<double> uploads(e.slots.size(), 0), builds(e.slots.size(), 0);
+    for (const auto& slot : e.slots) frame.devicesLeft += slot->dropped ? 0 : 1;
+    frame.preparing = frame.devicesLeft;
+    auto renderStart = Clock::now();
+    std::vector<std::thread> threads;
+    for (size_t i = 0; i < e.slots.size(); ++i) {
+        DeviceSlot& slot = *e.slots[i];
+        if (slot.dropped) continue;
+        threads.emplace_back([&, i] {
+            DeviceSlot& s = *e.slots[i];
+            DeviceWorker worker(frame, s, int(i), params);
+            try {
+                try {
+                    cl::Kernel* kernel = nullptr;
+                    try {
+                        kernel = &prepareDevice(s, e.packed, e.packVersion, settings, uploads[i], builds[i]);
+                    } catch (...) {
+                        frame.deviceReady();
+                        throw;
+                    }
+                    frame.deviceReady();
+                    frame.waitForEveryDevice();
+                    worker.run(*kernel);
+                } catch (const cl::Error& err) {
+                    throw describeClError(s.device, err);
+                }
+            } catch (const std::exception& err) {
+                worker.abandonTiles();
+                std::lock_guard lock(frame.mutex);
+                failures[i] = err.what();
+                s.dropped = true;
+                stats.devices[i].failed = true;
+                stats.devices[i].failure = err.what();
+                --frame.devicesLeft;
+                frame.changed.notify_all();
+            }
+        });
+    }
+    for (std::thread& t : threads) t.join();
+    stats.renderSeconds = secondsSince(renderStart);
+    stats.uploadSeconds = *std::max_element(uploads.begin(), uploads.end());
+    stats.kernelBuildSeconds = *std::max_element(builds.begin(), builds.end());
+    stats.tiles = frame.done;
+    result.cancelled = frame.cancelled();
+
+    std::string allFailures;
+    for (size_t i = 0; i < failures.size(); ++i) {
+        if (failures[i].empty()) continue;
+        stats.warnings.push_back("device " + std::to_string(e.slots[i]->device.index) + " (" + e.slots[i]->device.description() + ")" + " dropped: " + failures[i]);
+        allFailures += (allFailures.empty() ? "" : "; ") + failures[i];
+    }
+    if (frame.devicesLeft == 0) {
+        // One device: its own message, as it always was.
+        if (e.slots.size() == 1) throw DeviceError(allFailures);
+        throw DeviceError("every OpenCL device failed: " + allFailures);
+    }
+    if (!result.cancelled && !frame.allDone())
+        throw DeviceError("the frame ended with tiles unrendered");  // a scheduler bug, never silent
+    return result;
+}
+
+}  // namespace ray

@@ -1,0 +1,122 @@
+// The persistent OpenCL engine: one Scene, packed once and uploaded once to each device of
+// a selection, then rendered frame after frame, every device of the selection cooperating
+// on each frame.
+//
+// Per frame: a camera and RenderSettings. The packed buffers (BVH, primitives, materials,
+// lights, textures, meshes, motions) depend only on the scene and on two settings that
+// shape them (the area lights' sample grid and trilinear mipmaps): they are packed and
+// uploaded on the first frame and again only when one of those two changes. The kernel is
+// built per device for each maximum depth (a build option) and kept. Everything else (the
+// camera, image size, antialiasing, features, seed, shutter) is the kernel's per-launch
+// parameter block and costs nothing to change.
+//
+// Scheduling: one host thread per device, each with its own context, queue, program and
+// buffers. Tiles come from one shared queue; each device keeps a few in flight. When the
+// queue is empty, an idle device renders again a tile still pending on another; the first
+// result wins and the duplicate is dropped. Every pixel is a pure function of its
+// coordinates and the seed, so the image does not depend on which device rendered a tile.
+// A device that fails has its tiles put back in the queue and is dropped with a warning
+// naming it; the frame fails (DeviceError) only when no device is left.
+//
+// Test hook: RAY_TEST_FAIL_DEVICE="k:n" makes device k of the selection (0-based) fail
+// after it has finished n tiles of a frame, as a lost device would.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+#include "opencl/opencl_device.h"
+#include "render/render_settings.h"
+#include "render/render_stats.h"
+#include "scene/scene.h"
+
+namespace ray {
+
+// A rectangle of the image, in pixels: columns x..x+width-1, rows y..y+height-1.
+struct TileRect {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+
+// Where a frame's tiles come from. The engine's own source cuts the image into a grid;
+// a distributed render hands tiles out from another process. Called from several device
+// threads at once: implementations are thread-safe. next() blocks until a tile is
+// available and returns false when there are no more for this frame.
+class TileSource {
+public:
+    virtual ~TileSource() = default;
+    virtual bool next(TileRect& tile) = 0;
+};
+
+// One finished tile: its rectangle, its linear RGB (3 floats a pixel, row by row, width x
+// height), and its rays by kind.
+struct FinishedTile {
+    TileRect rect;
+    const float* rgb = nullptr;
+    uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
+    int device = 0;  // position of the device in the engine's selection
+};
+
+struct FrameOptions {
+    // Side of the square tiles; 0 picks 128 (short launches keep GPU watchdogs quiet and
+    // let progress move).
+    int tileSize = 0;
+    // Work-group side: PoCL left alone picks groups of one work-item; 8x8 suits CPUs and GPUs.
+    int workGroupSize = 8;
+    // Called with the fraction of the frame done, from device threads, one call at a time.
+    std::function<void(double)> progress;
+    // Called for each tile as it is kept (duplicates are dropped before), one call at a
+    // time, from device threads: for progressive display and distributed renders.
+    std::function<void(const FinishedTile&)> onTile;
+    // Set to true to stop early: no more tiles are launched, the ones queued finish, and
+    // the image comes back with the tiles never rendered black.
+    const std::atomic<bool>* cancel = nullptr;
+    // Where the tiles come from; null: every tile of the image, cut by tileSize.
+    TileSource* tiles = nullptr;
+};
+
+struct FrameStats {
+    uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
+    double packSeconds = 0;    // packing and BVH build: 0 unless the frame (re)packed
+    double bvhBuildSeconds = 0;
+    double uploadSeconds = 0;  // slowest device's upload: 0 unless the frame uploaded
+    double kernelBuildSeconds = 0;  // slowest device's build: 0 when every program was kept
+    double renderSeconds = 0;
+    int tiles = 0, duplicatesDropped = 0;
+    std::vector<DeviceStats> devices;
+    std::vector<std::string> warnings;  // one per device dropped
+};
+
+struct FrameResult {
+    Image image;
+    FrameStats stats;
+    bool cancelled = false;
+};
+
+class OpenClEngine {
+public:
+    // Keeps a reference to the scene, which must outlive the engine. Nothing is packed,
+    // built or uploaded until the first frame. Throws DeviceError for an empty selection.
+    OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices);
+    ~OpenClEngine();
+    OpenClEngine(const OpenClEngine&) = delete;
+    OpenClEngine& operator=(const OpenClEngine&) = delete;
+
+    // Renders one frame from the camera with the settings. Devices dropped in a frame
+    // stay dropped. Throws DeviceError when no device is left (or the scene does not fit
+    // any), InputError for bad settings.
+    FrameResult renderFrame(const Camera& camera, const RenderSettings& settings, const FrameOptions& options = {});
+
+    const std::vector<OpenClDevice>& devices() const;
+    int devicesLeft() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ray

@@ -1,0 +1,114 @@
+// Rendering a Scene with ray's public API: choose devices once, render many frames.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ray/errors.h"
+#include "ray/scene.h"
+
+namespace ray::api {
+
+enum class Antialias { Off, Course, Stratified, Adaptive };
+enum class TextureFilter { Nearest, Bilinear, Trilinear };
+
+// What to render: the same switches as the command line (see README "Using it").
+struct Settings {
+    int width = 1024, height = 768;
+    int depth = 4;                          // bounces after the camera ray
+    Antialias antialias = Antialias::Course;
+    int samples = 16;                       // Stratified / Adaptive
+    uint32_t seed = 0;
+    int areaSamples = 16;
+    double shutter = 1;                     // motion blur: fraction of the motion
+    double threshold = 1.0 / 256.0;         // weight below which a branch stops
+    bool shadows = true, reflections = true, refraction = true, textures = true, depthOfField = true;
+    TextureFilter textureFilter = TextureFilter::Nearest;
+};
+
+// An OpenCL device, as `ray --list-devices` numbers them.
+struct Device {
+    int index = 0;
+    std::string name, platform;
+    bool gpu = false, cpu = false;
+};
+
+// Every OpenCL device of every platform (empty without an OpenCL platform).
+std::vector<Device> listDevices();
+
+// What one frame did.
+struct FrameStats {
+    std::string device;                     // the device(s) used
+    uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
+    double packSeconds = 0;                 // packing the scene (0 when an earlier frame's is kept)
+    double bvhBuildSeconds = 0;             // building the BVH (part of packing)
+    double uploadSeconds = 0;               // uploading it to the devices (0 when kept)
+    double kernelBuildSeconds = 0;          // compiling (or loading the cached) kernel
+    double renderSeconds = 0;
+    bool cancelled = false;                 // stopped early: unrendered pixels are black
+};
+
+// Called now and then with the fraction of the frame done, from a worker thread.
+using ProgressCallback = std::function<void(double fraction)>;
+
+// A finished tile: its rectangle and its pixels (width × height RGB floats, row by row).
+struct Tile {
+    int x = 0, y = 0, width = 0, height = 0;
+    const float* rgb = nullptr;
+};
+// Called once for each finished tile, one call at a time, from a worker thread (for a
+// progressive display). The reference renderer ("ref") has no tiles: it calls it once,
+// with the whole frame, at the end.
+using TileCallback = std::function<void(const Tile& tile)>;
+
+// Renders one scene on one device selection, frame after frame.
+//
+// devices: "auto" (a GPU, else an OpenCL CPU device), "cpu", "gpu", "all", an index from
+// listDevices(), a list of indices ("0,2": the devices share each frame), or "ref", the
+// double-precision host reference renderer (no OpenCL needed). The Renderer keeps its own
+// copy of the scene. On OpenCL devices the scene is packed and uploaded on the first frame
+// and kept: later frames with another camera or settings cost only their rendering
+// (FrameStats::packSeconds and uploadSeconds are 0), except when the area-light samples or
+// the trilinear filter change, which reshape the packed tables. Not safe to use from two
+// threads at once.
+class Renderer {
+public:
+    // Throws DeviceError when the selection names no device, InputError for a bad name.
+    explicit Renderer(const Scene& scene, const std::string& devices = "auto");
+    ~Renderer();
+    Renderer(Renderer&&) noexcept;
+    Renderer& operator=(Renderer&&) noexcept;
+
+    void setCamera(const Camera& camera);
+    Camera camera() const;
+    // Throws InputError for values out of range (sizes 1..16384, depth 0..64, ...).
+    void setSettings(const Settings& settings);
+    const Settings& settings() const;
+
+    // Renders into the caller's buffer of width × height × 3 floats (RGB, row 0 at the
+    // top, linear, unclamped). cancel (optional), set from any thread, stops the frame
+    // within about a second. Throws InputError when the buffer is too small, DeviceError.
+    FrameStats render(float* rgb, size_t floatCount, const ProgressCallback& progress = {},
+                      const std::atomic<bool>* cancel = nullptr, const TileCallback& onTile = {});
+    // The same into a new buffer.
+    std::vector<float> render(FrameStats* stats = nullptr);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Writes width × height × 3 floats as an image whose format follows the extension (png,
+// jpg, ppm, tif: 8-bit, clamped and truncated as the course does; exr, hdr: floats).
+// The file is replaced whole or not at all. Throws InputError, DeviceError.
+void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file);
+
+// The 8-bit value ray writes for a channel: floor(255 · clamp(c, 0, 1)), as in its PNGs.
+uint8_t toByte(float channel);
+
+}  // namespace ray::api

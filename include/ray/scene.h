@@ -1,0 +1,139 @@
+// A scene for ray's public API: loaded from a CS123 scenefile (a file or a string), or
+// built in code. Coordinates are world space, y up; colors are linear RGB in [0, 1].
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ray/errors.h"
+
+namespace ray::api {
+
+struct Vec3 {
+    double x = 0, y = 0, z = 0;
+};
+
+// The pinhole (or thin-lens) camera of SPEC §3.
+struct Camera {
+    Vec3 position{5, 5, 5};
+    Vec3 look{-1, -1, -1};            // the viewing direction (need not be unit length)
+    Vec3 up{0, 1, 0};
+    double heightAngleDegrees = 45;   // the full vertical field of view
+    double aperture = 0;              // the lens diameter; 0 is a pinhole
+    double focalLength = 0;           // the distance in focus (with aperture > 0)
+};
+
+enum class LightType { Point, Directional, Spot, Area };
+
+struct Light {
+    LightType type = LightType::Point;
+    Vec3 color{1, 1, 1};
+    Vec3 attenuation{1, 0, 0};        // c1, c2, c3 of 1/(c1 + c2·d + c3·d²)
+    Vec3 position{3, 3, 3};           // point, spot, area (its centre)
+    Vec3 direction{0, 0, -1};         // directional, spot, area
+    double angleDegrees = 45;         // spot: half-angle of the cone
+    double penumbraDegrees = 0;       // spot: width of the soft band inside the cone
+    double width = 1, height = 1;     // area: the rectangle
+};
+
+// A texture or bump map on a material: a handle from Scene::addTexture*, repeated
+// repeatU × repeatV times over the surface. texture < 0: none.
+struct TextureUse {
+    int texture = -1;
+    double repeatU = 1, repeatV = 1;
+};
+
+// The material of SPEC §1 (names as in <object type="primitive">).
+struct Material {
+    Vec3 diffuse{1, 1, 1}, ambient{0, 0, 0}, specular{0, 0, 0};
+    Vec3 reflective{0, 0, 0}, transparent{0, 0, 0}, emissive{0, 0, 0};
+    double shininess = 0;
+    double ior = 1;
+    double blend = 0;                 // the texture's weight against the diffuse color
+    TextureUse texture, bumpMap;
+};
+
+enum class Shape { Cube, Sphere, Cylinder, Cone, Torus, Mesh };
+
+// An affine object-to-world transform: a 3×4 row-major matrix (the last row of the 4×4
+// is 0 0 0 1). Compose with *: (a * b) applies b first, as nested transblocks do.
+struct Transform {
+    double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    static Transform translate(Vec3 t);
+    static Transform scale(Vec3 s);
+    static Transform rotate(Vec3 axis, double angleDegrees);
+};
+Transform operator*(const Transform& a, const Transform& b);
+
+// The global coefficients of SPEC §1 (<globaldata>).
+struct Globals {
+    double ka = 0.5, kd = 0.5, ks = 0.5, kt = 0.5;
+};
+
+class Scene;
+
+// How a scenefile is read.
+struct LoadOptions {
+    std::vector<std::filesystem::path> searchPaths;  // extra roots for textures and meshes
+    bool strict = false;                             // every warning becomes an InputError
+    bool loadTextures = true;                        // false: skip reading image files
+};
+
+struct LoadResult;
+
+// A scene: what a Renderer renders. Copyable (a copy is independent) and movable.
+class Scene {
+public:
+    Scene();  // empty: the default camera, no lights, no primitives
+    ~Scene();
+    Scene(const Scene&);
+    Scene& operator=(const Scene&);
+    Scene(Scene&&) noexcept;
+    Scene& operator=(Scene&&) noexcept;
+
+    // Reads a scenefile. Throws InputError ("file:line: error: ...").
+    static LoadResult load(const std::filesystem::path& file, const LoadOptions& options = {});
+    // Reads scenefile XML from a string; `name` stands for the file in messages and is
+    // the folder relative texture and mesh paths are found from.
+    static LoadResult fromString(const std::string& xml, const std::filesystem::path& name = "scene.xml",
+                                 const LoadOptions& options = {});
+
+    Camera camera() const;
+    void setCamera(const Camera& camera);
+    Globals globals() const;
+    void setGlobals(const Globals& globals);
+
+    void addLight(const Light& light);
+    // Returns the material's handle, for addPrimitive.
+    int addMaterial(const Material& material);
+    // A texture from an image file (png, jpg, ...). Throws InputError when unreadable.
+    int addTextureFromFile(const std::filesystem::path& file);
+    // A texture from memory: width × height RGB triples in [0, 1], row 0 at the top.
+    int addTextureFromPixels(int width, int height, const std::vector<float>& rgb);
+    // A triangle mesh: positions (x, y, z per vertex), triangles (three vertex indices
+    // each, counter-clockwise from the front), and optionally one normal and one (u, v)
+    // per vertex (empty: face normals, (0, 0)). Throws InputError for bad indices.
+    int addMesh(const std::vector<float>& positions, const std::vector<uint32_t>& triangles,
+                const std::vector<float>& normals = {}, const std::vector<float>& uvs = {});
+    // Places a primitive (the unit shapes of SPEC §2; Shape::Mesh needs `mesh` from addMesh).
+    void addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh = -1);
+
+    size_t primitiveCount() const;
+    size_t lightCount() const;
+
+    struct Impl;
+    const Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+struct LoadResult {
+    Scene scene;
+    std::vector<std::string> warnings;  // complete ("scene.xml:7: warning: ..."), in order
+};
+
+}  // namespace ray::api
