@@ -22,7 +22,10 @@ const std::map<std::string, std::string> kExpectedErrors = {
     {"PenroseTriangle.xml", "unknown primitive 'triangle'"},
 };
 
-void renderCorpus(const std::string& device) {
+// With `cooperative`, each scene is rendered a second time on `--device all` with two PoCL
+// devices (POCL_DEVICES="pthread pthread"), which must give the same outcome: the same exit
+// status, and the same image byte for byte.
+void renderCorpus(const std::string& device, bool cooperative = false) {
     auto shared = ray::test::sharedDir();
     if (!shared) {
         ray::test::skip("../shared/cs123 is absent");
@@ -43,10 +46,22 @@ void renderCorpus(const std::string& device) {
         const std::string name = scene.filename().string();
         const fs::path image = out / (scene.stem().string() + ".png");
         fs::remove(image);
-        ray::test::CommandResult r =
-            ray::test::runRay({scene.string(), "64", "48", "--device", device, "--quiet", "-o", image.string()}, 60);
+        const std::vector<std::string> twoDevices = {"POCL_DEVICES=pthread pthread"};
+        ray::test::CommandResult r = ray::test::runRay(
+            {scene.string(), "64", "48", "--device", device, "--quiet", "-o", image.string()}, 60,
+            cooperative ? twoDevices : std::vector<std::string>{});
         INFO(name << " (exit " << r.exitCode << ", " << r.seconds << " s):\n" << r.output);
         REQUIRE_FALSE(r.timedOut);
+        if (cooperative) {
+            const fs::path both = out / (scene.stem().string() + ".all.png");
+            fs::remove(both);
+            ray::test::CommandResult all = ray::test::runRay(
+                {scene.string(), "64", "48", "--device", "all", "--quiet", "-o", both.string()}, 60, twoDevices);
+            INFO("--device all (exit " << all.exitCode << "):\n" << all.output);
+            CHECK(all.exitCode == r.exitCode);
+            CHECK(fs::exists(both) == fs::exists(image));
+            if (fs::exists(both) && fs::exists(image)) CHECK(ray::test::readFileBytes(both) == ray::test::readFileBytes(image));
+        }
         if (r.seconds > slowest) slowest = r.seconds, slowestScene = name;
         auto expected = kExpectedErrors.find(name);
         if (expected != kExpectedErrors.end()) {
@@ -72,11 +87,12 @@ TEST_CASE("every course scene renders on the reference renderer or fails clearly
     renderCorpus("ref");
 }
 
-TEST_CASE("every course scene renders on the OpenCL CPU device or fails clearly", "[corpus][render][kernel]") {
+TEST_CASE("every course scene renders on the OpenCL CPU device or fails clearly, and on two devices alike",
+          "[corpus][render][kernel]") {
     ray::test::CommandResult probe = ray::test::runRay({"--list-devices"});
     if (probe.output.find("CPU,") == std::string::npos) {
         ray::test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
         return;
     }
-    renderCorpus("cpu");
+    renderCorpus("cpu", true);
 }

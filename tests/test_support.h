@@ -140,6 +140,12 @@ struct ReferenceCase {
     std::string options;  // ray's command-line options that match the course's settings
 };
 
+// A whole file's bytes (empty when it cannot be read), for byte-for-byte comparisons.
+inline std::vector<char> readFileBytes(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+}
+
 inline std::vector<ReferenceCase> readReferenceIndex(const std::filesystem::path& indexFile) {
     std::vector<ReferenceCase> cases;
     std::ifstream in(indexFile);

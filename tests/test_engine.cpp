@@ -1,0 +1,69 @@
+// The persistent engine (host/opencl/opencl_engine.h): one packing and upload for many
+// frames, each with its own camera and settings, tiles reported as they finish.
+#include <catch2/catch.hpp>
+
+#include <mutex>
+
+#include "opencl/opencl_engine.h"
+#include "opencl/opencl_renderer.h"
+#include "render/renderer.h"
+#include "scene/scene_loader.h"
+#include "kernel_comparison.h"
+#include "test_support.h"
+
+namespace {
+
+// A fresh one-frame render of the scene seen from `camera`.
+ray::Image renderFresh(const ray::OpenClDevice& device, ray::Scene scene, const ray::Camera& camera,
+                       const ray::RenderSettings& settings) {
+    scene.camera = camera;
+    return ray::renderOpenCl(device, scene, settings, {}, nullptr);
+}
+
+}  // namespace
+
+TEST_CASE("The engine packs and uploads once, and renders each frame as a fresh render would", "[engine][kernel]") {
+    auto device = ray::test::cpuDevice();
+    if (!device) return ray::test::skip("no OpenCL CPU device");
+    ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
+    ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 48, 40, 2);
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
+
+    std::mutex mutex;
+    size_t tilePixels = 0;
+    ray::FrameOptions options;
+    options.tileSize = 16;
+    options.onTile = [&](const ray::FinishedTile& t) {
+        std::lock_guard lock(mutex);
+        tilePixels += size_t(t.rect.width) * size_t(t.rect.height);
+    };
+    ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+    CHECK(first.stats.uploadSeconds > 0);
+    CHECK(tilePixels == 48u * 40u);  // every pixel reported once, through 3 x 3 tiles
+    CHECK(first.stats.tiles == 9);
+    CHECK(first.image.rgb == renderFresh(*device, scene, scene.camera, settings).rgb);
+
+    // Another camera and image size: nothing packed or uploaded again.
+    ray::Camera moved = scene.camera;
+    moved.position = moved.position + ray::Vec3{0.5, 0.25, 0};
+    ray::RenderSettings wider = settings;
+    wider.width = 56;
+    ray::FrameResult second = engine.renderFrame(moved, wider, options);
+    CHECK(second.stats.packSeconds == 0);
+    CHECK(second.stats.uploadSeconds == 0);
+    CHECK(second.image.rgb == renderFresh(*device, scene, moved, wider).rgb);
+    CHECK(second.image.rgb != first.image.rgb);
+}
+
+TEST_CASE("The engine drops a failing device and fails only when none is left", "[engine][kernel]") {
+    auto device = ray::test::cpuDevice();
+    if (!device) return ray::test::skip("no OpenCL CPU device");
+    ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
+    ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 32, 32, 2);
+    setenv("RAY_TEST_FAIL_DEVICE", "0:0", 1);
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
+    CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
+    unsetenv("RAY_TEST_FAIL_DEVICE");
+    CHECK(engine.devicesLeft() == 0);
+    CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
+}
