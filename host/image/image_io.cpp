@@ -1,4 +1,5 @@
 // Reading and writing images with OpenImageIO.
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
@@ -8,6 +9,7 @@
 #include <system_error>
 
 #include "image/image.h"
+#include "core/atomic_file.h"
 #include "core/memory_limits.h"
 
 namespace ray {
@@ -19,17 +21,6 @@ std::string lowerExtension(const fs::path& file) {
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
-}
-
-// A file beside the target, with the same extension so OpenImageIO picks the same format.
-fs::path temporarySibling(const fs::path& file) {
-    std::string name = ".";
-    name += file.stem().string();
-    name += ".tmp" + std::to_string(getpid());
-    name += file.extension().string();
-    fs::path tmp = file;
-    tmp.replace_filename(name);
-    return tmp;
 }
 
 // libpng allocates (and clears) a chunk's whole declared length before reading it, so a
@@ -103,39 +94,76 @@ bool canWriteImageFormat(const fs::path& file) {
     return !file.extension().empty() && OIIO::ImageOutput::create(file.string()) != nullptr;
 }
 
-void writeImage(const Image& image, const fs::path& file) {
-    if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
-    fs::path tmp = temporarySibling(file);
-    auto output = OIIO::ImageOutput::create(tmp.string());
+namespace {
+
+struct EncodedImage {
+    OIIO::ImageSpec spec;
+    OIIO::TypeDesc type;
+    std::vector<uint8_t> bytes;  // 8-bit formats: the quantized values
+    const void* data = nullptr;
+};
+
+// 8-bit formats get floor(255·clamp(c)) (SPEC §4); float formats the floats as they are.
+EncodedImage pixelsToWrite(const Image& image, const fs::path& file) {
+    EncodedImage e;
+    const bool floats = isFloatFormat(file);
+    e.type = floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+    e.spec = OIIO::ImageSpec(image.width, image.height, 3, e.type);
+    e.data = image.rgb.data();
+    if (!floats) {
+        e.bytes.resize(image.rgb.size());
+        for (size_t i = 0; i < e.bytes.size(); ++i) e.bytes[i] = uint8_t(quantize8(image.rgb[i]));
+        e.data = e.bytes.data();
+    }
+    return e;
+}
+
+std::unique_ptr<OIIO::ImageOutput> createOutput(const fs::path& file) {
+    auto output = OIIO::ImageOutput::create(file.string());
     if (!output)
         throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
                          kOutputFormatAdvice);
+    return output;
+}
 
-    const bool floats = isFloatFormat(file);
-    OIIO::ImageSpec spec(image.width, image.height, 3, floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    std::vector<uint8_t> bytes;
-    const void* data = image.rgb.data();
-    if (!floats) {
-        bytes.resize(image.rgb.size());
-        for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(quantize8(image.rgb[i]));
-        data = bytes.data();
-    }
-    bool ok = output->open(tmp.string(), spec) &&
-              output->write_image(floats ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8, data) &&
-              output->close();
-    if (!ok) {
-        std::string why = output->geterror();
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw ImageError(file.string() + ": cannot write image: " + why);
-    }
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw ImageError(file.string() + ": cannot write image: " + ec.message());
-    }
+void encode(OIIO::ImageOutput& output, const std::string& name, const EncodedImage& e, const fs::path& file) {
+    if (!(output.open(name, e.spec) && output.write_image(e.type, e.data) && output.close()))
+        throw ImageError(file.string() + ": cannot encode image: " + output.geterror());
+}
+
+// Encodes into memory, so every byte that reaches the disk goes through the checked writes
+// of writeFileAtomically: OpenImageIO's file writers do not all report a failed fwrite (a
+// full disk once left a truncated PNG and "wrote out.png").
+void writeThroughMemory(OIIO::ImageOutput& output, const EncodedImage& e, const fs::path& file) {
+    std::vector<unsigned char> buffer;
+    OIIO::Filesystem::IOVecOutput proxy(buffer);
+    output.set_ioproxy(&proxy);
+    encode(output, file.string(), e, file);
+    writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
+}
+
+// For a format whose writer cannot write to memory: it writes the temporary file, which is
+// then decoded again, so a write the encoder did not notice failing cannot pass.
+void writeThroughTemporaryPath(const EncodedImage& e, const fs::path& file) {
+    writeFileAtomicallyVia(file, [&](const fs::path& tmp) {
+        auto output = createOutput(file);
+        encode(*output, tmp.string(), e, file);
+        auto check = OIIO::ImageInput::open(tmp.string());
+        std::vector<float> pixels(size_t(e.spec.width) * size_t(e.spec.height) * 3);
+        if (!check || !check->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()))
+            throw ImageError(file.string() + ": cannot write image: the written file does not decode (" +
+                             (check ? check->geterror() : OIIO::geterror()) + "); is the disk full?");
+    });
+}
+
+}  // namespace
+
+void writeImage(const Image& image, const fs::path& file) {
+    if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
+    auto output = createOutput(file);
+    const EncodedImage e = pixelsToWrite(image, file);
+    if (output->supports("ioproxy")) writeThroughMemory(*output, e, file);
+    else writeThroughTemporaryPath(e, file);
 }
 
 }  // namespace ray
