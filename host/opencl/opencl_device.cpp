@@ -219,6 +219,7 @@ std::vector<OpenClDevice> enumerateDevices(std::string& failure) {
             devices.push_back(std::move(d));
         }
     }
+    if (devices.empty() && failure.empty()) failure = "its platforms list no device";
     return devices;
 }
 
