@@ -993,6 +993,10 @@ Scene loadSceneFromText(const std::string& xml, const fs::path& file, const Load
 }
 
 Scene loadScene(const fs::path& file, const LoadOptions& options) {
+    std::error_code ec;
+    if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
+        throw InputError(file.string() + ": error: this is a folder, not a scene file; give the path of a .xml "
+                                         "scene file (e.g. " + (file / "scene.xml").string() + ")");
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
