@@ -51,7 +51,20 @@ void checkPngChunkLengths(const fs::path& file) {
 
 }  // namespace
 
+// Only regular files are read: opening a FIFO blocks until someone writes to it, and a
+// device such as /dev/zero never ends.
+static void checkRegularFile(const fs::path& file) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(file, ec);
+    if (ec) throw ImageError(file.string() + ": cannot read image: " + ec.message());
+    if (!fs::is_regular_file(status))
+        throw ImageError(file.string() + ": cannot read image: not a regular file (" +
+                         (fs::is_fifo(status) ? "a FIFO" : fs::is_directory(status) ? "a folder" : "a device or socket") +
+                         "); give an image file");
+}
+
 Image readImage(const fs::path& file) {
+    checkRegularFile(file);
     checkPngChunkLengths(file);
     auto input = OIIO::ImageInput::open(file.string());
     if (!input) throw ImageError(file.string() + ": cannot read image: " + OIIO::geterror());
