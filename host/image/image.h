@@ -54,8 +54,9 @@ extern const char* const kOutputFormatAdvice;
 
 // Writes the image in the format its extension names. 8-bit formats get colors clamped to
 // [0, 1] and truncated, floor(255·c), without gamma (SPEC §4); float formats keep the
-// values as they are. The image goes to a temporary file beside the target that is then
-// renamed over it, so an existing file is never left half-written. Throws ImageError.
+// values as they are. Written atomically (core/atomic_file.h): an existing file is never
+// left half-written. Throws ImageError (cannot encode) or FileWriteError (the disk: full,
+// unwritable folder), whose message names the path and the system's reason.
 void writeImage(const Image& image, const std::filesystem::path& file);
 
 // The 8-bit value SPEC §4 writes for a color channel: floor(255·clamp(c, 0, 1)).

@@ -1,5 +1,6 @@
 // Reading and writing images: PNG and JPEG through libpng and libjpeg (png_codec.h says
 // why), every other format through OpenImageIO, loaded only when needed (oiio_module.h).
+// Every write goes through core/atomic_file.h: checked writes, fsync, rename.
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <system_error>
 
 #include "image/image.h"
+#include "core/atomic_file.h"
 #include "image/jpeg_codec.h"
 #include "image/oiio_module.h"
 #include "image/png_codec.h"
@@ -21,17 +23,6 @@ std::string lowerExtension(const fs::path& file) {
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
-}
-
-// A file beside the target, with the same extension so OpenImageIO picks the same format.
-fs::path temporarySibling(const fs::path& file) {
-    std::string name = ".";
-    name += file.stem().string();
-    name += ".tmp" + std::to_string(getpid());
-    name += file.extension().string();
-    fs::path tmp = file;
-    tmp.replace_filename(name);
-    return tmp;
 }
 
 // libpng allocates (and clears) a chunk's whole declared length before reading it, so a
@@ -62,7 +53,20 @@ void checkPngChunkLengths(const fs::path& file) {
 
 }  // namespace
 
+// Only regular files are read: opening a FIFO blocks until someone writes to it, and a
+// device such as /dev/zero never ends.
+static void checkRegularFile(const fs::path& file) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(file, ec);
+    if (ec) throw ImageError(file.string() + ": cannot read image: " + ec.message());
+    if (!fs::is_regular_file(status))
+        throw ImageError(file.string() + ": cannot read image: not a regular file (" +
+                         (fs::is_fifo(status) ? "a FIFO" : fs::is_directory(status) ? "a folder" : "a device or socket") +
+                         "); give an image file");
+}
+
 Image readImage(const fs::path& file) {
+    checkRegularFile(file);
     checkPngChunkLengths(file);
     // By content, not by extension: a texture named .png may hold a JPEG.
     if (hasPngSignature(file)) return readPng(file);
@@ -84,29 +88,9 @@ bool canWriteImageFormat(const fs::path& file) {
 
 namespace {
 
-// Writes the file's bytes to a temporary sibling and renames it over the target.
-void writeBytesReplacing(const fs::path& file, const std::vector<uint8_t>& bytes) {
-    fs::path tmp = temporarySibling(file);
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-        out.close();
-        if (!out) {
-            std::error_code ignored;
-            fs::remove(tmp, ignored);
-            throw ImageError(file.string() + ": cannot write image");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw ImageError(file.string() + ": cannot write image: " + ec.message());
-    }
-}
-
-// Any format but PNG: OpenImageIO writes a temporary sibling, renamed over the target.
+// Any format but PNG, through OpenImageIO's module: it writes the temporary file itself, which
+// is then decoded again before the rename, so a write the encoder did not notice failing
+// (a full disk once left a truncated image and "wrote out.png") cannot pass.
 void writeWithOiio(const Image& image, const fs::path& file) {
     if (!oiioCanWrite(file))
         throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
@@ -119,31 +103,29 @@ void writeWithOiio(const Image& image, const fs::path& file) {
         for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(quantize8(image.rgb[i]));
         data = bytes.data();
     }
-    fs::path tmp = temporarySibling(file);
-    try {
+    writeFileAtomicallyVia(file, [&](const fs::path& tmp) {
         writeImageWithOiio(tmp, file, image.width, image.height, floats, data);
-    } catch (...) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw;
-    }
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw ImageError(file.string() + ": cannot write image: " + ec.message());
-    }
+        try {
+            const Image check = readImageWithOiio(tmp);
+            if (check.width != image.width || check.height != image.height) throw ImageError("wrong size");
+        } catch (const ImageError& e) {
+            throw ImageError(file.string() + ": cannot write image: the written file does not decode (" + e.what() +
+                             "); is the disk full?");
+        }
+    });
 }
 
 }  // namespace
 
 void writeImage(const Image& image, const fs::path& file) {
     if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
-    if (lowerExtension(file) == ".png")
-        writeBytesReplacing(file, encodePng(image));
-    else
+    if (lowerExtension(file) == ".png") {
+        // Encoded in memory by libpng, so every byte reaches the disk through checked writes.
+        const std::vector<uint8_t> png = encodePng(image);
+        writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+    } else {
         writeWithOiio(image, file);
+    }
 }
 
 }  // namespace ray

@@ -1,7 +1,7 @@
 #include "opencl/opencl_device.h"
 
 #include <sstream>
-#include <thread>
+#include <sys/stat.h>
 
 #include <unistd.h>
 
@@ -13,6 +13,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "opencl/kernel_source.h"
 #include "render/renderer.h"
 
@@ -21,9 +22,36 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kNoPlatformAdvice =
-    "no OpenCL platform found. Install one: PoCL for this CPU (Debian: apt-get install pocl-opencl-icd) or "
-    "your GPU vendor's OpenCL driver; or render with the host reference renderer: --device ref";
+constexpr const char* kNoPlatformInstalled =
+    "no OpenCL platform is installed (no ICD file in /etc/OpenCL/vendors or $OCL_ICD_VENDORS). Install one: PoCL "
+    "for this CPU (Debian: apt-get install pocl-opencl-icd) or your GPU vendor's OpenCL driver; or render with the "
+    "host reference renderer: --device ref";
+
+// ICD files tell the loader which platforms are installed: $OCL_ICD_VENDORS (a folder or
+// one file) when set, else /etc/OpenCL/vendors/*.icd.
+std::vector<std::string> installedIcdFiles() {
+    fs::path where = "/etc/OpenCL/vendors";
+    if (const char* env = std::getenv("OCL_ICD_VENDORS"); env && *env) where = env;
+    std::error_code ec;
+    if (fs::is_regular_file(where, ec)) return {where.string()};
+    std::vector<std::string> files;
+    for (fs::directory_iterator it(where, ec), end; !ec && it != end; it.increment(ec))
+        if (it->path().extension() == ".icd") files.push_back(it->path().filename().string());
+    return files;
+}
+
+// Why no device could be enumerated, for the message: not installed, or installed but
+// failing to start (with the OpenCL error, and PoCL's own words above it on stderr).
+std::string noDeviceMessage(const std::string& failure) {
+    std::vector<std::string> icds = installedIcdFiles();
+    if (icds.empty()) return kNoPlatformInstalled;
+    std::string names;
+    for (const std::string& icd : icds) names += (names.empty() ? "" : ", ") + icd;
+    return "an OpenCL platform is installed (" + names + ") but failed to start" +
+           (failure.empty() ? std::string() : ": " + failure) +
+           ". PoCL fails so when it cannot create its cache folder: set POCL_CACHE_DIR to a writable folder; or "
+           "render with the host reference renderer: --device ref";
+}
 
 std::string typeName(const OpenClDevice& d) {
     if (d.isGpu) return "GPU";
@@ -45,6 +73,42 @@ fs::path cacheDirectory() {
     return {};
 }
 
+// A folder of our own that this user can write, created if needed: `preferred`, else
+// /tmp/ray-<uid>/<leaf> (0700, owned by us and not a link, so no other user can plant files
+// in it). Empty when neither works.
+fs::path writablePrivateFolder(const fs::path& preferred, const std::string& leaf) {
+    std::error_code ec;
+    if (!preferred.empty()) {
+        fs::create_directories(preferred, ec);
+        if (!ec && ::access(preferred.c_str(), W_OK | X_OK) == 0) return preferred;
+    }
+    fs::path base = fs::temp_directory_path(ec);
+    if (ec) base = "/tmp";
+    fs::path own = base / ("ray-" + std::to_string(::getuid()));
+    ::mkdir(own.c_str(), 0700);
+    struct stat st {};
+    if (::lstat(own.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::getuid() || (st.st_mode & 077))
+        return {};
+    fs::path folder = own / leaf;
+    fs::create_directories(folder, ec);
+    return ec ? fs::path() : folder;
+}
+
+// PoCL keeps its compiled kernels under $POCL_CACHE_DIR, else $XDG_CACHE_HOME or ~/.cache,
+// and refuses to start when it cannot create that folder (a user whose home is missing,
+// e.g. nobody, in CI sandboxes). When the variable is unset it is pointed at a folder of
+// ours before the first OpenCL call; the ICD loader starts PoCL in that call.
+void preparePoclCacheFolder() {
+    static const bool done = [] {
+        if (const char* set = std::getenv("POCL_CACHE_DIR"); set && *set) return true;
+        fs::path ours = cacheDirectory();
+        fs::path folder = writablePrivateFolder(ours.empty() ? ours : ours / "pocl", "pocl");
+        if (!folder.empty()) ::setenv("POCL_CACHE_DIR", folder.c_str(), 0);
+        return true;
+    }();
+    (void)done;
+}
+
 fs::path cacheFileFor(const OpenClDevice& device, const std::string& source, const std::string& options) {
     fs::path dir = cacheDirectory();
     if (dir.empty()) return {};
@@ -61,23 +125,14 @@ std::vector<unsigned char> readFile(const fs::path& file) {
     return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {});
 }
 
-void writeFileAtomically(const fs::path& file, const std::vector<unsigned char>& bytes) {
+// The kernel cache is best effort: a binary that cannot be saved is compiled again next time.
+void saveCachedBinary(const fs::path& file, const std::vector<unsigned char>& bytes) {
     std::error_code ec;
     fs::create_directories(file.parent_path(), ec);
-    fs::path tmp = file;
-    // Unique per process and thread: the engine builds on several devices at once, and
-    // two devices of one kind write the same cache entry.
-    tmp += ".tmp" + std::to_string(getpid()) + "." + std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-        if (!out) {
-            fs::remove(tmp, ec);
-            return;
-        }
+    try {
+        writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    } catch (const FileWriteError&) {
     }
-    fs::rename(tmp, file, ec);
-    if (ec) fs::remove(tmp, ec);
 }
 
 std::string buildLog(const cl::Program& program, const cl::Device& device) {
@@ -124,19 +179,28 @@ std::string openClErrorName(cl_int code) {
     }
 }
 
-std::vector<OpenClDevice> enumerateOpenClDevices() {
+namespace {
+
+// Every device of every platform; `failure` says why when a platform or the loader failed.
+std::vector<OpenClDevice> enumerateDevices(std::string& failure) {
+    preparePoclCacheFolder();
     std::vector<cl::Platform> platforms;
     try {
         cl::Platform::get(&platforms);
-    } catch (const cl::Error&) {
-        return {};  // the ICD loader found no platform (CL_PLATFORM_NOT_FOUND_KHR)
+    } catch (const cl::Error& e) {
+        // CL_PLATFORM_NOT_FOUND_KHR: no ICD file, or every platform failed to initialise.
+        failure = std::string(e.what()) + " returned " + openClErrorName(e.err());
+        return {};
     }
+    if (platforms.empty()) failure = "the OpenCL loader got no platform from it (clGetPlatformIDs)";
     std::vector<OpenClDevice> devices;
     for (const cl::Platform& platform : platforms) {
         std::vector<cl::Device> platformDevices;
         try {
             platform.getDevices(CL_DEVICE_TYPE_ALL, &platformDevices);
-        } catch (const cl::Error&) {
+        } catch (const cl::Error& e) {
+            failure = "listing the devices of " + platform.getInfo<CL_PLATFORM_NAME>() + " returned " +
+                      openClErrorName(e.err());
             continue;  // a platform with no usable device
         }
         for (const cl::Device& device : platformDevices) {
@@ -157,12 +221,21 @@ std::vector<OpenClDevice> enumerateOpenClDevices() {
             devices.push_back(std::move(d));
         }
     }
+    if (devices.empty() && failure.empty()) failure = "its platforms list no device";
     return devices;
 }
 
+}  // namespace
+
+std::vector<OpenClDevice> enumerateOpenClDevices() {
+    std::string ignored;
+    return enumerateDevices(ignored);
+}
+
 std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
-    std::vector<OpenClDevice> all = enumerateOpenClDevices();
-    if (all.empty()) throw DeviceError(kNoPlatformAdvice);
+    std::string failure;
+    std::vector<OpenClDevice> all = enumerateDevices(failure);
+    if (all.empty()) throw DeviceError(noDeviceMessage(failure));
     auto ofType = [&](bool gpu) {
         std::vector<OpenClDevice> chosen;
         for (const OpenClDevice& d : all)
@@ -202,9 +275,10 @@ std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
 }
 
 void printOpenClDevices(std::ostream& out) {
-    std::vector<OpenClDevice> devices = enumerateOpenClDevices();
+    std::string failure;
+    std::vector<OpenClDevice> devices = enumerateDevices(failure);
     if (devices.empty()) {
-        out << kNoPlatformAdvice << "\n";
+        out << noDeviceMessage(failure) << "\n";
         return;
     }
     for (const OpenClDevice& d : devices) {
@@ -242,7 +316,7 @@ KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& 
         if (!cacheFile.empty()) {
             try {
                 auto binaries = result.program.getInfo<CL_PROGRAM_BINARIES>();
-                if (!binaries.empty() && !binaries.front().empty()) writeFileAtomically(cacheFile, binaries.front());
+                if (!binaries.empty() && !binaries.front().empty()) saveCachedBinary(cacheFile, binaries.front());
             } catch (const cl::Error&) {
                 // Caching is an optimization; a device that cannot hand out binaries is fine.
             }

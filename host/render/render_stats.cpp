@@ -1,5 +1,7 @@
 #include "render/render_stats.h"
 
+#include "core/atomic_file.h"
+
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <fstream>
@@ -72,19 +74,7 @@ std::string statsToJson(const RenderStats& s) {
 }
 
 void writeStatsJson(const RenderStats& stats, const std::filesystem::path& file) {
-    std::filesystem::path tmp = file;
-    tmp += ".tmp" + std::to_string(getpid());
-    {
-        std::ofstream out(tmp);
-        out << statsToJson(stats);
-        if (!out) throw std::runtime_error(file.string() + ": cannot write statistics");
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(file.string() + ": cannot write statistics: " + ec.message());
-    }
+    writeFileAtomically(file, statsToJson(stats));
 }
 
 }  // namespace ray

@@ -38,7 +38,7 @@ struct RenderStats {
 
 void printStats(const RenderStats& stats, std::ostream& out);
 std::string statsToJson(const RenderStats& stats);
-// Written to a temporary file and renamed. Throws std::runtime_error.
+// Written atomically (core/atomic_file.h). Throws FileWriteError (a std::runtime_error).
 void writeStatsJson(const RenderStats& stats, const std::filesystem::path& file);
 
 }  // namespace ray

@@ -1,6 +1,8 @@
 #include "scene/mesh.h"
 
 #include <optional>
+#include <regex>
+#include <sstream>
 
 #include <tiny_obj_loader.h>
 
@@ -10,10 +12,25 @@ namespace ray {
 
 namespace {
 
+// tinyobjloader's error text: one or more lines such as "Failed parse `f' line(e.g. zero
+// value for face index. line 2.)". Each becomes "file:line: error: ...", the form of the
+// scene loader's messages, so no line of it is left without its file.
+std::string describeObjErrors(const std::string& errors, const std::string& name) {
+    static const std::regex lineNumber(R"(line (\d+)\.?\)?\s*$)");
+    std::istringstream lines(errors);
+    std::string out, line;
+    while (std::getline(lines, line)) {
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        std::smatch m;
+        const std::string where = std::regex_search(line, m, lineNumber) ? name + ":" + m[1].str() : name;
+        out += (out.empty() ? "" : "\n") + where + ": error: cannot read the OBJ file: " + line;
+    }
+    if (out.empty()) out = name + ": error: cannot read the OBJ file";
+    return out + "\n(check that " + name + " is a Wavefront OBJ file)";
+}
+
 TriangleMesh fromReader(const tinyobj::ObjReader& reader, const std::string& name) {
-    if (!reader.Valid())
-        throw InputError(name + ": error: cannot read the OBJ file: " + reader.Error() +
-                         "; check that it is a Wavefront OBJ file");
+    if (!reader.Valid()) throw InputError(describeObjErrors(reader.Error(), name));
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     TriangleMesh mesh;
     mesh.positions.reserve(attrib.vertices.size() / 3);

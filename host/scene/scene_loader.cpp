@@ -705,9 +705,27 @@ private:
         std::vector<fs::path> tried;
         known->second = search_.resolve(reference, &tried);
         if (known->second) return ImageReference{*known->second, element.GetLineNum()};
+        if (auto special = firstNonRegular(tried)) {
+            diagnostics_.warning(element.GetLineNum(), std::string(what) + " file " + special->string() +
+                                                           " is not a regular file (a FIFO, device or folder: reading "
+                                                           "it could block or never end); it is not read, and the "
+                                                           "surface keeps its material colors");
+            return std::nullopt;
+        }
         diagnostics_.warning(element.GetLineNum(), std::string(what) + " file '" + reference + "' not found (" +
                                                        whereLooked(reference, tried) +
                                                        "); the surface keeps its material colors");
+        return std::nullopt;
+    }
+
+    // The search takes only regular files; one it passed over that exists (a FIFO,
+    // /dev/zero) deserves its own message rather than "not found".
+    static std::optional<fs::path> firstNonRegular(const std::vector<fs::path>& tried) {
+        for (const fs::path& path : tried) {
+            std::error_code ec;
+            const fs::file_status status = fs::status(path, ec);
+            if (!ec && fs::exists(status) && !fs::is_regular_file(status)) return path;
+        }
         return std::nullopt;
     }
 
@@ -1151,6 +1169,10 @@ Scene loadSceneFromText(const std::string& xml, const fs::path& file, const Load
 }
 
 Scene loadScene(const fs::path& file, const LoadOptions& options) {
+    std::error_code ec;
+    if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
+        throw InputError(file.string() + ": error: this is a folder, not a scene file; give the path of a .xml "
+                                         "scene file (e.g. " + (file / "scene.xml").string() + ")");
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
