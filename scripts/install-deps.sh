@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(cmake make g++ pkg-config
           libtinyxml2-dev libtinyobjloader-dev libopenimageio-dev
           ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
-          catch2)
+          catch2
+          nlohmann-json3-dev libcli11-dev)
 
 missing=()
 for p in "${packages[@]}"; do

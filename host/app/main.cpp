@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "app/cli.h"
+#include "explain/explain_command.h"
 #include "scene/file_search.h"
 #include "image/image.h"
 #include "core/memory_limits.h"
@@ -141,6 +142,9 @@ int run(const CliOptions& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Subcommands with their own command lines (host/explain/, host/viewer/).
+    if (argc > 1 && std::string(argv[1]) == "explain")
+        return ray::runExplainCommand(std::vector<std::string>(argv + 2, argv + argc));
     try {
         CliOptions options = parseCommandLine(std::vector<std::string>(argv + 1, argv + argc));
         return run(options);

@@ -11,6 +11,7 @@
 #include "image/image.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
+#include "reference/trace_observer.h"
 
 namespace ray {
 
@@ -33,5 +34,12 @@ struct ReferenceRenderOptions {
 // Throws InputError when the scene uses something this renderer cannot draw yet.
 Image renderReference(const Scene& scene, const RenderSettings& settings,
                       const ReferenceRenderOptions& options = {}, RayCounts* counts = nullptr);
+
+// The color of one pixel (x, y) of the image renderReference would make with these
+// settings (before clamping; the image holds it as float), traced on the calling thread,
+// every step reported to `observer` (may be null). Throws std::out_of_range for a pixel
+// outside the image.
+Vec3 renderReferencePixel(const Scene& scene, const RenderSettings& settings, int x, int y, TraceObserver* observer,
+                          const ReferenceRenderOptions& options = {}, RayCounts* counts = nullptr);
 
 }  // namespace ray

@@ -837,6 +837,7 @@ private:
         instance.type = node.type;
         instance.material = materialOf(node);
         instance.mesh = meshOf(node);
+        instance.sourceLine = node.line;
         if (node.type == PrimitiveType::Torus) {
             instance.objectLo = {-kTorusMajorRadius - kTorusMinorRadius, -kTorusMinorRadius,
                                  -kTorusMajorRadius - kTorusMinorRadius};
