@@ -6,7 +6,8 @@ packages=(cmake make g++ pkg-config
           libtinyxml2-dev libtinyobjloader-dev libopenimageio-dev
           ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
           catch2
-          nlohmann-json3-dev libcli11-dev)
+          nlohmann-json3-dev libcli11-dev libcpp-httplib-dev
+          chromium chromium-driver python3-selenium)
 
 missing=()
 for p in "${packages[@]}"; do

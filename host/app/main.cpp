@@ -8,6 +8,7 @@
 
 #include "app/cli.h"
 #include "explain/explain_command.h"
+#include "viewer/view_command.h"
 #include "scene/file_search.h"
 #include "image/image.h"
 #include "core/memory_limits.h"
@@ -145,6 +146,8 @@ int main(int argc, char** argv) {
     // Subcommands with their own command lines (host/explain/, host/viewer/).
     if (argc > 1 && std::string(argv[1]) == "explain")
         return ray::runExplainCommand(std::vector<std::string>(argv + 2, argv + argc));
+    if (argc > 1 && std::string(argv[1]) == "view")
+        return ray::runViewCommand(std::vector<std::string>(argv + 2, argv + argc));
     try {
         CliOptions options = parseCommandLine(std::vector<std::string>(argv + 1, argv + argc));
         return run(options);

@@ -480,6 +480,8 @@ private:
         for (int row = nextRow_++; row < settings_.height; row = nextRow_++) {
             if (options_.cancel && options_.cancel->load()) return;
             renderRow(row, counts);
+            if (options_.rowDone && !(options_.cancel && options_.cancel->load()))
+                options_.rowDone(row, &image_.rgb[size_t(row) * size_t(settings_.width) * 3]);
             int done = ++rowsDone_;
             if (options_.progress) options_.progress(double(done) / settings_.height);
         }

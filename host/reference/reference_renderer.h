@@ -26,6 +26,9 @@ struct ReferenceRenderOptions {
     std::function<void(double)> progress;
     // Set to true to stop early; rows not yet rendered stay black.
     const std::atomic<bool>* cancel = nullptr;
+    // Called (from the thread that rendered it) with each finished row and its pixels
+    // (width × 3 floats), so that a viewer can show the image as it grows.
+    std::function<void(int row, const float* rgb)> rowDone;
     // Test every primitive for every ray instead of searching the BVH: slow; a test checks
     // that the BVH changes nothing, and the bench times the kernel against it (--no-bvh).
     bool bruteForce = false;
