@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "explain/explain_command.h"
+#include "viewer/view_command.h"
 #include "scene/file_search.h"
 #include "image/image.h"
 #include "core/memory_limits.h"
@@ -144,12 +146,15 @@ int run(const CliOptions& options) {
 
 // `ray <name> ...` runs a subcommand with a CLI11 parser of its own (in its own file);
 // any other first argument is the render command's course form. A subcommand registers a
-// line here: {"view", runView}. Its exceptions get the exit codes below.
+// line here. Its exceptions get the exit codes below.
 struct Subcommand {
     std::string_view name;
     int (*run)(const std::vector<std::string>& args);  // the arguments after the name
 };
-const std::vector<Subcommand> kSubcommands = {};
+const std::vector<Subcommand> kSubcommands = {
+    {"explain", runExplainCommand},  // host/explain/
+    {"view", runViewCommand},        // host/viewer/
+};
 
 int dispatch(const std::vector<std::string>& args) {
     for (const Subcommand& subcommand : kSubcommands)

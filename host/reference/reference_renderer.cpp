@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "reference/shapes.h"
 #include "reference/texture_filtering.h"
 #include "reference/texture_sampling.h"
+#include "reference/trace_observer.h"
 
 namespace ray {
 
@@ -157,8 +159,9 @@ struct SampleId {
 // everything it holds is read-only; each thread counts its rays in its own RayCounts.
 class Tracer {
 public:
-    Tracer(const Scene& scene, const RenderSettings& settings, SceneSearch search)
-        : scene_(scene), settings_(settings), intersector_(scene, search) {
+    // observer: null for image renders; renderReferencePixel's single thread passes one.
+    Tracer(const Scene& scene, const RenderSettings& settings, SceneSearch search, TraceObserver* observer = nullptr)
+        : scene_(scene), settings_(settings), intersector_(scene, search), observer_(observer) {
         Aabb bounds = intersector_.sceneBounds();
         bounds.grow(scene.camera.position);
         surfaceOffset_ = kSurfaceOffset * std::max(1e-6, length(bounds.hi - bounds.lo));
@@ -167,6 +170,7 @@ public:
 
     Vec3 traceCameraRay(const Ray& ray, const SampleId& id, RayCounts& counts) const {
         ++counts.primary;
+        if (observer_) observer_->beginRay(TraceRayKind::Camera, ray.origin, ray.direction, 0, {1, 1, 1}, {1, 1, 1});
         return trace(ray, 0, Vec3{1, 1, 1}, MediumStack{}, id, counts);  // the camera is in air
     }
 
@@ -177,8 +181,18 @@ private:
     Vec3 trace(const Ray& ray, int depth, const Vec3& weight, const MediumStack& media, const SampleId& id,
                RayCounts& counts) const {
         auto hit = intersector_.closestHit(ray.origin, ray.direction, 0, INFINITY, id.time);
-        if (!hit) return kBackground;
-        return shade(surfaceAt(*hit, ray, id.time), ray, depth, weight, media, id, counts);
+        if (!hit) {
+            if (observer_) {
+                observer_->miss();
+                observer_->endRay(kBackground);
+            }
+            return kBackground;
+        }
+        SurfaceHit surface = surfaceAt(*hit, ray, id.time);
+        if (observer_) observer_->hit({hit->primitive, hit->local.t, surface.point, surface.normal, surface.entering, surface.uv});
+        Vec3 color = shade(surface, ray, depth, weight, media, id, counts);
+        if (observer_) observer_->endRay(color);
+        return color;
     }
 
     // The object-space normal, tilted by the material's bump map if it has one.
@@ -225,7 +239,10 @@ private:
         const GlobalCoefficients& k = scene_.globals;
         Vec3 color = k.ka * material.ambient + material.emissive;
 
-        Vec3 diffuse = diffuseColor(surface);
+        Vec3 texel;
+        Vec3 diffuse = diffuseColor(surface, &texel);
+        if (observer_)
+            observer_->surfaceTerms(k.ka * material.ambient, material.emissive, diffuse, textured(material), texel);
         Vec3 toEye = -ray.direction;
         for (size_t i = 0; i < scene_.lights.size(); ++i)
             color += lightContribution(scene_.lights[i], int(i), surface, diffuse, toEye, id, counts);
@@ -240,74 +257,120 @@ private:
     Vec3 lightContribution(const Light& light, int index, const SurfaceHit& surface, const Vec3& diffuse,
                            const Vec3& toEye, const SampleId& id, RayCounts& counts) const {
         if (light.type != LightType::Area)
-            return directLight(light, light.position, light.color, surface, diffuse, toEye, id.time, counts);
+            return directLight(light, index, -1, light.position, light.color, surface, diffuse, toEye, id.time, counts);
         const int side = areaLightGridSide(settings_);
         const Vec3 intensity = light.color / double(side * side);
         Vec3 sum;
         for (int cell = 0; cell < side * side; ++cell) {
             Vec3 position = areaLightPoint(light, index, cell, side, id.pixel, id.sample, settings_.seed);
-            sum += directLight(light, position, intensity, surface, diffuse, toEye, id.time, counts);
+            sum += directLight(light, index, cell, position, intensity, surface, diffuse, toEye, id.time, counts);
         }
         return sum;
     }
 
+    bool textured(const Material& material) const {
+        const TextureMap& map = material.texture;
+        return settings_.textures && map.image >= 0 && !scene_.images[map.image].empty();
+    }
+
     // D = blend·T + (1 − blend)·kd·Od, T not scaled by kd; without a texture, kd·Od.
-    Vec3 diffuseColor(const SurfaceHit& surface) const {
+    // texelOut, when given, receives T.
+    Vec3 diffuseColor(const SurfaceHit& surface, Vec3* texelOut = nullptr) const {
         const Material& material = *surface.material;
         Vec3 plain = scene_.globals.kd * material.diffuse;
         const TextureMap& map = material.texture;
-        if (!settings_.textures || map.image < 0 || scene_.images[map.image].empty()) return plain;
+        if (!textured(material)) return plain;
         Vec3 texel = settings_.textureFilter == TextureFilter::Trilinear
                          ? sampleTrilinear(mipmaps_[size_t(map.image)], surface.uv.u, surface.uv.v, map.repeatU,
                                            map.repeatV, surface.textureFootprint)
                          : sampleTexture(scene_.images[map.image], surface.uv.u, surface.uv.v, map.repeatU,
                                          map.repeatV, settings_.textureFilter);
+        if (texelOut) *texelOut = texel;
         return material.blend * texel + (1 - material.blend) * plain;
     }
 
     // f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] for a light at `position`
-    // with intensity I_L; nothing where N·L ≤ 0.
-    Vec3 directLight(const Light& light, const Vec3& position, const Vec3& intensity, const SurfaceHit& surface,
-                     const Vec3& diffuse, const Vec3& toEye, double time, RayCounts& counts) const {
+    // with intensity I_L; nothing where N·L ≤ 0. index, cell: which light (and area-light
+    // sample) this is, for the observer.
+    Vec3 directLight(const Light& light, int index, int cell, const Vec3& position, const Vec3& intensity,
+                     const SurfaceHit& surface, const Vec3& diffuse, const Vec3& toEye, double time,
+                     RayCounts& counts) const {
+        TraceLightTerm term;
+        term.light = index;
+        term.areaCell = cell;
         LightPath path = pathToLight(light, position, surface.point);
-        double lambert = dot(surface.normal, path.toLight);
-        if (lambert <= 0) return {};
-        double factor = lightFactor(light, path);
-        if (factor <= 0) return {};
-        if (settings_.shadows && blocked(surface, path, time, counts)) return {};
+        term.toLight = path.toLight;
+        term.distance = path.distance;
+        double lambert = term.nDotL = dot(surface.normal, path.toLight);
+        if (lambert <= 0) return unlit(term, "back-facing");
+        double factor = term.attenuation = lightFactor(light, path);
+        if (factor <= 0) return unlit(term, "outside the light");
+        if (settings_.shadows && blocked(surface, path, time, counts, term)) return unlit(term, "shadowed");
 
         const Material& material = *surface.material;
         Vec3 mirrored = reflect(-path.toLight, surface.normal);  // R: L reflected about N
-        double highlight = std::pow(std::max(dot(mirrored, toEye), 0.0), material.shininess);
-        Vec3 response = diffuse * lambert + scene_.globals.ks * material.specular * highlight;
-        return factor * intensity * response;
+        double highlight = std::pow(term.rDotV = std::max(dot(mirrored, toEye), 0.0), material.shininess);
+        Vec3 response = (term.diffuse = diffuse * lambert) + (term.specular = scene_.globals.ks * material.specular * highlight);
+        Vec3 contribution = factor * intensity * response;
+        if (observer_) {
+            term.contribution = contribution;
+            observer_->lightTerm(term);
+        }
+        return contribution;
     }
 
-    // S = 0 when any surface lies between the point and the light.
-    bool blocked(const SurfaceHit& surface, const LightPath& path, double time, RayCounts& counts) const {
+    // A light term that adds nothing, reported with why.
+    Vec3 unlit(TraceLightTerm& term, const char* reason) const {
+        if (observer_) {
+            term.unlitReason = reason;
+            observer_->lightTerm(term);
+        }
+        return {};
+    }
+
+    // S = 0 when any surface lies between the point and the light. With an observer, the
+    // nearest such surface is named too (a second search, for the report only).
+    bool blocked(const SurfaceHit& surface, const LightPath& path, double time, RayCounts& counts,
+                 TraceLightTerm& term) const {
         ++counts.shadow;
         Vec3 origin = surface.point + surfaceOffset_ * surface.normal;  // N·L > 0: the lit side
-        return intersector_.anyHit(origin, path.toLight, 0, path.distance, time);
+        bool any = intersector_.anyHit(origin, path.toLight, 0, path.distance, time);
+        term.shadowed = any;
+        if (any && observer_) {
+            auto occluder = intersector_.closestHit(origin, path.toLight, 0, path.distance, time);
+            if (occluder) term.occluder = occluder->primitive;
+        }
+        return any;
     }
 
     // The factor k·color of a reflected (ks·Or) or refracted (kt·Ot) branch, or nullopt
-    // where its switch, the depth limit or the weight threshold stops it (SPEC §4).
-    std::optional<Vec3> branchFactor(bool enabled, double k, const Vec3& color, int depth, const Vec3& weight) const {
-        if (!enabled || color == Vec3{} || depth >= settings_.maxDepth) return std::nullopt;
+    // where its switch, the depth limit or the weight threshold stops it (SPEC §4; the
+    // observer hears which).
+    std::optional<Vec3> branchFactor(TraceRayKind kind, bool enabled, double k, const Vec3& color, int depth,
+                                     const Vec3& weight) const {
+        auto stop = [&](BranchStop reason) -> std::optional<Vec3> {
+            if (observer_) observer_->branchStopped(kind, reason);
+            return std::nullopt;
+        };
+        if (!enabled) return stop(BranchStop::Disabled);
+        if (color == Vec3{}) return stop(BranchStop::NoCoefficient);
+        if (depth >= settings_.maxDepth) return stop(BranchStop::DepthLimit);
         Vec3 factor = k * color;
-        if (belowThresholdEverywhere(weight * factor, settings_.weightThreshold)) return std::nullopt;
+        if (belowThresholdEverywhere(weight * factor, settings_.weightThreshold)) return stop(BranchStop::WeightThreshold);
         return factor;
     }
 
     // ks·Or·I_r with I_r clamped to [0, 1], while depth and weight allow (SPEC §4).
     Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
                     const SampleId& id, RayCounts& counts) const {
-        auto factor = branchFactor(settings_.reflections, scene_.globals.ks, surface.material->reflective, depth, weight);
+        auto factor = branchFactor(TraceRayKind::Reflected, settings_.reflections, scene_.globals.ks, surface.material->reflective, depth, weight);
         if (!factor) return {};
         Vec3 branchWeight = weight * *factor;
 
         ++counts.secondary;
         Ray reflected{surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
+        if (observer_)
+            observer_->beginRay(TraceRayKind::Reflected, reflected.origin, reflected.direction, depth + 1, branchWeight, *factor);
         return *factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
     }
 
@@ -315,10 +378,10 @@ private:
     Vec3 refraction(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
                     const SampleId& id, RayCounts& counts) const {
         const Material& material = *surface.material;
-        auto factor = branchFactor(settings_.refraction, scene_.globals.kt, material.transparent, depth, weight);
+        auto factor = branchFactor(TraceRayKind::Refracted, settings_.refraction, scene_.globals.kt, material.transparent, depth, weight);
         if (!factor) return {};
 
-        return *factor * transmitted(surface, ray, depth, weight * *factor, media, id, counts);
+        return *factor * transmitted(surface, ray, depth, weight * *factor, *factor, media, id, counts);
     }
 
     // A transparent object's surface met from inside (SPEC §4) adds nothing of its own:
@@ -330,14 +393,15 @@ private:
     Vec3 transmittedFromInside(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight,
                                const MediumStack& media, const SampleId& id, RayCounts& counts) const {
         if (depth >= settings_.maxDepth) return kBackground;
-        return transmitted(surface, ray, depth, weight, media, id, counts);
+        return transmitted(surface, ray, depth, weight, Vec3{1, 1, 1}, media, id, counts);
     }
 
     // clamp(I_t): the ray refracted by Snell's law into the medium beyond the surface, or
     // under total internal reflection the mirrored ray, which stays in the medium it came
-    // from. branchWeight: the path weight of the branch.
+    // from. branchWeight: the path weight of the branch; factor: what the caller multiplies
+    // I_t by (kt·Ot on entry, 1 from inside), reported to the observer.
     Vec3 transmitted(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& branchWeight,
-                     const MediumStack& media, const SampleId& id, RayCounts& counts) const {
+                     const Vec3& factor, const MediumStack& media, const SampleId& id, RayCounts& counts) const {
         const Material& material = *surface.material;
         ++counts.secondary;
         double n1 = media.before(surface.entering, material.ior);
@@ -345,12 +409,15 @@ private:
         Vec3 direction;
         Ray child;
         MediumStack childMedia = media;
+        TraceRayKind kind = TraceRayKind::Refracted;
         if (refractDirection(ray.direction, surface.normal, n1, beyond.current(), direction)) {
             child = {surface.point - surfaceOffset_ * surface.normal, direction};  // start on the far side
             childMedia = beyond;
         } else {
             child = {surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
+            kind = TraceRayKind::TotalInternalReflection;
         }
+        if (observer_) observer_->beginRay(kind, child.origin, child.direction, depth + 1, branchWeight, factor);
         return clamp01(trace(child, depth + 1, branchWeight, childMedia, id, counts));
     }
 
@@ -364,6 +431,7 @@ private:
     const Scene& scene_;
     const RenderSettings& settings_;
     SceneIntersector intersector_;
+    TraceObserver* observer_ = nullptr;
     double surfaceOffset_ = 0;
     std::vector<MipPyramid> mipmaps_;      // trilinear filtering only
     std::vector<double> meshUvDensities_;  // trilinear filtering only
@@ -373,12 +441,39 @@ private:
 // Renders rows handed out one at a time to `threads` threads.
 class RowRenderer {
 public:
-    RowRenderer(const Scene& scene, const RenderSettings& settings, const ReferenceRenderOptions& options)
+    RowRenderer(const Scene& scene, const RenderSettings& settings, const ReferenceRenderOptions& options,
+                TraceObserver* observer = nullptr)
         : settings_(settings),
           options_(options),
           camera_(scene.camera, settings),
-          tracer_(scene, settings, options.bruteForce ? SceneSearch::BruteForce : SceneSearch::Bvh),
-          image_(settings.width, settings.height) {}
+          tracer_(scene, settings, options.bruteForce ? SceneSearch::BruteForce : SceneSearch::Bvh, observer),
+          observer_(observer),
+          image_(observer ? 0 : settings.width, observer ? 0 : settings.height) {}
+
+    // The color of pixel (column, row) as the image holds it (before clamping).
+    Vec3 pixelColor(int column, int row, RayCounts& counts) const {
+        uint32_t pixel = uint32_t(row) * uint32_t(settings_.width) + uint32_t(column);
+        // Samples are numbered in the order the sampling pattern asks for them, which
+        // is deterministic; the lens position of sample k comes from dimensions 2, 3
+        // of sampleRandom (0, 1 are the stratified pattern's jitter), its shutter
+        // time from dimension 4.
+        uint32_t sampleIndex = 0;
+        auto sample = [&](double sx, double sy) {
+            uint32_t k = sampleIndex++;
+            double lensX = 0, lensY = 0;
+            if (camera_.hasLens()) {
+                lensX = sampleRandom(pixel, k, 2, settings_.seed);
+                lensY = sampleRandom(pixel, k, 3, settings_.seed);
+            }
+            double time = settings_.shutter > 0 ? settings_.shutter * sampleRandom(pixel, k, 4, settings_.seed) : 0;
+            if (observer_) observer_->beginSample(int(k), sx, sy, time);
+            Vec3 color = tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY),
+                                                SampleId{pixel, k, time}, counts);
+            if (observer_) observer_->endSample(color);
+            return color;
+        };
+        return samplePixel(settings_, pixel, sample);
+    }
 
     Image run(RayCounts* counts) {
         int threads = options_.threads > 0 ? options_.threads : int(std::thread::hardware_concurrency());
@@ -405,6 +500,8 @@ private:
         for (int row = nextRow_++; row < settings_.height; row = nextRow_++) {
             if (options_.cancel && options_.cancel->load()) return;
             renderRow(row, counts);
+            if (options_.rowDone && !(options_.cancel && options_.cancel->load()))
+                options_.rowDone(row, &image_.rgb[size_t(row) * size_t(settings_.width) * 3]);
             int done = ++rowsDone_;
             if (options_.progress) options_.progress(double(done) / settings_.height);
         }
@@ -414,24 +511,7 @@ private:
         for (int column = 0; column < settings_.width; ++column) {
             // Checked per pixel too: one row of a wide image at many samples can take seconds.
             if (options_.cancel && options_.cancel->load()) return;
-            uint32_t pixel = uint32_t(row) * uint32_t(settings_.width) + uint32_t(column);
-            // Samples are numbered in the order the sampling pattern asks for them, which
-            // is deterministic; the lens position of sample k comes from dimensions 2, 3
-            // of sampleRandom (0, 1 are the stratified pattern's jitter), its shutter
-            // time from dimension 4.
-            uint32_t sampleIndex = 0;
-            auto sample = [&](double sx, double sy) {
-                uint32_t k = sampleIndex++;
-                double lensX = 0, lensY = 0;
-                if (camera_.hasLens()) {
-                    lensX = sampleRandom(pixel, k, 2, settings_.seed);
-                    lensY = sampleRandom(pixel, k, 3, settings_.seed);
-                }
-                double time = settings_.shutter > 0 ? settings_.shutter * sampleRandom(pixel, k, 4, settings_.seed) : 0;
-                return tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY),
-                                              SampleId{pixel, k, time}, counts);
-            };
-            image_.set(column, row, samplePixel(settings_, pixel, sample));
+            image_.set(column, row, pixelColor(column, row, counts));
         }
     }
 
@@ -439,6 +519,7 @@ private:
     const ReferenceRenderOptions& options_;
     CameraModel camera_;
     Tracer tracer_;
+    TraceObserver* observer_ = nullptr;
     Image image_;
     std::atomic<int> nextRow_{0};
     std::atomic<int> rowsDone_{0};
@@ -452,6 +533,38 @@ Image renderReference(const Scene& scene, const RenderSettings& settings, const 
     if (settings.width <= 0 || settings.height <= 0) return Image(std::max(0, settings.width), std::max(0, settings.height));
     RowRenderer renderer(scene, settings, options);
     return renderer.run(counts);
+}
+
+Vec3 renderReferencePixel(const Scene& scene, const RenderSettings& settings, int x, int y, TraceObserver* observer,
+                          const ReferenceRenderOptions& options, RayCounts* counts) {
+    if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
+        throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                                std::to_string(settings.width) + "x" + std::to_string(settings.height) + " image");
+    RayCounts local;
+    RowRenderer renderer(scene, settings, options, observer);
+    Vec3 color = renderer.pixelColor(x, y, local);
+    if (counts) *counts = local;
+    return color;
+}
+
+const char* traceRayKindName(TraceRayKind kind) {
+    switch (kind) {
+        case TraceRayKind::Camera: return "camera";
+        case TraceRayKind::Reflected: return "reflected";
+        case TraceRayKind::Refracted: return "refracted";
+        case TraceRayKind::TotalInternalReflection: return "total internal reflection";
+    }
+    return "?";
+}
+
+const char* branchStopName(BranchStop stop) {
+    switch (stop) {
+        case BranchStop::Disabled: return "switched off";
+        case BranchStop::NoCoefficient: return "material has no such color";
+        case BranchStop::DepthLimit: return "depth limit";
+        case BranchStop::WeightThreshold: return "weight threshold";
+    }
+    return "?";
 }
 
 }  // namespace ray

@@ -11,6 +11,7 @@
 #include "image/image.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
+#include "reference/trace_observer.h"
 
 namespace ray {
 
@@ -25,6 +26,9 @@ struct ReferenceRenderOptions {
     std::function<void(double)> progress;
     // Set to true to stop early; rows not yet rendered stay black.
     const std::atomic<bool>* cancel = nullptr;
+    // Called (from the thread that rendered it) with each finished row and its pixels
+    // (width × 3 floats), so that a viewer can show the image as it grows.
+    std::function<void(int row, const float* rgb)> rowDone;
     // Test every primitive for every ray instead of searching the BVH: slow; a test checks
     // that the BVH changes nothing, and the bench times the kernel against it (--no-bvh).
     bool bruteForce = false;
@@ -33,5 +37,12 @@ struct ReferenceRenderOptions {
 // Throws InputError when the scene uses something this renderer cannot draw yet.
 Image renderReference(const Scene& scene, const RenderSettings& settings,
                       const ReferenceRenderOptions& options = {}, RayCounts* counts = nullptr);
+
+// The color of one pixel (x, y) of the image renderReference would make with these
+// settings (before clamping; the image holds it as float), traced on the calling thread,
+// every step reported to `observer` (may be null). Throws std::out_of_range for a pixel
+// outside the image.
+Vec3 renderReferencePixel(const Scene& scene, const RenderSettings& settings, int x, int y, TraceObserver* observer,
+                          const ReferenceRenderOptions& options = {}, RayCounts* counts = nullptr);
 
 }  // namespace ray

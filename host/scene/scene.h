@@ -88,6 +88,9 @@ struct PrimitiveInstance {
     // reached at the end of the shutter. At shutter time t ∈ [0, 1] the instance is
     // translated by t·motion (objectToWorld is its place at t = 0); zero: it stands still.
     Vec3 motion{0, 0, 0};
+    // The line of the <object type="primitive"> element in Scene::sourceFile this instance
+    // comes from (0: not from a file), for messages and `ray explain`.
+    int sourceLine = 0;
 };
 
 // Sets the instance's object-space box for its type (the unit cube, the torus's box, its

@@ -1018,6 +1018,7 @@ private:
         instance.type = node.type;
         instance.material = materialOf(node);
         instance.mesh = meshOf(node);
+        instance.sourceLine = node.line;
         fitObjectBox(instance, scene_.meshes);
         return instance;
     }

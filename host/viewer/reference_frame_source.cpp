@@ -1,0 +1,27 @@
+#include "viewer/frame_source.h"
+
+#include "image/image.h"
+#include "reference/reference_renderer.h"
+
+namespace ray {
+
+uint64_t ReferenceFrameSource::renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings,
+                                           const std::function<void(const FrameTile&)>& onTile,
+                                           const std::atomic<bool>& cancel) {
+    // The reference renderer takes the camera from the scene: a copy with the viewer's.
+    // (It builds its BVH per frame too; the packed engine of issue 11 will not.)
+    Scene viewed = scene;
+    viewed.camera = camera;
+    ReferenceRenderOptions options;
+    options.cancel = &cancel;
+    options.rowDone = [&](int row, const float* rgb) {
+        FrameTile tile{0, row, settings.width, 1, std::vector<uint8_t>(size_t(settings.width) * 3)};
+        for (size_t i = 0; i < tile.rgb.size(); ++i) tile.rgb[i] = uint8_t(quantize8(rgb[i]));
+        onTile(tile);
+    };
+    RayCounts counts;
+    renderReference(viewed, settings, options, &counts);
+    return counts.total();
+}
+
+}  // namespace ray

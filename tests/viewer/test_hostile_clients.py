@@ -1,0 +1,105 @@
+"""ray view against hostile clients: each case prints its outcome (for the report) and asserts
+that the server survives, serves no file and keeps its memory bounded.
+Usage: python3 test_hostile_clients.py RAY_BINARY SCENE"""
+import socket
+import sys
+import time
+
+from viewer_harness import Viewer
+
+ray, scene = sys.argv[1], sys.argv[2]
+viewer = Viewer(ray, scene, "--width", "64", "--height", "48")
+outcomes = []
+
+
+def case(name, outcome):
+    assert viewer.alive(), f"{name}: the server died"
+    outcomes.append((name, outcome))
+    print(f"{name}: {outcome}", flush=True)
+
+
+def raw(data, read=True, timeout=10):
+    s = socket.create_connection(("127.0.0.1", viewer.port), timeout=timeout)
+    s.sendall(data)
+    reply = b""
+    if read:
+        try:
+            while chunk := s.recv(65536):
+                reply += chunk
+        except socket.timeout:
+            pass
+    s.close()
+    return reply
+
+
+try:
+    viewer.wait_frame_done()
+    baseline = viewer.rss_kib()
+
+    # Path traversal and any file but the page: only five routes exist, nothing is read from disk.
+    secret_markers = [b"root:", b"<scenefile", b"<?xml"]
+    for path in ["/../../../../etc/passwd", "/%2e%2e/%2e%2e/etc/passwd", "/etc/passwd", "/" + scene.split("/")[-1],
+                 "/..%2f..%2fetc%2fpasswd", "/index.html", "/web/index.html", "//etc/passwd", "/state/../../etc/passwd"]:
+        reply = raw(f"GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n".encode())
+        status = reply.split(b"\r\n", 1)[0]
+        assert not any(m in reply for m in secret_markers), f"{path} served a file: {reply[:200]}"
+        assert b" 200 " not in status, f"{path}: {status}"
+    case("path traversal / other files", "9 paths, all 404 or 400, no file content")
+
+    # Malformed requests.
+    for data in [b"GARBAGE\r\n\r\n", b"GET\r\n\r\n", b"\x00\xff\xfe" * 100 + b"\r\n\r\n",
+                 b"GET / HTTP/9.9\r\n\r\n", b"POST /view HTTP/1.1\r\nContent-Length: -5\r\n\r\n",
+                 b"POST /view HTTP/1.1\r\nContent-Length: 10\r\n\r\n{"]:
+        raw(data, timeout=8)
+    for body in [b"garbage", b"[]", b'{"width": 99999}', b'{"position": [1, 2]}', b'{"look": [0, 0, 0]}',
+                 b'{"position": [1e400, 0, 0]}', b'{"depth": "x"}', b'{"aa": "sideways"}', b'{"look":[0,1,0],"up":[0,1,0]}']:
+        status, reply = viewer.json("POST", "/view", body)
+        assert status == 400, (body, status)
+    for query in ["x=abc&y=1", "x=-1&y=0", "x=99999&y=0", "", "x=1"]:
+        status, _ = viewer.request("GET", "/explain?" + query)
+        assert status == 400, (query, status)
+    case("malformed requests", "15 raw/JSON bodies and 5 bad explain queries: 400 or dropped, server up")
+
+    # Oversized: a body over the 16 KiB cap, and a huge header block.
+    status, _ = viewer.request("POST", "/view", b'{"a":"' + b"x" * 1_000_000 + b'"}')
+    assert status == 413, status
+    reply = raw(b"GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + b"y" * 200_000 + b"\r\n\r\n")
+    assert b" 200 " not in reply.split(b"\r\n", 1)[0]
+    first_line = reply.split(b"\r\n", 1)[0].decode(errors="replace") or "connection closed"
+    case("oversized requests", f"1 MB body: 413; 200 kB header: refused ({first_line})")
+
+    # A flood of camera changes: the renderer keeps up with the latest only.
+    for i in range(300):
+        viewer.request("POST", "/view", f'{{"position": [{5 + i * 0.01}, 5, 5], "look": [-1, -1, -1]}}'.encode())
+    viewer.request("POST", "/view", b'{"position": [9, 4, 2], "look": [-1, -0.5, -0.3]}')
+    done = viewer.wait_frame_done()
+    status, state = viewer.json("GET", "/state")
+    assert state["position"] == [9, 4, 2]
+    case("flood of 301 camera changes", f"the frame completed is the last view (frame {done['frame']}, fewer than 301 rendered)")
+    assert done["frame"] < 301
+
+    # Clients that connect and never read (nor send).
+    sockets = []
+    for _ in range(50):
+        s = socket.create_connection(("127.0.0.1", viewer.port))
+        s.sendall(b"GET /events HTTP/1.1\r\nHost: x\r\n\r\n")
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1024)
+        sockets.append(s)
+    for _ in range(20):
+        sockets.append(socket.create_connection(("127.0.0.1", viewer.port)))
+    time.sleep(1)
+    viewer.request("POST", "/view", b'{"position": [5, 5, 6]}')
+    time.sleep(12)  # past the 5 s read/write timeouts
+    status, _ = viewer.request("GET", "/state", timeout=60)
+    assert status == 200
+    for s in sockets:
+        s.close()
+    case("70 clients that never read", "server still answers /state after the timeouts")
+
+    growth = viewer.rss_kib() - baseline
+    case("memory", f"RSS grew by {growth} KiB over the run")
+    assert growth < 200_000, growth
+finally:
+    viewer.close()
+
+print("all hostile-client cases passed:", len(outcomes))
