@@ -1,14 +1,15 @@
 // What the viewer asks of a renderer: one frame of a scene, reported band by band as it
 // is finished, stopped early when `cancel` is set.
 //
-// A deliberately small seam: today it is implemented with the reference renderer
-// (ReferenceFrameSource, rows as bands); the engine that packs the scene once and renders
-// tiles on an OpenCL device (issue 11) replaces it without touching the server.
+// A deliberately small seam: the reference renderer (ReferenceFrameSource, rows as bands)
+// and the OpenCL engine that packs the scene once and renders tiles on the selected devices
+// (OpenClFrameSource, viewer/opencl_frame_source.h) both implement it.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,8 +28,9 @@ class FrameSource {
 public:
     virtual ~FrameSource() = default;
     // Renders `scene` as `camera` sees it; onTile may be called from several threads.
-    // Returns the rays traced (0 when cancelled early, the count is then partial).
-    virtual uint64_t renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings,
+    // Returns the rays traced (0 when cancelled early, the count is then partial). The
+    // scene is shared so that a source may keep what it prepared for it between frames.
+    virtual uint64_t renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
                                  const std::function<void(const FrameTile&)>& onTile,
                                  const std::atomic<bool>& cancel) = 0;
     virtual std::string deviceName() const = 0;
@@ -36,7 +38,7 @@ public:
 
 class ReferenceFrameSource : public FrameSource {
 public:
-    uint64_t renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings,
+    uint64_t renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
                          const std::function<void(const FrameTile&)>& onTile, const std::atomic<bool>& cancel) override;
     std::string deviceName() const override { return "reference (host, double precision)"; }
 };

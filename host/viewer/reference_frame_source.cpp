@@ -5,12 +5,12 @@
 
 namespace ray {
 
-uint64_t ReferenceFrameSource::renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings,
+uint64_t ReferenceFrameSource::renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
                                            const std::function<void(const FrameTile&)>& onTile,
                                            const std::atomic<bool>& cancel) {
     // The reference renderer takes the camera from the scene: a copy with the viewer's.
-    // (It builds its BVH per frame too; the packed engine of issue 11 will not.)
-    Scene viewed = scene;
+    // (It builds its BVH per frame too; OpenClFrameSource's engine does not.)
+    Scene viewed = *scene;
     viewed.camera = camera;
     ReferenceRenderOptions options;
     options.cancel = &cancel;

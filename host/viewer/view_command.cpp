@@ -5,6 +5,9 @@
 
 #include "app/cli.h"
 #include "scene/file_search.h"
+#include "opencl/opencl_device.h"
+#include "render/renderer.h"
+#include "viewer/opencl_frame_source.h"
 #include "viewer/viewer_server.h"
 
 namespace ray {
@@ -16,6 +19,7 @@ int runViewCommand(const std::vector<std::string>& args) {
     options.settings.height = 480;
     options.settings.antialias = AntialiasMode::Off;  // interactive: one sample first
     std::vector<std::filesystem::path> searchPaths;
+    std::string device = "auto";
     app.add_option("scene", options.scene, "the scenefile (watched: saving it reloads)")->required();
     app.add_option("--port", options.port, "TCP port (0: any free one; default 8123)")->check(CLI::Range(0, 65535));
     app.add_option("--bind", options.address,
@@ -23,6 +27,9 @@ int runViewCommand(const std::vector<std::string>& args) {
     app.add_option("--width", options.settings.width)->check(CLI::Range(8, 2048));
     app.add_option("--height", options.settings.height)->check(CLI::Range(8, 2048));
     app.add_option("--depth", options.settings.maxDepth)->check(CLI::Range(0, 16));
+    app.add_option("--device", device,
+                   "auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene packed once; ref: the reference renderer")
+        ->check([](const std::string& value) { return isDeviceSelection(value) ? "" : "not a device selection"; });
     app.add_option("--search-path", searchPaths, "folders to look for textures and meshes in");
     try {
         app.parse(std::vector<std::string>(args.rbegin(), args.rend()));
@@ -43,7 +50,12 @@ int runViewCommand(const std::vector<std::string>& args) {
         std::cout << "ray view: http://" << options.address << ":" << port << "/" << std::endl;
     };
     try {
-        runViewer(options, std::make_unique<ReferenceFrameSource>());
+        std::unique_ptr<FrameSource> source;
+        if (device == "ref" || device == "reference")
+            source = std::make_unique<ReferenceFrameSource>();
+        else
+            source = std::make_unique<OpenClFrameSource>(selectOpenClDevices(device));
+        runViewer(options, std::move(source));
         return 0;
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";

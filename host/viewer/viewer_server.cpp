@@ -234,7 +234,7 @@ private:
                 changed_.notify_all();
             }
             auto start = Clock::now();
-            uint64_t rays = source_->renderFrame(*scene, view.camera, view.settings,
+            uint64_t rays = source_->renderFrame(scene, view.camera, view.settings,
                                                  [&](const FrameTile& tile) {
                                                      std::lock_guard lock(mutex_);
                                                      tiles_.push_back(tile);
