@@ -156,7 +156,13 @@ public:
 
     // Writes, as server-sent events, what happened since `cursor`; waits up to a second.
     bool stream(httplib::DataSink& sink, Cursor& cursor) {
-        auto& [id, frame, sent, doneSent, error] = cursor;
+        // References, not a structured binding: clang 14 (the fuzzing build) cannot capture
+        // structured bindings in a lambda.
+        const uint64_t id = cursor.id;
+        uint64_t& frame = cursor.frame;
+        size_t& sent = cursor.sent;
+        bool& doneSent = cursor.doneSent;
+        std::string& error = cursor.error;
         std::string out;
         {
             std::unique_lock lock(mutex_);
