@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "core/atomic_file.h"
 #include "explain/explain_command.h"
 #include "viewer/view_command.h"
 #include "scene/file_search.h"
@@ -66,6 +67,7 @@ void checkOutputPath(const std::filesystem::path& output) {
     std::filesystem::path folder = output.parent_path();
     if (!folder.empty() && !std::filesystem::is_directory(folder))
         throw UsageError("the output folder '" + folder.string() + "' does not exist");
+    checkCanWriteBeside(output);  // an unwritable folder: exit 3 now, not after the render
 }
 
 // Refuses, before the BVH is built, an image this machine has not the memory for (the
@@ -109,6 +111,7 @@ int run(const CliOptions& options) {
     installInterruptHandlers();
     const std::filesystem::path output = outputPathFor(options);
     checkOutputPath(output);
+    if (!options.statsJson.empty()) checkCanWriteBeside(options.statsJson);
 
     auto loadStart = Clock::now();
     LoadOptions load;

@@ -125,4 +125,11 @@ void writeFileAtomicallyVia(const fs::path& target, const std::function<void(con
     syncCloseAndRename(target, tmp);
 }
 
+void checkCanWriteBeside(const fs::path& target) {
+    fs::path tmp;
+    const int fd = createTemporary(target, tmp);
+    ::close(fd);
+    ::unlink(tmp.c_str());
+}
+
 }  // namespace ray

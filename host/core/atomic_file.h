@@ -32,4 +32,8 @@ void writeFileAtomically(const std::filesystem::path& target, std::string_view b
 void writeFileAtomicallyVia(const std::filesystem::path& target,
                             const std::function<void(const std::filesystem::path& temporary)>& writeTemporary);
 
+// Creates and removes a temporary file where writeFileAtomically would, so that a folder
+// ray cannot write to is found before a render, not after it. Throws FileWriteError.
+void checkCanWriteBeside(const std::filesystem::path& target);
+
 }  // namespace ray
