@@ -13,14 +13,12 @@
 // jpeglib.h needs size_t and FILE declared first.
 #include <jpeglib.h>
 
-#include "core/memory_limits.h"
+#include "image/decode_limits.h"
 
 namespace ray {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr uint64_t kMaxPixels = uint64_t(1) << 28;  // as every image reader (image_io.cpp)
 
 struct JpegErrorManager {
     jpeg_error_mgr base;  // first, so that libjpeg's pointer to it is a pointer to this
@@ -71,14 +69,10 @@ Image readJpeg(const fs::path& file) {
     jpeg_read_header(&cinfo, TRUE);
     cinfo.out_color_space = JCS_RGB;  // libjpeg converts grey and YCbCr (CMYK fails: reported)
     const uint64_t width = cinfo.image_width, height = cinfo.image_height;
-    if (width == 0 || height == 0) {
-        state->failure = file.string() + ": image has no pixels";
-    } else if (width * height > kMaxPixels) {
-        state->failure = file.string() + ": image is " + std::to_string(width) + "x" + std::to_string(height) +
-                         ", larger than the 2^28-pixel limit";
-    } else if (auto shortfall = hostMemoryShortfall(width * height * (3 + 3 * sizeof(float)))) {
-        state->failure = file.string() + ": a " + std::to_string(width) + "x" + std::to_string(height) + " image " +
-                         *shortfall;
+    try {
+        checkDecodedImageSize(file, width, height, 3 + 3 * sizeof(float));  // the decoded bytes, the floats
+    } catch (const ImageError& e) {
+        state->failure = e.what();
     }
     if (state->failure.empty()) {
         jpeg_start_decompress(&cinfo);

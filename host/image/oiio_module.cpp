@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/memory_limits.h"
+#include "image/decode_limits.h"
 #include "image/oiio_plugin_abi.h"
 
 namespace ray {
@@ -108,16 +108,8 @@ Image readImageWithOiio(const fs::path& file) {
     } closer{module, handle};
     if (info.width <= 0 || info.height <= 0 || info.channels <= 0)
         throw ImageError(file.string() + ": image has no pixels");
-    // Refuse absurd sizes before allocating (a corrupt header can claim anything).
-    constexpr int64_t kMaxPixels = int64_t(1) << 28;
-    if (int64_t(info.width) * info.height > kMaxPixels)
-        throw ImageError(file.string() + ": image is " + std::to_string(info.width) + "x" +
-                         std::to_string(info.height) + ", larger than the 2^28-pixel limit");
-    // The module's decoded floats, then the RGB image: estimated before either is allocated.
-    const uint64_t bytes = uint64_t(info.width) * uint64_t(info.height) * uint64_t(info.channels + 3) * sizeof(float);
-    if (auto shortfall = hostMemoryShortfall(bytes))
-        throw ImageError(file.string() + ": a " + std::to_string(info.width) + "x" + std::to_string(info.height) +
-                         " image " + *shortfall);
+    // The module's decoded floats, then the RGB image.
+    checkDecodedImageSize(file, uint64_t(info.width), uint64_t(info.height), uint64_t(info.channels + 3) * sizeof(float));
     Image image(info.width, info.height);
     if (!module.readRgb(handle, image.rgb.data(), error, sizeof error)) throw ImageError(file.string() + ": " + error);
     return image;

@@ -16,7 +16,7 @@
 #include <fstream>
 #include <memory>
 
-#include "core/memory_limits.h"
+#include "image/decode_limits.h"
 
 namespace ray {
 namespace fs = std::filesystem;
@@ -25,7 +25,6 @@ namespace {
 
 // Refused before decoding, as every image reader does (image_io.cpp).
 constexpr uint32_t kMaxSide = 1u << 20;
-constexpr uint64_t kMaxPixels = uint64_t(1) << 28;
 
 struct PngErrorText {
     char message[256] = "unknown libpng error";
@@ -58,18 +57,6 @@ void requestRawRgb(png_structp png, png_infop info) {
     if (bitDepth == 16) png_set_swap(png);  // host-order uint16_t on little-endian machines
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
-}
-
-void checkSize(const fs::path& file, uint32_t width, uint32_t height) {
-    if (width == 0 || height == 0) throw ImageError(file.string() + ": image has no pixels");
-    if (uint64_t(width) * height > kMaxPixels)
-        throw ImageError(file.string() + ": image is " + std::to_string(width) + "x" + std::to_string(height) +
-                         ", larger than the 2^28-pixel limit");
-    // The decoded rows (up to 6 bytes a pixel) and the float image.
-    const uint64_t bytes = uint64_t(width) * height * (6 + 3 * sizeof(float));
-    if (auto shortfall = hostMemoryShortfall(bytes))
-        throw ImageError(file.string() + ": a " + std::to_string(width) + "x" + std::to_string(height) + " image " +
-                         *shortfall);
 }
 
 // Integer samples to floats exactly as OpenImageIO converts them: v · (1/max) in float
@@ -125,7 +112,8 @@ Image readPng(const fs::path& file) {
     state->width = png_get_image_width(png, info);
     state->height = png_get_image_height(png, info);
     try {
-        checkSize(file, state->width, state->height);
+        // The decoded rows (up to 6 bytes a pixel) and the float image.
+        checkDecodedImageSize(file, state->width, state->height, 6 + 3 * sizeof(float));
     } catch (const ImageError& e) {
         state->failure = e.what();
     }
