@@ -15,8 +15,6 @@ namespace ray::api {
 
 namespace {
 
-bool isReference(const std::string& devices) { return devices == "ref" || devices == "reference"; }
-
 void checkRange(const char* what, double value, double lo, double hi) {
     if (!(value >= lo && value <= hi))
         throw InputError("error: " + std::string(what) + " must be between " + std::to_string(lo) + " and " +
@@ -140,7 +138,7 @@ Renderer::Renderer(const Scene& scene, const std::string& devices) : impl_(std::
         throw InputError("error: the device selection must be auto, cpu, gpu, all, ref or an index from listDevices(), "
                          "not '" + devices + "'", "", 0);
     // The selection is checked now, so that a bad one fails here rather than at the first frame.
-    if (!isReference(devices)) detail::translatingErrors([&] { ray::selectOpenClDevices(devices); });
+    if (!ray::isReferenceDevice(devices)) detail::translatingErrors([&] { ray::selectOpenClDevices(devices); });
 }
 
 Renderer::~Renderer() = default;
@@ -168,7 +166,7 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
                              std::to_string(needed),
                          "", 0);
     return detail::translatingErrors([&] {
-        return isReference(impl_->devices) ? impl_->renderOnReference(rgb, progress, cancel, onTile)
+        return ray::isReferenceDevice(impl_->devices) ? impl_->renderOnReference(rgb, progress, cancel, onTile)
                                            : impl_->renderOnEngine(rgb, progress, cancel, onTile);
     });
 }

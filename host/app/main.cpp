@@ -74,7 +74,7 @@ void checkOutputPath(const std::filesystem::path& output) {
 // CLI caps each side at kMaxImageSide, but 16384² floats alone need 3 GiB).
 void checkImageFitsInMemory(const CliOptions& options) {
     const RenderSettings& s = options.settings;
-    const bool reference = options.device == "ref" || options.device == "reference";
+    const bool reference = isReferenceDevice(options.device);
     const uint64_t perPixel = reference ? kHostBytesPerPixelReference : kHostBytesPerPixelOpenCl;
     if (auto shortfall = hostMemoryShortfall(uint64_t(s.width) * uint64_t(s.height) * perPixel))
         throw UsageError("a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image " + *shortfall +

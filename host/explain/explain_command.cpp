@@ -2,11 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 
 #include "app/cli.h"
+#include "core/atomic_file.h"
 #include "explain/explanation_report.h"
 #include "scene/file_search.h"
 #include "scene/scene_loader.h"
@@ -76,18 +76,6 @@ void finishSettings(ExplainOptions& o) {
     s.depthOfField = !o.noDof;
 }
 
-// Written beside the target and renamed over it: never half a file.
-void writeJsonFile(const nlohmann::json& json, const std::filesystem::path& file) {
-    std::filesystem::path temporary = file;
-    temporary += ".tmp";
-    {
-        std::ofstream out(temporary);
-        out << json.dump(2) << "\n";
-        if (!out) throw UsageError("cannot write '" + file.string() + "'; check the folder exists and is writable");
-    }
-    std::filesystem::rename(temporary, file);
-}
-
 int explain(const ExplainOptions& o) {
     LoadOptions load;
     load.searchPaths = o.searchPaths;
@@ -97,7 +85,7 @@ int explain(const ExplainOptions& o) {
     Scene scene = loadScene(o.scene, load);
     PixelExplanation explanation = explainPixel(scene, o.settings, o.x, o.y);
     printExplanation(explanation, scene, std::cout);
-    if (!o.json.empty()) writeJsonFile(explanationJson(explanation, scene), o.json);
+    if (!o.json.empty()) writeFileAtomically(o.json, explanationJson(explanation, scene).dump(2) + "\n");
     return 0;
 }
 

@@ -2,6 +2,7 @@
 // other formats with OpenImageIO (loaded only when one is met: image/oiio_module.h).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -64,6 +65,13 @@ inline int quantize8(double c) {
     if (!(c > 0)) return 0;  // also maps NaN to 0
     if (c >= 1) return 255;
     return int(c * 255.0);
+}
+
+// quantize8 of `count` floats: the 8-bit values an 8-bit file of them holds.
+inline std::vector<uint8_t> quantize8(const float* values, size_t count) {
+    std::vector<uint8_t> bytes(count);
+    for (size_t i = 0; i < count; ++i) bytes[i] = uint8_t(quantize8(values[i]));
+    return bytes;
 }
 
 }  // namespace ray

@@ -96,13 +96,8 @@ void writeWithOiio(const Image& image, const fs::path& file) {
         throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
                          kOutputFormatAdvice);
     const bool floats = isFloatFormat(file);
-    std::vector<uint8_t> bytes;
-    const void* data = image.rgb.data();
-    if (!floats) {
-        bytes.resize(image.rgb.size());
-        for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(quantize8(image.rgb[i]));
-        data = bytes.data();
-    }
+    const std::vector<uint8_t> bytes = floats ? std::vector<uint8_t>() : quantize8(image.rgb.data(), image.rgb.size());
+    const void* data = floats ? static_cast<const void*>(image.rgb.data()) : bytes.data();
     writeFileAtomicallyVia(file, [&](const fs::path& tmp) {
         writeImageWithOiio(tmp, file, image.width, image.height, floats, data);
         try {

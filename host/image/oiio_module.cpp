@@ -106,7 +106,7 @@ Image readImageWithOiio(const fs::path& file) {
         void* handle;
         ~Closer() { module.close(handle); }
     } closer{module, handle};
-    if (info.width <= 0 || info.height <= 0 || info.channels <= 0)
+    if (info.width < 0 || info.height < 0 || info.channels <= 0)  // zero sizes: checkDecodedImageSize
         throw ImageError(file.string() + ": image has no pixels");
     // The module's decoded floats, then the RGB image.
     checkDecodedImageSize(file, uint64_t(info.width), uint64_t(info.height), uint64_t(info.channels + 3) * sizeof(float));

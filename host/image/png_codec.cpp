@@ -146,8 +146,7 @@ void noFlush(png_structp) {}
 
 std::vector<uint8_t> encodePng(const Image& image) {
     if (image.empty()) throw ImageError("refusing to encode an empty image");
-    std::vector<uint8_t> pixels(image.rgb.size());
-    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = uint8_t(quantize8(image.rgb[i]));
+    const std::vector<uint8_t> pixels = quantize8(image.rgb.data(), image.rgb.size());
     const auto encoded = std::make_unique<std::vector<uint8_t>>();  // reached after a longjmp too
     encoded->reserve(pixels.size() / 4);
     PngErrorText error;

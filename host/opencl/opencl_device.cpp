@@ -1,6 +1,5 @@
 #include "opencl/opencl_device.h"
 
-#include <sstream>
 #include <sys/stat.h>
 
 #include <unistd.h>
@@ -290,10 +289,6 @@ void printOpenClDevices(std::ostream& out) {
             << " MiB largest buffer\n";
     }
     out << "ref: the host reference renderer (always available)\n";
-}
-
-KernelProgram buildKernelProgram(const OpenClDevice& device, const std::string& options) {
-    return buildKernelProgram(device, cl::Context(device.device), options);
 }
 
 KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options) {

@@ -39,13 +39,11 @@ struct KernelProgram {
     bool fromCache = false;
 };
 
-// Builds the embedded kernel for the device with the given options, reusing a cached
-// binary when the source, options, device and driver are the same. The cache lives in
-// $RAY_CACHE_DIR, else $XDG_CACHE_HOME/ray, else ~/.cache/ray; a cache that cannot be
-// written is skipped silently. Throws DeviceError with the build log on failure.
-KernelProgram buildKernelProgram(const OpenClDevice& device, const std::string& options);
-// The same, in an existing context (the engine keeps one context per device and builds
-// one program in it per maximum depth).
+// Builds the embedded kernel for the device with the given options in the context (the
+// engine keeps one context per device and builds one program in it per maximum depth),
+// reusing a cached binary when the source, options, device and driver are the same. The
+// cache lives in $RAY_CACHE_DIR, else $XDG_CACHE_HOME/ray, else ~/.cache/ray; a cache that
+// cannot be written is skipped silently. Throws DeviceError with the build log on failure.
 KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options);
 
 // Describes an OpenCL error code ("CL_OUT_OF_RESOURCES (-5)").

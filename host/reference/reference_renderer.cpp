@@ -392,8 +392,10 @@ private:
 
     Vec3 transmittedFromInside(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight,
                                const MediumStack& media, const SampleId& id, RayCounts& counts) const {
-        if (depth >= settings_.maxDepth) return kBackground;
-        return transmitted(surface, ray, depth, weight, Vec3{1, 1, 1}, media, id, counts);
+        // Weight 1: the shared gate then stops only at the depth limit, and tells the observer.
+        auto factor = branchFactor(TraceRayKind::Refracted, settings_.refraction, 1.0, Vec3{1, 1, 1}, depth, weight);
+        if (!factor) return {};
+        return transmitted(surface, ray, depth, weight, *factor, media, id, counts);
     }
 
     // clamp(I_t): the ray refracted by Snell's law into the medium beyond the surface, or

@@ -59,14 +59,8 @@ int cancellableTileSize(const RenderSettings& settings, const Scene& scene) {
     return std::clamp(tileSide / 8 * 8, 8, 64);
 }
 
-namespace {
-
-bool isReference(const std::string& device) { return device == "ref" || device == "reference"; }
-
-}  // namespace
-
 bool isDeviceSelection(const std::string& text) {
-    if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || isReference(text)) return true;
+    if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || isReferenceDevice(text)) return true;
     // An index, or a list of them such as 0,2.
     if (text.empty() || text.front() == ',' || text.back() == ',' || text.find(",,") != std::string::npos) return false;
     return std::all_of(text.begin(), text.end(), [](char c) { return c == ',' || (c >= '0' && c <= '9'); });
@@ -74,7 +68,7 @@ bool isDeviceSelection(const std::string& text) {
 
 RenderOutput render(const RenderJob& job) {
     RenderOutput out;
-    if (isReference(job.device)) {
+    if (isReferenceDevice(job.device)) {
         out = renderOnReference(job);
     } else {
         OpenClRenderOptions options;
@@ -96,5 +90,7 @@ RenderOutput render(const RenderJob& job) {
 }
 
 void printDeviceList(std::ostream& out) { printOpenClDevices(out); }
+
+bool isReferenceDevice(const std::string& device) { return device == "ref" || device == "reference"; }
 
 }  // namespace ray

@@ -44,6 +44,9 @@ struct RenderOutput {
 // device index, or a list of indices such as 0,2.
 bool isDeviceSelection(const std::string& text);
 
+// "ref" or "reference": the host reference renderer rather than OpenCL devices.
+bool isReferenceDevice(const std::string& device);
+
 // Renders on the devices the job names; several ("all", a list) cooperate on the frame,
 // tile by tile (opencl/opencl_engine.h). Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);

@@ -28,10 +28,9 @@ uint64_t OpenClFrameSource::renderFrame(const std::shared_ptr<const Scene>& scen
     // Small tiles: the first one reaches the page soon, and a cancelled frame stops soon.
     options.tileSize = cancellableTileSize(settings, *scene_);
     options.onTile = [&](const FinishedTile& finished) {
-        FrameTile tile{finished.rect.x, finished.rect.y, finished.rect.width, finished.rect.height,
-                       std::vector<uint8_t>(size_t(finished.rect.width) * size_t(finished.rect.height) * 3)};
-        for (size_t i = 0; i < tile.rgb.size(); ++i) tile.rgb[i] = uint8_t(quantize8(finished.rgb[i]));
-        onTile(tile);
+        const size_t samples = size_t(finished.rect.width) * size_t(finished.rect.height) * 3;
+        onTile(FrameTile{finished.rect.x, finished.rect.y, finished.rect.width, finished.rect.height,
+                         quantize8(finished.rgb, samples)});
     };
     const FrameResult result = engine_->renderFrame(camera, settings, options);
     return result.stats.primaryRays + result.stats.shadowRays + result.stats.secondaryRays;

@@ -15,9 +15,7 @@ uint64_t ReferenceFrameSource::renderFrame(const std::shared_ptr<const Scene>& s
     ReferenceRenderOptions options;
     options.cancel = &cancel;
     options.rowDone = [&](int row, const float* rgb) {
-        FrameTile tile{0, row, settings.width, 1, std::vector<uint8_t>(size_t(settings.width) * 3)};
-        for (size_t i = 0; i < tile.rgb.size(); ++i) tile.rgb[i] = uint8_t(quantize8(rgb[i]));
-        onTile(tile);
+        onTile(FrameTile{0, row, settings.width, 1, quantize8(rgb, size_t(settings.width) * 3)});
     };
     RayCounts counts;
     renderReference(viewed, settings, options, &counts);

@@ -24,9 +24,9 @@ int runViewCommand(const std::vector<std::string>& args) {
     app.add_option("--port", options.port, "TCP port (0: any free one; default 8123)")->check(CLI::Range(0, 65535));
     app.add_option("--bind", options.address,
                    "address to listen on (default 127.0.0.1; anything else exposes the viewer to the network)");
-    app.add_option("--width", options.settings.width)->check(CLI::Range(8, 2048));
-    app.add_option("--height", options.settings.height)->check(CLI::Range(8, 2048));
-    app.add_option("--depth", options.settings.maxDepth)->check(CLI::Range(0, 16));
+    app.add_option("--width", options.settings.width)->check(CLI::Range(kMinViewSide, kMaxViewSide));
+    app.add_option("--height", options.settings.height)->check(CLI::Range(kMinViewSide, kMaxViewSide));
+    app.add_option("--depth", options.settings.maxDepth)->check(CLI::Range(0, kMaxViewDepth));
     app.add_option("--device", device,
                    "auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene packed once; ref: the reference renderer")
         ->check([](const std::string& value) { return isDeviceSelection(value) ? "" : "not a device selection"; });
@@ -51,7 +51,7 @@ int runViewCommand(const std::vector<std::string>& args) {
     };
     try {
         std::unique_ptr<FrameSource> source;
-        if (device == "ref" || device == "reference")
+        if (isReferenceDevice(device))
             source = std::make_unique<ReferenceFrameSource>();
         else
             source = std::make_unique<OpenClFrameSource>(selectOpenClDevices(device));

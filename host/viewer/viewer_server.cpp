@@ -21,8 +21,6 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 // Bounds on what a client may ask for: a frame is at most 2048² (12 MiB of 8-bit RGB).
-constexpr int kMaxViewSide = 2048;
-constexpr int kMaxViewDepth = 16;
 constexpr size_t kMaxRequestBody = 16 * 1024;
 constexpr auto kWatchInterval = std::chrono::milliseconds(300);
 // Open /events streams: a newer one closes the oldest beyond this many, so clients that
@@ -79,8 +77,8 @@ View parseView(const std::string& body, const View& current) {
     if (length(view.camera.look) < 1e-9 || length(cross(view.camera.look, view.camera.up)) < 1e-12)
         throw std::invalid_argument("look must be non-zero and not along up");
     RenderSettings& s = view.settings;
-    s.width = intIn(j, "width", 8, kMaxViewSide, s.width);
-    s.height = intIn(j, "height", 8, kMaxViewSide, s.height);
+    s.width = intIn(j, "width", kMinViewSide, kMaxViewSide, s.width);
+    s.height = intIn(j, "height", kMinViewSide, kMaxViewSide, s.height);
     s.maxDepth = intIn(j, "depth", 0, kMaxViewDepth, s.maxDepth);
     for (auto [key, flag] : {std::pair{"shadows", &s.shadows}, std::pair{"reflections", &s.reflections},
                              std::pair{"refraction", &s.refraction}, std::pair{"textures", &s.textures}})

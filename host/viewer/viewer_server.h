@@ -18,6 +18,11 @@
 
 namespace ray {
 
+// The sizes and depths the viewer accepts, from its command line and from the page.
+constexpr int kMinViewSide = 8;
+constexpr int kMaxViewSide = 2048;
+constexpr int kMaxViewDepth = 16;
+
 struct ViewerOptions {
     std::filesystem::path scene;
     std::string address = "127.0.0.1";
