@@ -89,22 +89,18 @@ std::optional<int> testFailureAfter(int deviceSlot) {
 // The engine's own tile source: the image cut into a grid of square tiles, row by row.
 class GridTiles : public TileSource {
 public:
-    GridTiles(int width, int height, int side) : width_(width), height_(height), side_(side) {
-        tilesX_ = (width + side - 1) / side;
-        count_ = tilesX_ * ((height + side - 1) / side);
-    }
+    GridTiles(int width, int height, int side) : grid_(width, height, side) {}
     bool next(TileRect& tile) override {
         std::lock_guard lock(mutex_);
-        if (nextIndex_ >= count_) return false;
-        const int tx = nextIndex_ % tilesX_, ty = nextIndex_ / tilesX_;
-        ++nextIndex_;
-        tile = {tx * side_, ty * side_, std::min(side_, width_ - tx * side_), std::min(side_, height_ - ty * side_)};
+        if (nextIndex_ >= grid_.count()) return false;
+        tile = grid_.tile(nextIndex_++);
         return true;
     }
 
 private:
     std::mutex mutex_;
-    int width_, height_, side_, tilesX_ = 0, count_ = 0, nextIndex_ = 0;
+    TileGrid grid_;
+    int nextIndex_ = 0;
 };
 
 // A tile of a frame as the scheduler sees it.
@@ -333,9 +329,7 @@ private:
         ++frame_.done;
         ++finished_;
         const TileRect& r = result.rect;
-        for (int row = 0; row < r.height; ++row)
-            std::copy_n(result.rgb + size_t(row) * size_t(r.width) * 3, size_t(r.width) * 3,
-                        frame_.image->rgb.begin() + ptrdiff_t((size_t(r.y + row) * size_t(frame_.image->width) + size_t(r.x)) * 3));
+        pasteTile(*frame_.image, r, result.rgb);
         FrameStats& s = *frame_.stats;
         s.primaryRays += result.primaryRays;
         s.shadowRays += result.shadowRays;

@@ -33,14 +33,10 @@
 #include "opencl/opencl_device.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
+#include "render/tiles.h"
 #include "scene/scene.h"
 
 namespace ray {
-
-// A rectangle of the image, in pixels: columns x..x+width-1, rows y..y+height-1.
-struct TileRect {
-    int x = 0, y = 0, width = 0, height = 0;
-};
 
 // Where a frame's tiles come from. The engine's own source cuts the image into a grid;
 // a distributed render hands tiles out from another process. Called from several device
