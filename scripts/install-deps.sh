@@ -8,7 +8,8 @@ packages=(cmake make g++ pkg-config
           catch2 libcli11-dev nlohmann-json3-dev
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-pil
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
-          libcpp-httplib-dev chromium chromium-driver python3-selenium)
+          libcpp-httplib-dev chromium chromium-driver python3-selenium
+          libopenmpi-dev openmpi-bin)  # mpirun -n N ray: tests/mpi.sh
 
 missing=()
 for p in "${packages[@]}"; do

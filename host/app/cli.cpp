@@ -58,6 +58,10 @@ options:
 exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure,
              130 interrupted by SIGINT, 143 by SIGTERM (the output file is left as it was,
              unless --partial)
+
+across processes and machines (a build with MPI): mpirun [-q] -n N [--hostfile F] ray
+<scene.xml> ... renders one frame on N ranks, each on its own --device; rank 0 hands out
+the tiles, renders too and alone writes the image and the statistics (see README.md)
 )";
 
 namespace {

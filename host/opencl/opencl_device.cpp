@@ -108,6 +108,18 @@ void preparePoclCacheFolder() {
     (void)done;
 }
 
+}  // namespace
+
+void usePrivatePoclCacheFolder(const std::string& leaf) {
+    fs::path base;
+    if (const char* set = std::getenv("POCL_CACHE_DIR"); set && *set) base = set;
+    else if (fs::path ours = cacheDirectory(); !ours.empty()) base = ours / "pocl";
+    fs::path folder = writablePrivateFolder(base.empty() ? base : base / leaf, "pocl-" + leaf);
+    if (!folder.empty()) ::setenv("POCL_CACHE_DIR", folder.c_str(), 1);
+}
+
+namespace {
+
 fs::path cacheFileFor(const OpenClDevice& device, const std::string& source, const std::string& options) {
     fs::path dir = cacheDirectory();
     if (dir.empty()) return {};

@@ -32,6 +32,12 @@ std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector);
 
 void printOpenClDevices(std::ostream& out);
 
+// Gives this process a PoCL kernel cache folder of its own, `leaf` inside the usual one
+// ($POCL_CACHE_DIR, else ray's cache folder): PoCL's cache is known to break when several
+// processes compile into it at once, as the ranks of a distributed render on one machine
+// would. Call before the first OpenCL call (PoCL reads the variable when it starts).
+void usePrivatePoclCacheFolder(const std::string& leaf);
+
 struct KernelProgram {
     cl::Context context;
     cl::Program program;

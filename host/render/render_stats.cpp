@@ -26,6 +26,17 @@ void printStats(const RenderStats& s, std::ostream& out) {
     out << line;
     std::snprintf(line, sizeof line, "speed        %.2f Mrays/s\n", s.mraysPerSecond());
     out << line;
+    const DistributionStats& mpi = s.distribution;
+    if (mpi.ranks > 0) {
+        std::string perRank;
+        for (int tiles : mpi.tilesPerRank) perRank += (perRank.empty() ? "" : "/") + std::to_string(tiles);
+        std::snprintf(line, sizeof line,
+                      "mpi          %d ranks, %d tiles (%s by rank), rank 0 handled %llu messages, %.2f MB, "
+                      "in %.3f s (%.3f ms a tile)\n",
+                      mpi.ranks, mpi.tiles, perRank.c_str(), (unsigned long long)mpi.messages, double(mpi.bytes) / 1e6,
+                      mpi.dispatchSeconds, mpi.dispatchMillisecondsPerTile());
+        out << line;
+    }
     // Several devices (or ranks): each one's share of the frame.
     if (s.devices.size() < 2) return;
     for (size_t i = 0; i < s.devices.size(); ++i) {
@@ -56,6 +67,16 @@ std::string statsToJson(const RenderStats& s) {
     json["render_seconds"] = s.renderSeconds;
     json["upload_seconds"] = s.uploadSeconds;
     json["mrays_per_second"] = s.mraysPerSecond();
+    if (s.distribution.ranks > 0) {
+        const DistributionStats& mpi = s.distribution;
+        json["mpi"] = {{"ranks", mpi.ranks},
+                       {"tiles", mpi.tiles},
+                       {"tiles_per_rank", mpi.tilesPerRank},
+                       {"messages", mpi.messages},
+                       {"bytes", mpi.bytes},
+                       {"dispatch_seconds", mpi.dispatchSeconds},
+                       {"dispatch_ms_per_tile", mpi.dispatchMillisecondsPerTile()}};
+    }
     json["devices"] = nlohmann::ordered_json::array();
     for (size_t i = 0; i < s.devices.size(); ++i) {
         const DeviceStats& d = s.devices[i];

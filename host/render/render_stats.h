@@ -21,6 +21,18 @@ struct DeviceStats {
     double mraysPerSecond() const { return busySeconds > 0 ? double(rays) / busySeconds / 1e6 : 0; }
 };
 
+// A frame rendered across the ranks of mpirun (distributed/mpi_render.h): the work each
+// rank did and what handing it out cost rank 0.
+struct DistributionStats {
+    int ranks = 0;  // 0: rendered in one process
+    int tiles = 0;
+    std::vector<int> tilesPerRank;      // kept from each rank
+    uint64_t messages = 0, bytes = 0;   // sent and received by rank 0
+    double dispatchSeconds = 0;         // rank 0's time spent handling them
+
+    double dispatchMillisecondsPerTile() const { return tiles > 0 ? dispatchSeconds * 1e3 / tiles : 0; }
+};
+
 struct RenderStats {
     int width = 0, height = 0, samples = 0, depth = 0;
     std::string device;
@@ -31,6 +43,7 @@ struct RenderStats {
     std::vector<DeviceStats> devices;
     std::vector<int> deviceRanks;  // parallel to devices when rendered through MPI, else empty
     std::vector<std::string> warnings;  // devices dropped
+    DistributionStats distribution;
 
     uint64_t totalRays() const { return primaryRays + shadowRays + secondaryRays; }
     double mraysPerSecond() const { return renderSeconds > 0 ? double(totalRays()) / renderSeconds / 1e6 : 0; }

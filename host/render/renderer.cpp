@@ -10,8 +10,6 @@
 
 namespace ray {
 
-namespace {
-
 int maxSamplesPerPixel(const RenderSettings& s) {
     switch (s.antialias) {
         case AntialiasMode::Off: return 1;
@@ -19,6 +17,8 @@ int maxSamplesPerPixel(const RenderSettings& s) {
         default: return s.samples;
     }
 }
+
+namespace {
 
 RenderOutput renderOnReference(const RenderJob& job) {
     RenderOutput out;

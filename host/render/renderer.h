@@ -47,6 +47,9 @@ bool isDeviceSelection(const std::string& text);
 // "ref" or "reference": the host reference renderer rather than OpenCL devices.
 bool isReferenceDevice(const std::string& device);
 
+// The most samples a pixel takes with the settings' antialiasing (for the statistics).
+int maxSamplesPerPixel(const RenderSettings& settings);
+
 // Renders on the devices the job names; several ("all", a list) cooperate on the frame,
 // tile by tile (opencl/opencl_engine.h). Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);

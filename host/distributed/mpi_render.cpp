@@ -1,0 +1,632 @@
+#include "distributed/mpi_render.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <optional>
+#include <thread>
+#include <unistd.h>
+
+#include "app/cli.h"
+#include "app/progress.h"
+#include "app/render_command.h"
+#include "distributed/tile_dispatcher.h"
+#include "opencl/opencl_device.h"
+#include "opencl/opencl_engine.h"
+
+namespace ray {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Json = nlohmann::json;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The messages of a distributed frame, by tag. W is a worker rank (1..N-1), 0 rank 0.
+enum Tag : int {
+    kRequest = 1,  // W -> 0: int, how many more tiles W's devices wait for
+    kTiles,        // 0 -> W: 4 ints (x, y, width, height) a tile; fewer tiles than asked: no more
+    kResult,       // W -> 0: a TileResultHeader, then width x height x 3 floats (linear RGB)
+    kFinished,     // W -> 0: JSON, W's statistics (and why its devices failed, if they did)
+    kEnd,          // 0 -> W: int, the exit code: the frame is over
+    kReport,       // W -> 0: text, why W could not start (the first rank that failed tells)
+};
+
+struct TileResultHeader {
+    int32_t x, y, width, height, device, reserved;
+    uint64_t primaryRays, shadowRays, secondaryRays;
+};
+static_assert(sizeof(TileResultHeader) == 48, "the result header is sent as bytes between hosts of one kind");
+
+// A polling loop's pause when nothing happened: blocking MPI calls spin a core, which
+// would halve a 2-core rank's render; 0.2 ms adds little to a tile of tens of milliseconds.
+void idle() { std::this_thread::sleep_for(std::chrono::microseconds(200)); }
+
+bool interrupted() { return interruptFlag()->load(); }
+
+// Ends every rank: an error that leaves the frame's state unknown.
+[[noreturn]] void abortAll(int rank, const std::string& message) {
+    std::cerr << "ray: rank " << rank << ": " << message << "\n" << std::flush;
+    MPI_Abort(MPI_COMM_WORLD, kExitRuntime);
+    std::_Exit(kExitRuntime);
+}
+
+// After SIGINT/SIGTERM (mpirun forwards Ctrl-C as SIGTERM to every rank and kills those
+// left after a few seconds): leave at once, without MPI_Finalize, which waits for ranks
+// that may be gone.
+[[noreturn]] void leaveInterrupted() {
+    std::cerr << std::flush;
+    std::_Exit(interruptExitCode());
+}
+
+struct MpiSession {
+    int rank = 0, size = 1;
+    MpiSession(int argc, char** argv) {
+        int provided = 0;
+        MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+        MPI_Comm_size(MPI_COMM_WORLD, &size);
+    }
+    ~MpiSession() { MPI_Finalize(); }
+};
+
+// What every rank holds once the command line and the scene are loaded.
+struct Prepared {
+    CliOptions options;
+    std::filesystem::path output;  // rank 0
+    std::optional<Scene> scene;
+    std::vector<OpenClDevice> devices;
+    double loadSeconds = 0;
+    bool nothingToRender = false;  // --help, --version, --list-devices
+};
+
+Failure prepare(Prepared& p, const std::vector<std::string>& args, int rank) {
+    try {
+        if (!args.empty() && (args.front() == "view" || args.front() == "explain"))
+            throw UsageError("ray " + args.front() + " runs in one process; start it without mpirun");
+        p.options = parseCommandLine(args);
+        const CliOptions& o = p.options;
+        if (o.help || o.version || o.listDevices) {
+            p.nothingToRender = true;
+            if (rank == 0 && o.help) std::cout << kUsageText;
+            if (rank == 0 && o.version) std::cout << "ray " << RAY_VERSION << "\n";
+            if (rank == 0 && o.listDevices) printOpenClDevices(std::cout);
+            return {};
+        }
+        if (isReferenceDevice(o.device))
+            throw UsageError("--device ref renders on the host in one process; run it without mpirun, or choose "
+                             "OpenCL devices (--device cpu, gpu, all)");
+        installInterruptHandlers();
+        if (rank == 0) p.output = checkOutputs(o);
+        CliOptions loadOptions = o;
+        loadOptions.quiet = o.quiet || rank != 0;  // the scene's warnings once, from rank 0
+        auto start = Clock::now();
+        p.scene.emplace(loadSceneFor(loadOptions));
+        p.loadSeconds = secondsSince(start);
+        checkImageFitsInMemory(o);
+        // Before the first OpenCL call: ranks on one machine must not compile into one
+        // PoCL cache at once.
+        usePrivatePoclCacheFolder("rank-" + std::to_string(rank));
+        p.devices = selectOpenClDevices(o.device);
+    } catch (...) {
+        return describeFailure(std::current_exception());
+    }
+    return {};
+}
+
+void sendText(const std::string& text, int to, int tag) {
+    MPI_Send(text.data(), int(text.size()), MPI_CHAR, to, tag, MPI_COMM_WORLD);
+}
+
+std::string receiveText(int from, int tag, MPI_Status* status = nullptr) {
+    MPI_Status probed;
+    MPI_Probe(from, tag, MPI_COMM_WORLD, &probed);
+    int length = 0;
+    MPI_Get_count(&probed, MPI_CHAR, &length);
+    std::string text(size_t(length), '\0');
+    MPI_Recv(text.data(), length, MPI_CHAR, probed.MPI_SOURCE, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (status) *status = probed;
+    return text;
+}
+
+// Every rank learns whether any failed to start; the first that failed tells rank 0 why,
+// and rank 0 alone prints it. Returns the exit code every rank ends with (0: go on).
+int agreeOnStart(const Failure& mine, const MpiSession& mpi) {
+    std::vector<int> codes(size_t(mpi.size), 0);
+    MPI_Allgather(&mine.exitCode, 1, MPI_INT, codes.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    auto first = std::find_if(codes.begin(), codes.end(), [](int code) { return code != 0; });
+    if (first == codes.end()) return 0;
+    const int reporter = int(first - codes.begin());
+    if (reporter != 0 && mpi.rank == reporter) sendText(mine.message, 0, kReport);
+    if (mpi.rank == 0) {
+        if (reporter == 0) std::cerr << mine.message << "\n";
+        else std::cerr << receiveText(reporter, kReport) << "\n(on rank " << reporter << ")\n";
+    }
+    return *first;
+}
+
+FrameOptions frameOptions(TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
+    FrameOptions options;
+    options.tiles = &tiles;
+    options.onTile = std::move(onTile);
+    options.cancel = interruptFlag();
+    return options;
+}
+
+// A rank's statistics as rank 0 merges them: its devices' shares and set-up times.
+Json statsToMessage(const FrameStats& frame, double loadSeconds, const std::string& failure) {
+    Json devices = Json::array();
+    for (const DeviceStats& d : frame.devices)
+        devices.push_back({{"device", d.device}, {"tiles", d.tiles}, {"pixels", d.pixels}, {"rays", d.rays},
+                           {"busy", d.busySeconds}, {"failed", d.failed}, {"failure", d.failure}});
+    // The rays are counted by rank 0 from the tiles it keeps (TileResultHeader).
+    return {{"devices", devices},
+            {"load", loadSeconds},
+            {"bvh", frame.bvhBuildSeconds},
+            {"kernel_build", frame.kernelBuildSeconds},
+            {"upload", frame.uploadSeconds},
+            {"warnings", frame.warnings},
+            {"failure", failure}};
+}
+
+void mergeRankStats(RenderStats& stats, int rank, const Json& m) {
+    for (const Json& d : m.at("devices")) {
+        DeviceStats device;
+        device.device = d.at("device").get<std::string>();
+        device.tiles = d.at("tiles").get<int>();
+        device.pixels = d.at("pixels").get<uint64_t>();
+        device.rays = d.at("rays").get<uint64_t>();
+        device.busySeconds = d.at("busy").get<double>();
+        device.failed = d.at("failed").get<bool>();
+        device.failure = d.at("failure").get<std::string>();
+        stats.devices.push_back(device);
+        stats.deviceRanks.push_back(rank);
+    }
+    stats.bvhBuildSeconds = std::max(stats.bvhBuildSeconds, m.at("bvh").get<double>());
+    stats.kernelBuildSeconds = std::max(stats.kernelBuildSeconds, m.at("kernel_build").get<double>());
+    stats.uploadSeconds = std::max(stats.uploadSeconds, m.at("upload").get<double>());
+    for (const Json& w : m.at("warnings")) stats.warnings.push_back("rank " + std::to_string(rank) + ": " + w.get<std::string>());
+}
+
+// ---------------------------------------------------------------------------------------
+// A worker rank (1..N-1).
+
+// The device threads' tile source on a worker: each next() waits for the main thread to
+// bring a tile from rank 0.
+class RemoteTiles : public TileSource {
+public:
+    bool next(TileRect& tile) override {
+        std::unique_lock lock(mutex_);
+        ++waiting_;
+        while (ready_.empty() && !exhausted_ && !interrupted()) arrived_.wait_for(lock, std::chrono::milliseconds(50));
+        --waiting_;
+        if (ready_.empty()) return false;
+        tile = ready_.front();
+        ready_.pop_front();
+        return true;
+    }
+    // How many more tiles to ask rank 0 for, `asked` being already on their way.
+    int shortfall(int asked) {
+        std::lock_guard lock(mutex_);
+        return exhausted_ ? 0 : waiting_ - int(ready_.size()) - asked;
+    }
+    void arrive(const std::vector<TileRect>& tiles, bool noMore) {
+        std::lock_guard lock(mutex_);
+        ready_.insert(ready_.end(), tiles.begin(), tiles.end());
+        exhausted_ = exhausted_ || noMore;
+        arrived_.notify_all();
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable arrived_;
+    std::deque<TileRect> ready_;
+    int waiting_ = 0;
+    bool exhausted_ = false;
+};
+
+// Finished tiles waiting for the main thread to send them, as ready-made messages.
+class Outbox {
+public:
+    void push(const FinishedTile& tile) {
+        std::vector<char> message(sizeof(TileResultHeader) + tile.rect.pixels() * 3 * sizeof(float));
+        TileResultHeader header{tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.device, 0,
+                                tile.primaryRays, tile.shadowRays, tile.secondaryRays};
+        std::memcpy(message.data(), &header, sizeof header);
+        std::memcpy(message.data() + sizeof header, tile.rgb, tile.rect.pixels() * 3 * sizeof(float));
+        std::lock_guard lock(mutex_);
+        messages_.push_back(std::move(message));
+    }
+    std::optional<std::vector<char>> pop() {
+        std::lock_guard lock(mutex_);
+        if (messages_.empty()) return std::nullopt;
+        std::vector<char> message = std::move(messages_.front());
+        messages_.pop_front();
+        return message;
+    }
+
+private:
+    std::mutex mutex_;
+    std::deque<std::vector<char>> messages_;
+};
+
+std::vector<TileRect> receiveTiles(int& count) {
+    MPI_Status status;
+    MPI_Probe(0, kTiles, MPI_COMM_WORLD, &status);
+    int ints = 0;
+    MPI_Get_count(&status, MPI_INT, &ints);
+    std::vector<int> values(size_t(std::max(ints, 0)));
+    MPI_Recv(values.data(), ints, MPI_INT, 0, kTiles, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    std::vector<TileRect> tiles;
+    for (size_t i = 0; i + 3 < values.size(); i += 4) tiles.push_back({values[i], values[i + 1], values[i + 2], values[i + 3]});
+    count = int(tiles.size());
+    return tiles;
+}
+
+int runWorker(Prepared& p) {
+    RemoteTiles tiles;
+    Outbox outbox;
+    std::atomic<bool> rendered{false};
+    FrameStats frameStats;
+    std::string failure;
+    beginRendering();
+    std::thread render([&] {
+        try {
+            OpenClEngine engine(*p.scene, p.devices);
+            FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) { outbox.push(tile); });
+            frameStats = engine.renderFrame(p.scene->camera, p.options.settings, options).stats;
+        } catch (...) {
+            // Every device of this rank failed: rank 0 gives its tiles to the others.
+            failure = describeFailure(std::current_exception()).message;
+        }
+        rendered = true;
+    });
+
+    std::deque<int> requests;  // tiles asked for, by request, answers pending
+    int asked = 0;
+    bool finished = false;
+    while (!finished) {
+        bool active = false;
+        if (int more = tiles.shortfall(asked); more > 0) {
+            MPI_Send(&more, 1, MPI_INT, 0, kRequest, MPI_COMM_WORLD);
+            requests.push_back(more);
+            asked += more;
+            active = true;
+        }
+        while (auto message = outbox.pop()) {
+            MPI_Send(message->data(), int(message->size()), MPI_BYTE, 0, kResult, MPI_COMM_WORLD);
+            active = true;
+        }
+        int flag = 0;
+        MPI_Iprobe(0, kTiles, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+        if (flag && !requests.empty()) {
+            int count = 0;
+            std::vector<TileRect> answer = receiveTiles(count);
+            const int wanted = requests.front();
+            requests.pop_front();
+            asked -= wanted;
+            tiles.arrive(answer, count < wanted);
+            active = true;
+        }
+        // The engine has returned and every tile it kept is sent: report, once the
+        // answers still on their way are in (they would be no tile or a spare one).
+        if (rendered && requests.empty()) {
+            render.join();
+            while (auto message = outbox.pop())
+                MPI_Send(message->data(), int(message->size()), MPI_BYTE, 0, kResult, MPI_COMM_WORLD);
+            if (interrupted()) leaveInterrupted();
+            sendText(statsToMessage(frameStats, p.loadSeconds, failure).dump(), 0, kFinished);
+            finished = true;
+        }
+        if (!active) idle();
+    }
+    // Wait for rank 0 to end the frame.
+    while (true) {
+        int flag = 0;
+        MPI_Iprobe(0, kEnd, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+        if (flag) {
+            int code = 0;
+            MPI_Recv(&code, 1, MPI_INT, 0, kEnd, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            return code;
+        }
+        if (interrupted()) leaveInterrupted();
+        idle();
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Rank 0: hands the tiles out, renders some, assembles the image.
+
+// Rank 0's own devices take their tiles straight from the dispatcher.
+class DispatcherTiles : public TileSource {
+public:
+    explicit DispatcherTiles(TileDispatcher& dispatcher) : dispatcher_(dispatcher) {}
+    bool next(TileRect& tile) override {
+        std::vector<TileRect> tiles = dispatcher_.handOut(0, 1);
+        if (tiles.empty()) return false;
+        tile = tiles.front();
+        return true;
+    }
+
+private:
+    TileDispatcher& dispatcher_;
+};
+
+// Rank 0's own share, on its own thread: rounds of the engine until the frame is complete
+// (a second round only when a failed rank gave tiles back after the first ended).
+struct LocalShare {
+    std::atomic<bool> done{false};
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::vector<FrameStats> rounds;
+    std::string failure;  // every device of rank 0 failed
+};
+
+void renderLocalShare(Prepared& p, TileDispatcher& dispatcher, LocalShare& share) {
+    try {
+        OpenClEngine engine(*p.scene, p.devices);
+        while (!share.stop && !interrupted() && !dispatcher.complete()) {
+            if (!dispatcher.anyToHandOut()) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                continue;
+            }
+            DispatcherTiles tiles(dispatcher);
+            FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) {
+                dispatcher.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3);
+            });
+            FrameResult round = engine.renderFrame(p.scene->camera, p.options.settings, options);
+            std::lock_guard lock(share.mutex);
+            share.rounds.push_back(std::move(round.stats));
+        }
+    } catch (...) {
+        dispatcher.giveBack(0);
+        std::lock_guard lock(share.mutex);
+        share.failure = describeFailure(std::current_exception()).message;
+    }
+    share.done = true;
+}
+
+// One rank's statistics from the engine's rounds on rank 0: devices summed over rounds.
+FrameStats sumRounds(const std::vector<FrameStats>& rounds) {
+    FrameStats total;
+    for (const FrameStats& r : rounds) {
+        total.primaryRays += r.primaryRays;
+        total.shadowRays += r.shadowRays;
+        total.secondaryRays += r.secondaryRays;
+        total.bvhBuildSeconds += r.bvhBuildSeconds;
+        total.kernelBuildSeconds += r.kernelBuildSeconds;
+        total.uploadSeconds += r.uploadSeconds;
+        total.warnings.insert(total.warnings.end(), r.warnings.begin(), r.warnings.end());
+        if (total.devices.empty()) total.devices = r.devices;
+        else
+            for (size_t i = 0; i < r.devices.size() && i < total.devices.size(); ++i) {
+                DeviceStats& d = total.devices[i];
+                d.tiles += r.devices[i].tiles;
+                d.pixels += r.devices[i].pixels;
+                d.rays += r.devices[i].rays;
+                d.busySeconds += r.devices[i].busySeconds;
+                d.failed = d.failed || r.devices[i].failed;
+                if (d.failure.empty()) d.failure = r.devices[i].failure;
+            }
+    }
+    return total;
+}
+
+class Coordinator {
+public:
+    Coordinator(Prepared& p, const MpiSession& mpi, int tileSide)
+        : p_(p), mpi_(mpi), dispatcher_(p.options.settings.width, p.options.settings.height, tileSide),
+          finished_(size_t(mpi.size), false), tilesPerRank_(size_t(mpi.size), 0) {
+        finished_[0] = true;  // rank 0 reports through LocalShare
+    }
+
+    int run() {
+        ProgressBar progress(!p_.options.quiet);
+        beginRendering();
+        const auto start = Clock::now();
+        LocalShare share;
+        std::thread local([&] { renderLocalShare(p_, dispatcher_, share); });
+        while (!interrupted()) {
+            if (handleOneMessage()) continue;
+            progress.update(dispatcher_.fractionDone());
+            const bool workersDone = std::all_of(finished_.begin(), finished_.end(), [](bool f) { return f; });
+            // Rank 0's share ends when the frame is complete or its devices all failed.
+            if (workersDone && share.done) break;
+            idle();
+        }
+        share.stop = true;
+        local.join();
+        progress.finish();
+        stats_.renderSeconds = secondsSince(start);
+
+        RenderOutput result;
+        result.interrupted = interrupted();
+        const bool complete = dispatcher_.complete();
+        result.image = dispatcher_.takeImage();
+        int code = 0;
+        if (!result.interrupted && !complete) {
+            std::cerr << "ray: every rank's OpenCL devices failed; rank 0: " << share.failure << "\n";
+            code = kExitRuntime;
+        } else {
+            result.stats = collectStats(share);
+            try {
+                code = finishRender(result, p_.output, p_.options);
+            } catch (...) {
+                Failure failure = describeFailure(std::current_exception());
+                std::cerr << failure.message << "\n";
+                code = failure.exitCode;
+            }
+        }
+        if (result.interrupted) leaveInterrupted();
+        for (int r = 1; r < mpi_.size; ++r) MPI_Send(&code, 1, MPI_INT, r, kEnd, MPI_COMM_WORLD);
+        return code;
+    }
+
+private:
+    // Handles the next message if one is waiting; false when none is.
+    bool handleOneMessage() {
+        int flag = 0;
+        MPI_Status status;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+        if (!flag) return false;
+        const auto start = Clock::now();
+        const int from = status.MPI_SOURCE;
+        int bytes = 0;
+        MPI_Get_count(&status, MPI_BYTE, &bytes);
+        messages_ += 1;
+        bytes_ += uint64_t(bytes);
+        switch (status.MPI_TAG) {
+            case kRequest: answerRequest(from); break;
+            case kResult: receiveResult(from, bytes); break;
+            case kFinished: receiveFinished(from); break;
+            default: abortAll(0, "unexpected message (tag " + std::to_string(status.MPI_TAG) + ") from rank " + std::to_string(from));
+        }
+        dispatchSeconds_ += secondsSince(start);
+        return true;
+    }
+
+    void answerRequest(int from) {
+        int count = 0;
+        MPI_Recv(&count, 1, MPI_INT, from, kRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        std::vector<int> values;
+        for (const TileRect& t : dispatcher_.handOut(from, std::clamp(count, 0, 1024)))
+            values.insert(values.end(), {t.x, t.y, t.width, t.height});
+        MPI_Send(values.data(), int(values.size()), MPI_INT, from, kTiles, MPI_COMM_WORLD);
+        messages_ += 1;
+        bytes_ += values.size() * sizeof(int);
+    }
+
+    void receiveResult(int from, int bytes) {
+        buffer_.resize(size_t(std::max(bytes, 0)));
+        MPI_Recv(buffer_.data(), bytes, MPI_BYTE, from, kResult, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        if (buffer_.size() < sizeof(TileResultHeader)) abortAll(0, "a short tile message from rank " + std::to_string(from));
+        TileResultHeader header;
+        std::memcpy(&header, buffer_.data(), sizeof header);
+        const TileRect rect{header.x, header.y, header.width, header.height};
+        const size_t floats = (buffer_.size() - sizeof header) / sizeof(float);
+        std::vector<float> rgb(floats);
+        std::memcpy(rgb.data(), buffer_.data() + sizeof header, floats * sizeof(float));
+        try {
+            if (dispatcher_.deliver(from, rect, rgb.data(), floats)) {
+                // The rays of the tiles kept: those of a rank that failed later count too.
+                ++tilesPerRank_[size_t(from)];
+                stats_.primaryRays += header.primaryRays;
+                stats_.shadowRays += header.shadowRays;
+                stats_.secondaryRays += header.secondaryRays;
+            }
+        } catch (const std::invalid_argument& e) {
+            abortAll(0, e.what());
+        }
+    }
+
+    void receiveFinished(int from) {
+        Json message;
+        try {
+            message = Json::parse(receiveText(from, kFinished));
+            mergeRankStats(stats_, from, message);
+        } catch (const Json::exception& e) {
+            abortAll(0, "unreadable statistics from rank " + std::to_string(from) + ": " + e.what());
+        }
+        finished_[size_t(from)] = true;
+        std::string failure = message.value("failure", "");
+        if (failure.rfind("ray: ", 0) == 0) failure.erase(0, 5);
+        if (!failure.empty()) {
+            const int givenBack = dispatcher_.giveBack(from);
+            stats_.warnings.push_back("rank " + std::to_string(from) + " dropped (" + std::to_string(givenBack) +
+                                      " tiles given to the others): " + failure);
+        }
+    }
+
+    RenderStats collectStats(LocalShare& share) {
+        RenderStats stats = stats_;
+        std::lock_guard lock(share.mutex);
+        FrameStats own = sumRounds(share.rounds);
+        RenderStats mine;
+        mergeRankStats(mine, 0, statsToMessage(own, p_.loadSeconds, share.failure));
+        // The devices by rank (the workers' came in the order they finished).
+        stats.devices.insert(stats.devices.begin(), mine.devices.begin(), mine.devices.end());
+        stats.deviceRanks.insert(stats.deviceRanks.begin(), mine.deviceRanks.begin(), mine.deviceRanks.end());
+        std::vector<size_t> order(stats.devices.size());
+        std::iota(order.begin(), order.end(), size_t(0));
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return stats.deviceRanks[a] < stats.deviceRanks[b]; });
+        RenderStats sorted = stats;
+        for (size_t i = 0; i < order.size(); ++i) {
+            sorted.devices[i] = stats.devices[order[i]];
+            sorted.deviceRanks[i] = stats.deviceRanks[order[i]];
+        }
+        stats = std::move(sorted);
+        stats.primaryRays += own.primaryRays;
+        stats.shadowRays += own.shadowRays;
+        stats.secondaryRays += own.secondaryRays;
+        stats.bvhBuildSeconds = std::max(stats.bvhBuildSeconds, mine.bvhBuildSeconds);
+        stats.kernelBuildSeconds = std::max(stats.kernelBuildSeconds, mine.kernelBuildSeconds);
+        stats.uploadSeconds = std::max(stats.uploadSeconds, mine.uploadSeconds);
+        stats.warnings.insert(stats.warnings.begin(), mine.warnings.begin(), mine.warnings.end());
+        if (!share.failure.empty()) stats.warnings.insert(stats.warnings.begin(), "rank 0 dropped: " + share.failure);
+
+        const RenderSettings& s = p_.options.settings;
+        stats.width = s.width;
+        stats.height = s.height;
+        stats.depth = s.maxDepth;
+        stats.samples = maxSamplesPerPixel(s);
+        stats.loadSeconds = p_.loadSeconds;
+        stats.device = std::to_string(mpi_.size) + " MPI ranks, " + std::to_string(stats.devices.size()) +
+                       " OpenCL devices";
+        DistributionStats& d = stats.distribution;
+        d.ranks = mpi_.size;
+        d.tiles = dispatcher_.tileCount();
+        d.tilesPerRank = tilesPerRank_;
+        d.tilesPerRank[0] = d.tiles - std::accumulate(tilesPerRank_.begin() + 1, tilesPerRank_.end(), 0);
+        d.messages = messages_;
+        d.bytes = bytes_;
+        d.dispatchSeconds = dispatchSeconds_;
+        return stats;
+    }
+
+    Prepared& p_;
+    const MpiSession& mpi_;
+    TileDispatcher dispatcher_;
+    std::vector<bool> finished_;
+    std::vector<int> tilesPerRank_;
+    std::vector<char> buffer_;
+    RenderStats stats_;
+    uint64_t messages_ = 0, bytes_ = 0;
+    double dispatchSeconds_ = 0;
+};
+
+}  // namespace
+
+bool launchedByMpirun() {
+    for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+        if (const char* value = std::getenv(variable); value && *value) return true;
+    return false;
+}
+
+int runDistributedCommand(int argc, char** argv, const std::vector<std::string>& args) {
+    MpiSession mpi(argc, argv);
+    Prepared prepared;
+    if (int code = agreeOnStart(prepare(prepared, args, mpi.rank), mpi); code != 0) return code;
+    if (prepared.nothingToRender) return 0;
+    try {
+        if (mpi.rank != 0) return runWorker(prepared);
+        const int side = prepared.options.tileSize > 0
+                             ? prepared.options.tileSize
+                             : cancellableTileSize(prepared.options.settings, *prepared.scene);
+        return Coordinator(prepared, mpi, side).run();
+    } catch (...) {
+        abortAll(mpi.rank, describeFailure(std::current_exception()).message);
+    }
+}
+
+}  // namespace ray

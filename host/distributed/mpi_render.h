@@ -1,0 +1,34 @@
+// `mpirun -n N ray scene.xml [w h] [depth] [options]`: one frame across N processes, on
+// one machine or on the hosts of a hostfile (Open MPI; built when CMake finds MPI).
+//
+// Every rank parses the command line and loads the scene (the same path on every host);
+// the ranks agree on the outcome before any rendering, so that a bad scene or option ends
+// every rank with one message, from rank 0, and exit code 2. Rank 0 then hands tiles out
+// on demand (tile_dispatcher.h) and renders too, so that -n 1 works; each rank renders the
+// tiles it is given on its own devices (--device, as in one process) through the OpenCL
+// engine, several in flight per device, and sends each finished tile to rank 0, which
+// alone writes the image, the progress and the statistics (per rank and device). Every
+// pixel is a function of its coordinates and the seed only: the image is byte-identical to
+// a one-process render.
+//
+// Failures: a rank whose every device failed reports it and its tiles go to the others
+// (a warning names it); any other error on a rank ends the job with MPI_Abort, never a
+// hang. mpirun itself ends the job when a rank dies. On Ctrl-C mpirun sends every rank
+// SIGTERM: they stop, rank 0 leaves the output untouched (or writes it with --partial).
+//
+// Threads: only each rank's main thread calls MPI (MPI_THREAD_FUNNELED): it runs the
+// message loop while the engine renders on other threads.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace ray {
+
+// Whether this process was started by mpirun (Open MPI's or a PMI launcher's variables).
+bool launchedByMpirun();
+
+// The render command across the ranks of MPI_COMM_WORLD; the exit code of this rank.
+int runDistributedCommand(int argc, char** argv, const std::vector<std::string>& args);
+
+}  // namespace ray

@@ -1,0 +1,124 @@
+#!/usr/bin/env bash
+# mpirun -n N ray ... (host/distributed/mpi_render.h), on this machine's PoCL CPU device:
+#   - -n 1 and -n 3 are byte-identical to a plain ray run (the showpiece; chess.xml from
+#     ../shared when present), with the statistics per rank (--stats-json);
+#   - odd sizes: not a multiple of the tile, more ranks than tiles;
+#   - a bad scene: exit 2, one message, no hang; a rank that cannot start: the same, its
+#     message from rank 0;
+#   - a rank whose every device fails: its tiles go to the others, the same image, a warning;
+#   - a rank killed mid-frame: non-zero within seconds, the output untouched;
+#   - Ctrl-C to mpirun: the output untouched, or written with --partial.
+# Every mpirun runs under `timeout`: a hang is a failure, not a stuck CI job.
+# Usage: mpi.sh RAY MPIRUN SOURCE_DIR OUT_DIR
+set -u
+ray=$1 mpirun=$2 src=$3 out=$4/mpi
+rm -rf "$out" && mkdir -p "$out"
+# Open MPI refuses to run as root (as CI does) without these; --oversubscribe lets 3 ranks
+# share 2 cores; -q drops mpirun's own banner on a non-zero exit.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 RAY_CACHE_DIR="$out/cache"
+mpi() { timeout -k 5 120 "$mpirun" -q --oversubscribe "$@"; }
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# $1 name, $2 ranks, $3 scene, $4.. size and options: a plain run, then mpirun -n $2.
+same_as_plain() {
+    local name=$1 ranks=$2 scene=$3; shift 3
+    "$ray" "$scene" "$@" --quiet -o "$out/$name.plain.png" || { fail "$name: plain ray exited $?"; return; }
+    mpi -n "$ranks" "$ray" "$scene" "$@" --quiet -o "$out/$name.mpi.png" --stats-json "$out/$name.json" \
+        || { fail "$name: mpirun -n $ranks exited $?"; return; }
+    cmp -s "$out/$name.plain.png" "$out/$name.mpi.png" || fail "$name: mpirun -n $ranks differs from a plain run"
+    python3 - "$out/$name.json" "$ranks" <<'PY' || fail "$name: statistics"
+import json, sys
+stats, ranks = json.load(open(sys.argv[1])), int(sys.argv[2])
+mpi = stats["mpi"]
+assert mpi["ranks"] == ranks, mpi
+assert sum(mpi["tiles_per_rank"]) == mpi["tiles"], mpi
+assert sorted({d["rank"] for d in stats["devices"]}) == list(range(ranks)), stats["devices"]
+assert stats["total_rays"] > 0
+PY
+}
+
+showpiece="$src/scenes/showpiece.xml"
+same_as_plain showpiece_1 1 "$showpiece" 160 120
+same_as_plain showpiece_3 3 "$showpiece" 160 120 --tile-size 16
+chess="$src/../shared/cs123/scenes/chess.xml"
+if [ -f "$chess" ]; then
+    same_as_plain chess_1 1 "$chess" 200 150
+    same_as_plain chess_3 3 "$chess" 200 150 --tile-size 16
+else
+    echo "note: chess.xml is absent (../shared/cs123); the showpiece only"
+fi
+base="$src/scenes/shadows.xml"
+same_as_plain odd_multiple 3 "$base" 101 37 --tile-size 16   # not a multiple of the tile
+same_as_plain more_ranks_than_tiles 3 "$base" 5 3 --tile-size 64
+
+# A bad scene: every rank stops, exit 2, one message.
+printf '<scenefile>\n<bad\n' > "$out/bad.xml"
+mpi -n 3 "$ray" "$out/bad.xml" 32 24 -o "$out/bad.png" 2> "$out/bad.err"
+code=$?
+[ $code -eq 2 ] || fail "bad scene: exit $code, not 2"
+[ "$(grep -c "bad.xml:" "$out/bad.err")" -eq 1 ] || { fail "bad scene: not one message"; cat "$out/bad.err"; }
+[ ! -e "$out/bad.png" ] || fail "bad scene: an image was written"
+# Rank 2 alone cannot open its scene (as a host missing the file would): rank 0 says so.
+mpi -n 2 "$ray" "$base" 32 24 -o "$out/missing.png" : -n 1 "$ray" "$out/missing.xml" 32 24 -o "$out/missing.png" \
+    2> "$out/missing.err"
+code=$?
+[ $code -eq 2 ] || fail "a rank missing the scene: exit $code, not 2"
+grep -q "missing.xml: error: .*" "$out/missing.err" && grep -q "on rank 2" "$out/missing.err" \
+    || { fail "a rank missing the scene: no message naming it"; cat "$out/missing.err"; }
+
+# Rank 2's only device fails after two tiles: the others finish the frame.
+"$ray" "$base" 100 70 --quiet -o "$out/hook.plain.png"
+mpi -n 2 "$ray" "$base" 100 70 --tile-size 8 -o "$out/hook.mpi.png" : \
+    -n 1 -x RAY_TEST_FAIL_DEVICE=0:2 "$ray" "$base" 100 70 --tile-size 8 -o "$out/hook.mpi.png" 2> "$out/hook.err" \
+    || fail "a failing rank: exited $?"
+cmp -s "$out/hook.plain.png" "$out/hook.mpi.png" || fail "a failing rank: the image differs"
+grep -q "warning: rank 2 dropped" "$out/hook.err" || { fail "a failing rank: no warning naming it"; cat "$out/hook.err"; }
+
+# A long frame, stopped after 2 s: mpirun in the background, watched.
+long=("$showpiece" 2400 1800 --aa stratified --samples 64 --quiet)
+# $1 pid: waits at most 20 s for it to end; prints its exit code (or "hung", killing it).
+wait_briefly() {
+    local pid=$1
+    for _ in $(seq 200); do
+        kill -0 "$pid" 2>/dev/null || { wait "$pid"; echo $?; return; }
+        sleep 0.1
+    done
+    kill -9 "$pid"; echo hung
+}
+ranks_of() { for p in $(pgrep -x ray); do grep -qa "$1" "/proc/$p/cmdline" 2>/dev/null && echo "$p"; done; }
+
+# A rank killed mid-frame: mpirun ends every rank, non-zero, the old file untouched.
+echo old > "$out/killed.png"
+"$mpirun" -q --oversubscribe -n 3 "$ray" "${long[@]}" -o "$out/killed.png" 2> "$out/killed.err" &
+job=$!
+sleep 2
+victim=$(ranks_of killed.png | sort -n | tail -1)
+[ -n "$victim" ] && kill -9 "$victim"
+code=$(wait_briefly $job)
+{ [ "$code" != hung ] && [ "$code" -ne 0 ]; } || fail "a rank killed: mpirun gave '$code', not a non-zero exit"
+[ "$(cat "$out/killed.png")" = old ] || fail "a rank killed: the output was changed"
+[ -z "$(ranks_of killed.png)" ] || fail "a rank killed: ranks left running"
+
+# Ctrl-C to mpirun: every rank stops, the output untouched; with --partial, written.
+for partial in "" --partial; do
+    echo old > "$out/interrupted.png"
+    "$mpirun" -q --oversubscribe -n 3 "$ray" "${long[@]}" $partial -o "$out/interrupted.png" 2> "$out/interrupted.err" &
+    job=$!
+    sleep 2
+    kill -INT $job
+    code=$(wait_briefly $job)
+    { [ "$code" != hung ] && [ "$code" -ne 0 ]; } || fail "Ctrl-C$partial: mpirun gave '$code', not a non-zero exit"
+    [ -z "$(ranks_of interrupted.png)" ] || fail "Ctrl-C$partial: ranks left running"
+    if [ -z "$partial" ]; then
+        [ "$(cat "$out/interrupted.png")" = old ] || fail "Ctrl-C: the output was changed"
+    else
+        # A PNG of the frame's size (its IHDR chunk).
+        python3 -c "import struct, sys; b = open(sys.argv[1], 'rb').read(24)
+assert b[:8] == b'\x89PNG\r\n\x1a\n' and struct.unpack('>II', b[16:24]) == (2400, 1800)" \
+            "$out/interrupted.png" 2>/dev/null || fail "Ctrl-C --partial: no partial image written"
+    fi
+done
+
+[ $failures -eq 0 ] && echo "mpi: all passed"
+exit $((failures > 0))
