@@ -4,7 +4,7 @@
 #     ../shared when present), with the statistics per rank (--stats-json);
 #   - odd sizes: not a multiple of the tile, more ranks than tiles;
 #   - a bad scene: exit 2, one message, no hang; a rank that cannot start: the same, its
-#     message from rank 0;
+#     message from rank 0; a rank whose scene file differs from rank 0's: refused;
 #   - a rank whose every device fails: its tiles go to the others, the same image, a warning;
 #   - a rank killed mid-frame: non-zero within seconds, the output untouched;
 #   - Ctrl-C to mpirun: the output untouched, or written with --partial.
@@ -66,6 +66,16 @@ code=$?
 [ $code -eq 2 ] || fail "a rank missing the scene: exit $code, not 2"
 grep -q "missing.xml: error: .*" "$out/missing.err" && grep -q "on rank 2" "$out/missing.err" \
     || { fail "a rank missing the scene: no message naming it"; cat "$out/missing.err"; }
+
+# Rank 2 reads another copy of the scene that differs (a host with a stale copy): refused.
+mkdir -p "$out/other"
+sed 's/<scenefile>/<scenefile><!-- changed -->/' "$base" > "$out/other/shadows.xml"
+cp -r "$src/scenes/textures" "$out/other/" 2>/dev/null
+mpi -n 2 "$ray" "$base" 32 24 -o "$out/differs.png" : -n 1 "$ray" "$out/other/shadows.xml" 32 24 -o "$out/differs.png" \
+    2> "$out/differs.err"
+code=$?
+[ $code -eq 2 ] || fail "a rank with another scene: exit $code, not 2"
+grep -q "rank 2 differs from rank 0's" "$out/differs.err" || { fail "a rank with another scene: no message"; cat "$out/differs.err"; }
 
 # Rank 2's only device fails after two tiles: the others finish the frame.
 "$ray" "$base" 100 70 --quiet -o "$out/hook.plain.png"

@@ -9,6 +9,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <fstream>
+#include <functional>
+#include <iterator>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -106,7 +109,19 @@ struct Prepared {
     std::vector<OpenClDevice> devices;
     double loadSeconds = 0;
     bool nothingToRender = false;  // --help, --version, --list-devices
+    uint64_t fingerprint = 0;      // of the command line and the scene file; 0 until loaded
 };
+
+// Every rank must render the same frame: a hash of the command line and the scene file's
+// bytes, compared with rank 0's (a host of a hostfile with another copy of the scene
+// would otherwise paint its tiles from another scene).
+uint64_t fingerprintOf(const std::vector<std::string>& args, const std::filesystem::path& scene) {
+    std::string text;
+    for (const std::string& a : args) text += a + '\0';
+    std::ifstream in(scene, std::ios::binary);
+    text.append(std::istreambuf_iterator<char>(in), {});
+    return std::max<uint64_t>(1, std::hash<std::string>{}(text));
+}
 
 Failure prepare(Prepared& p, const std::vector<std::string>& args, int rank) {
     try {
@@ -131,6 +146,7 @@ Failure prepare(Prepared& p, const std::vector<std::string>& args, int rank) {
         auto start = Clock::now();
         p.scene.emplace(loadSceneFor(loadOptions));
         p.loadSeconds = secondsSince(start);
+        p.fingerprint = fingerprintOf(args, o.scene);
         checkImageFitsInMemory(o);
         // Before the first OpenCL call: ranks on one machine must not compile into one
         // PoCL cache at once.
@@ -634,7 +650,14 @@ bool launchedByMpirun() {
 int runDistributedCommand(int argc, char** argv, const std::vector<std::string>& args) {
     MpiSession mpi(argc, argv);
     Prepared prepared;
-    if (int code = agreeOnStart(prepare(prepared, args, mpi.rank), mpi); code != 0) return code;
+    Failure started = prepare(prepared, args, mpi.rank);
+    std::vector<uint64_t> fingerprints(size_t(mpi.size), 0);
+    MPI_Allgather(&prepared.fingerprint, 1, MPI_UINT64_T, fingerprints.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    if (started.exitCode == 0 && prepared.fingerprint != fingerprints[0])
+        started = {kExitBadInput, "ray: the command line or the scene file of rank " + std::to_string(mpi.rank) +
+                                      " differs from rank 0's; every rank must render the same scene (the same file "
+                                      "at the same path on every host, e.g. a shared folder)"};
+    if (int code = agreeOnStart(started, mpi); code != 0) return code;
     if (prepared.nothingToRender) return 0;
     try {
         if (mpi.rank != 0) return runWorker(prepared);
