@@ -46,6 +46,25 @@ inline bool refractDirection(float3 d, float3 n, float n1, float n2, float3* tra
     return true;
 }
 
+/* The exact Fresnel reflectance of a dielectric interface for unpolarised light (the mean
+ * of the s and p reflectances), met at cosIncident = -d·n from ior n1 into ior n2
+ * (--fresnel, SPEC §4; host/reference/optics.h fresnelReflectance in double). 1 under total
+ * internal reflection, by the same test as refractDirection so that the two agree, and at
+ * grazing incidence; 0 where n1 = n2. A negative cosIncident (a bump map tilting the
+ * shading normal past the ray) counts as its magnitude; an ior <= 0 gives 1. */
+inline float fresnelReflectance(float cosIncident, float n1, float n2) {
+    if (n1 == n2) return 0.0f; /* no interface: the ray goes straight on */
+    float eta = n1 / n2;
+    float cosI = fabs(cosIncident);
+    float k = 1.0f - eta * eta * (1.0f - cosI * cosI); /* cos²θt, as refractDirection computes it */
+    if (k < 0.0f) return 1.0f;                        /* total internal reflection */
+    float cosT = sqrt(k);
+    float s = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT);
+    float p = (n2 * cosI - n1 * cosT) / (n2 * cosI + n1 * cosT);
+    float r = 0.5f * (s * s + p * p);
+    return r <= 1.0f ? r : 1.0f; /* NaN or more than 1 only from an ior <= 0 */
+}
+
 /* Area lights (SPEC §4): the width × height rectangle centred at the light's position,
  * facing its direction d. Its width runs along U = normalize(helper × d) and its height
  * along V = d × U, where helper is the world's +y axis, or +z when d is within about 8° of

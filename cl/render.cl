@@ -48,16 +48,59 @@ void addRefractedChild(Frame* frame, float3 d, float3 p, float3 normal, bool ent
     frame->childCount++;
 }
 
+/* The mirrored ray (I_r), which stays in the medium it came from (traceCameraRay sets its time). */
+void addReflectedChild(Frame* frame, float3 d, float3 p, float3 normal, float3 weight, float epsilon) {
+    Ray reflected = {offsetFromSurface(p, normal, epsilon), d - 2.0f * dot(d, normal) * normal, 0.0f};
+    frame->children[frame->childCount] = reflected;
+    frame->childWeights[frame->childCount] = weight;
+    frame->childMedia[frame->childCount] = frame->media;
+    frame->childCount++;
+}
+
+/* Whether a branch of weight `weight` below this frame is traced: --threshold cuts it when
+ * its path weight is below the threshold in every channel, and a zero weight is no branch. */
+inline bool branchTraced(const RayRenderParams* params, const Frame* frame, float3 weight) {
+    return anyAbove(frame->pathWeight * weight, params->limits.x) && anyAbove(weight, 1e-30f);
+}
+
+/* The surfaces refraction applies to (SPEC §4): those of transparent objects (Ot != 0). */
+inline bool refracts(int features, float3 transparent) {
+    return (features & RAY_FEATURE_REFRACTION) && anyAbove(fabs(transparent), 1e-30f);
+}
+
+/* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the frame's ray meets a
+ * transparent surface, from the medium it is in into the one beyond (cl/optics.cl). */
+inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
+    MediumStack beyond;
+    float n1 = iorBefore(&frame->media, entering, materialIor);
+    float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
+    return fresnelReflectance(-dot(d, normal), n1, n2);
+}
+
 /* A transparent object's surface met from inside (SPEC §4) adds nothing of its own:
- * I = clamp(I_t) with weight 1, so that kt·Ot applies once per object, on entry. */
+ * I = clamp(I_t) with weight 1, so that kt·Ot applies once per object, on entry. With
+ * --fresnel the light splits there as well, and the reflected part is kept inside the
+ * object: I = R·clamp(I_r) + (1 − R)·clamp(I_t), I_r along the mirrored ray, which stays
+ * inside (R = 1 under total internal reflection: the mirrored ray alone, as without
+ * --fresnel). Both branches belong to refraction (--no-reflections keeps them) and
+ * --threshold cuts each by its own weight, R or 1 − R times the path weight. */
 inline bool leavesTransparentObject(int features, bool entering, float3 transparent) {
-    return (features & RAY_FEATURE_REFRACTION) && !entering && anyAbove(fabs(transparent), 1e-30f);
+    return !entering && refracts(features, transparent);
 }
 
 void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 d, float3 p, float3 normal,
                         float materialIor) {
     if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
-    addRefractedChild(frame, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
+    if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
+        addRefractedChild(frame, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
+        return;
+    }
+    float r = surfaceReflectance(frame, d, normal, false, materialIor);
+    float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
+    if (branchTraced(params, frame, reflectWeight))
+        addReflectedChild(frame, d, p, normal, reflectWeight, params->limits.y);
+    if (branchTraced(params, frame, transmitWeight))
+        addRefractedChild(frame, d, p, normal, false, materialIor, transmitWeight, params->limits.y);
 }
 
 /* Traces frame's ray, shades the hit and records the rays it spawns. */
@@ -110,20 +153,18 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
 
     if (frame->depth >= params->mode.y) return;
     float3 reflectWeight = k.z * m.reflective.xyz;
-    if ((features & RAY_FEATURE_REFLECTIONS) && anyAbove(frame->pathWeight * reflectWeight, params->limits.x) &&
-        anyAbove(reflectWeight, 1e-30f)) {
-        Ray reflected = {offsetFromSurface(p, normal, params->limits.y),
-                         ray.direction - 2.0f * dot(ray.direction, normal) * normal, ray.time};
-        frame->children[frame->childCount] = reflected;
-        frame->childWeights[frame->childCount] = reflectWeight;
-        frame->childMedia[frame->childCount] = frame->media;
-        frame->childCount++;
-    }
     float3 transmitWeight = k.w * m.transparent.xyz;
-    if ((features & RAY_FEATURE_REFRACTION) && anyAbove(frame->pathWeight * transmitWeight, params->limits.x) &&
-        anyAbove(transmitWeight, 1e-30f)) {
-        addRefractedChild(frame, ray.direction, p, normal, entering, m.specular.w, transmitWeight, params->limits.y);
+    if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m.transparent.xyz)) {
+        /* ks·Or·R·I_r + kt·Ot·(1 − R)·I_t; under total internal reflection (R = 1) the
+         * transmitted branch has weight 0 and is not traced. */
+        float r = surfaceReflectance(frame, ray.direction, normal, entering, m.specular.w);
+        reflectWeight *= r;
+        transmitWeight *= 1.0f - r;
     }
+    if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, frame, reflectWeight))
+        addReflectedChild(frame, ray.direction, p, normal, reflectWeight, params->limits.y);
+    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, frame, transmitWeight))
+        addRefractedChild(frame, ray.direction, p, normal, entering, m.specular.w, transmitWeight, params->limits.y);
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. */

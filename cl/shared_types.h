@@ -84,6 +84,7 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_COURSE_FILTER 16 /* --texture-filter course: bilinear, texel corners at integers (SPEC §5) */
 #define RAY_FEATURE_BILINEAR 32
 #define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/reference/texture_filtering.h */
+#define RAY_FEATURE_FRESNEL 128  /* --fresnel: transparent surfaces weight their branches by exact Fresnel (SPEC §4) */
 
 /* A node of the flattened two-wide BVH: 64 bytes, one cache line.
  *

@@ -142,6 +142,33 @@ TEST_CASE("explain follows reflected and refracted branches with their weights",
     }
 }
 
+TEST_CASE("explain with --fresnel: the image's colors, inner reflections weighted by R", "[explain][fresnel]") {
+    Scene scene = loadScene(test::scenesDir() / "refraction.xml");
+    RenderSettings settings = smallSettings(48, 36, AntialiasMode::Off);
+    settings.fresnel = true;
+    Image image = renderReference(scene, settings);
+
+    int inner = 0, fresnelStops = 0;
+    explainGrid(scene, settings, 3, [&](const PixelExplanation& e) {
+        requireMatchesImage(e, image);
+        anyRay(e, [&](const ExplainedRay& ray) {
+            for (const auto& child : ray.children) {
+                REQUIRE(std::abs(child->weight.x - ray.weight.x * child->factor.x) < 1e-12);
+                // Met from inside, a ray splits into R reflected (kept inside) and 1 − R out.
+                if (ray.hit && !ray.hitInfo.entering && child->kind == TraceRayKind::Reflected) {
+                    ++inner;
+                    REQUIRE(child->factor.x > 0);
+                    REQUIRE(child->factor.x < 1);
+                }
+            }
+            for (const ExplainedStop& stop : ray.stops) fresnelStops += stop.reason == BranchStop::NoFresnelShare;
+            return false;
+        });
+    });
+    CHECK(inner > 0);
+    CHECK(fresnelStops > 0);  // total internal reflection: no transmitted branch
+}
+
 TEST_CASE("explain with course antialiasing reports every sample and the pixel the image holds", "[explain]") {
     Scene scene = loadScene(test::scenesDir() / "shadows.xml");
     RenderSettings settings = smallSettings(40, 30, AntialiasMode::Course);

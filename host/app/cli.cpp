@@ -42,6 +42,9 @@ options:
   --strict                 treat every warning as an error
   --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
                            switch a feature off (the course's test settings)
+  --fresnel                weight the reflection and transmission of transparent objects
+                           by exact Fresnel, reflections kept inside the object (SPEC §4;
+                           off by default)
   --texture-filter F       nearest (default, as the course) | bilinear | trilinear |
                            course (bilinear with texel corners at integers, as the
                            course's renders made with its texture filter on)
@@ -182,6 +185,7 @@ void addOptions(CLI::App& app, CliOptions& options) {
     flag("--no-refraction", s.refraction, false);
     flag("--no-textures", s.textures, false);
     flag("--no-dof", s.depthOfField, false);
+    flag("--fresnel", s.fresnel, true);
     text("--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });
     flag("-q,--quiet", options.quiet, true);
     flag("--stats", options.stats, true);

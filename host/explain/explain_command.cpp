@@ -51,6 +51,7 @@ void defineOptions(CLI::App& app, ExplainOptions& o) {
     app.add_flag("--no-refraction", o.noRefraction);
     app.add_flag("--no-textures", o.noTextures);
     app.add_flag("--no-dof", o.noDof);
+    app.add_flag("--fresnel", o.settings.fresnel, "weight transparent surfaces' branches by exact Fresnel");
 }
 
 // The positional [w h] [depth] and the switches into the settings; throws UsageError.

@@ -239,6 +239,7 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
     if (s.shadows) features |= RAY_FEATURE_SHADOWS;
     if (s.reflections) features |= RAY_FEATURE_REFLECTIONS;
     if (s.refraction) features |= RAY_FEATURE_REFRACTION;
+    if (s.fresnel) features |= RAY_FEATURE_FRESNEL;
     if (s.textures) features |= RAY_FEATURE_TEXTURES;
     if (s.textureFilter == TextureFilter::Bilinear || s.textureFilter == TextureFilter::Trilinear)
         features |= RAY_FEATURE_BILINEAR;

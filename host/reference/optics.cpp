@@ -33,6 +33,19 @@ bool refractDirection(const Vec3& d, const Vec3& n, double n1, double n2, Vec3& 
     return true;
 }
 
+double fresnelReflectance(double cosIncident, double n1, double n2) {
+    if (n1 == n2) return 0;  // no interface: the ray goes straight on
+    double eta = n1 / n2;
+    double cosI = std::abs(cosIncident);
+    double k = 1 - eta * eta * (1 - cosI * cosI);  // cos²θt, as refractDirection computes it
+    if (k < 0) return 1;                            // total internal reflection
+    double cosT = std::sqrt(k);
+    double s = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT);
+    double p = (n2 * cosI - n1 * cosT) / (n2 * cosI + n1 * cosT);
+    double r = 0.5 * (s * s + p * p);
+    return r <= 1 ? r : 1;  // an ior ≤ 0 (the loader takes any number) gives NaN or more than 1
+}
+
 Vec3 areaLightPoint(const Light& light, int lightIndex, int cell, int side, uint32_t pixel, uint32_t sample,
                     uint32_t seed) {
     Vec3 d = normalize(light.direction);

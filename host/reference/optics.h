@@ -35,6 +35,15 @@ struct MediumStack {
 // from ior n1 into ior n2; false for total internal reflection.
 bool refractDirection(const Vec3& d, const Vec3& n, double n1, double n2, Vec3& transmitted);
 
+// The exact Fresnel reflectance of a dielectric interface for unpolarised light (the mean
+// of the s and p reflectances), met at cosIncident = −d·n from ior n1 into ior n2: the
+// share of the light that the surface reflects, 1 − R being what it transmits. 1 under
+// total internal reflection (by refractDirection's test, so the two always agree) and at
+// grazing incidence; ((n1 − n2)/(n1 + n2))² head on; 0 where n1 = n2. A negative
+// cosIncident (a bump map tilting the shading normal past the ray) counts as its
+// magnitude. cl/optics.cl fresnelReflectance is the same steps in float (--fresnel, SPEC §4).
+double fresnelReflectance(double cosIncident, double n1, double n2);
+
 // The random dimensions of area-light samples (host/core/random.h): cell `cell` of light
 // `light` is jittered by dimensions areaLightDimension(light, cell, 0 for u / 1 for v).
 constexpr uint32_t kAreaDimensionBase = 16;

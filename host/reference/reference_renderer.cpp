@@ -247,8 +247,10 @@ private:
         for (size_t i = 0; i < scene_.lights.size(); ++i)
             color += lightContribution(scene_.lights[i], int(i), surface, diffuse, toEye, id, counts);
 
-        color += reflection(surface, ray, depth, weight, media, id, counts);
-        color += refraction(surface, ray, depth, weight, media, id, counts);
+        // --fresnel: ks·Or·R·I_r + kt·Ot·(1 − R)·I_t on a transparent surface.
+        std::optional<double> r = surfaceReflectance(surface, ray, media);
+        color += reflection(surface, ray, depth, weight, media, id, counts, r ? *r : 1.0);
+        color += refraction(surface, ray, depth, weight, media, id, counts, r ? 1 - *r : 1.0);
         return color;
     }
 
@@ -343,42 +345,64 @@ private:
         return any;
     }
 
-    // The factor k·color of a reflected (ks·Or) or refracted (kt·Ot) branch, or nullopt
-    // where its switch, the depth limit or the weight threshold stops it (SPEC §4; the
-    // observer hears which).
+    // The factor k·color·share of a reflected (ks·Or) or refracted (kt·Ot) branch, or
+    // nullopt where its switch, the depth limit or the weight threshold stops it (SPEC §4;
+    // the observer hears which). share: the branch's Fresnel share (R or 1 − R) with
+    // --fresnel, else 1; a share of 0 (total internal reflection, no interface) is no branch.
     std::optional<Vec3> branchFactor(TraceRayKind kind, bool enabled, double k, const Vec3& color, int depth,
-                                     const Vec3& weight) const {
+                                     const Vec3& weight, double share = 1) const {
         auto stop = [&](BranchStop reason) -> std::optional<Vec3> {
             if (observer_) observer_->branchStopped(kind, reason);
             return std::nullopt;
         };
         if (!enabled) return stop(BranchStop::Disabled);
         if (color == Vec3{}) return stop(BranchStop::NoCoefficient);
+        if (share == 0) return stop(BranchStop::NoFresnelShare);
         if (depth >= settings_.maxDepth) return stop(BranchStop::DepthLimit);
-        Vec3 factor = k * color;
+        Vec3 factor = k * color * share;
         if (belowThresholdEverywhere(weight * factor, settings_.weightThreshold)) return stop(BranchStop::WeightThreshold);
         return factor;
     }
 
-    // ks·Or·I_r with I_r clamped to [0, 1], while depth and weight allow (SPEC §4).
-    Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
-                    const SampleId& id, RayCounts& counts) const {
-        auto factor = branchFactor(TraceRayKind::Reflected, settings_.reflections, scene_.globals.ks, surface.material->reflective, depth, weight);
-        if (!factor) return {};
-        Vec3 branchWeight = weight * *factor;
-
-        ++counts.secondary;
-        Ray reflected{surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
-        if (observer_)
-            observer_->beginRay(TraceRayKind::Reflected, reflected.origin, reflected.direction, depth + 1, branchWeight, *factor);
-        return *factor * clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
+    // --fresnel (SPEC §4): R, the exact Fresnel reflectance of a transparent object's
+    // surface (Ot ≠ 0) for the ray meeting it, from the medium the ray is in into the one
+    // beyond (optics.h). nullopt where the weighting does not apply: without --fresnel, on
+    // opaque surfaces, and with refraction off (transparent objects are opaque then).
+    std::optional<double> surfaceReflectance(const SurfaceHit& surface, const Ray& ray, const MediumStack& media) const {
+        const Material& material = *surface.material;
+        if (!settings_.fresnel || !settings_.refraction || material.transparent == Vec3{}) return std::nullopt;
+        double n1 = media.before(surface.entering, material.ior);
+        double n2 = media.beyond(surface.entering, material.ior).current();
+        return fresnelReflectance(-dot(ray.direction, surface.normal), n1, n2);
     }
 
-    // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4), for a surface met from outside.
+    // ks·Or·I_r with I_r clamped to [0, 1], while depth and weight allow (SPEC §4); times
+    // share = R with --fresnel on a transparent surface.
+    Vec3 reflection(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
+                    const SampleId& id, RayCounts& counts, double share) const {
+        auto factor = branchFactor(TraceRayKind::Reflected, settings_.reflections, scene_.globals.ks,
+                                   surface.material->reflective, depth, weight, share);
+        if (!factor) return {};
+        return *factor * mirrored(surface, ray, depth, weight * *factor, *factor, TraceRayKind::Reflected, media, id, counts);
+    }
+
+    // clamp(I_r): the mirrored ray, which stays in the medium it came from. branchWeight,
+    // factor: as for transmitted().
+    Vec3 mirrored(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& branchWeight, const Vec3& factor,
+                  TraceRayKind kind, const MediumStack& media, const SampleId& id, RayCounts& counts) const {
+        ++counts.secondary;
+        Ray reflected{surface.point + surfaceOffset_ * surface.normal, normalize(reflect(ray.direction, surface.normal))};
+        if (observer_) observer_->beginRay(kind, reflected.origin, reflected.direction, depth + 1, branchWeight, factor);
+        return clamp01(trace(reflected, depth + 1, branchWeight, media, id, counts));
+    }
+
+    // kt·Ot·I_t with I_t clamped to [0, 1] (SPEC §4), for a surface met from outside; times
+    // share = 1 − R with --fresnel.
     Vec3 refraction(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight, const MediumStack& media,
-                    const SampleId& id, RayCounts& counts) const {
+                    const SampleId& id, RayCounts& counts, double share) const {
         const Material& material = *surface.material;
-        auto factor = branchFactor(TraceRayKind::Refracted, settings_.refraction, scene_.globals.kt, material.transparent, depth, weight);
+        auto factor = branchFactor(TraceRayKind::Refracted, settings_.refraction, scene_.globals.kt,
+                                   material.transparent, depth, weight, share);
         if (!factor) return {};
 
         return *factor * transmitted(surface, ray, depth, weight * *factor, *factor, media, id, counts);
@@ -390,12 +414,29 @@ private:
         return settings_.refraction && !surface.entering && surface.material->transparent != Vec3{};
     }
 
+    // With --fresnel the light splits there as well and the reflected part is kept inside
+    // the object: I = R·clamp(I_r) + (1 − R)·clamp(I_t), I_r along the mirrored ray, which
+    // stays inside. Under total internal reflection R = 1: the mirrored ray alone, as
+    // without --fresnel. Both branches belong to refraction (--no-reflections keeps them);
+    // each counts a bounce and --threshold cuts it by its own weight (R or 1 − R times the
+    // path weight).
     Vec3 transmittedFromInside(const SurfaceHit& surface, const Ray& ray, int depth, const Vec3& weight,
                                const MediumStack& media, const SampleId& id, RayCounts& counts) const {
-        // Weight 1: the shared gate then stops only at the depth limit, and tells the observer.
-        auto factor = branchFactor(TraceRayKind::Refracted, settings_.refraction, 1.0, Vec3{1, 1, 1}, depth, weight);
-        if (!factor) return {};
-        return transmitted(surface, ray, depth, weight, *factor, media, id, counts);
+        const Vec3 one{1, 1, 1};
+        std::optional<double> r = surfaceReflectance(surface, ray, media);
+        if (!r) {
+            // Weight 1: the shared gate then stops only at the depth limit, and tells the observer.
+            auto factor = branchFactor(TraceRayKind::Refracted, settings_.refraction, 1.0, one, depth, weight);
+            if (!factor) return {};
+            return transmitted(surface, ray, depth, weight, *factor, media, id, counts);
+        }
+        Vec3 color;
+        TraceRayKind inner = *r == 1 ? TraceRayKind::TotalInternalReflection : TraceRayKind::Reflected;
+        if (auto factor = branchFactor(inner, true, 1.0, one, depth, weight, *r))
+            color += *factor * mirrored(surface, ray, depth, weight * *factor, *factor, inner, media, id, counts);
+        if (auto factor = branchFactor(TraceRayKind::Refracted, true, 1.0, one, depth, weight, 1 - *r))
+            color += *factor * transmitted(surface, ray, depth, weight * *factor, *factor, media, id, counts);
+        return color;
     }
 
     // clamp(I_t): the ray refracted by Snell's law into the medium beyond the surface, or
@@ -563,6 +604,7 @@ const char* branchStopName(BranchStop stop) {
     switch (stop) {
         case BranchStop::Disabled: return "switched off";
         case BranchStop::NoCoefficient: return "material has no such color";
+        case BranchStop::NoFresnelShare: return "Fresnel share is 0";
         case BranchStop::DepthLimit: return "depth limit";
         case BranchStop::WeightThreshold: return "weight threshold";
     }

@@ -16,8 +16,10 @@ namespace ray {
 
 enum class TraceRayKind { Camera, Reflected, Refracted, TotalInternalReflection };
 
-// Why a reflected or refracted branch was not traced (SPEC §4).
-enum class BranchStop { Disabled, NoCoefficient, DepthLimit, WeightThreshold };
+// Why a reflected or refracted branch was not traced (SPEC §4). NoFresnelShare: with
+// --fresnel, a transmitted branch under total internal reflection (R = 1), or a reflected
+// one where both sides have the same ior (R = 0).
+enum class BranchStop { Disabled, NoCoefficient, NoFresnelShare, DepthLimit, WeightThreshold };
 
 const char* traceRayKindName(TraceRayKind kind);
 const char* branchStopName(BranchStop stop);

@@ -32,6 +32,11 @@ struct RenderSettings {
     bool refraction = true;
     bool textures = true;
     bool depthOfField = true;
+    // --fresnel (SPEC §4, off by default): the surfaces of transparent objects weight their
+    // reflected and transmitted branches by the exact Fresnel reflectance R, ks·Or·R and
+    // kt·Ot·(1 − R), and split a ray leaving the object into R inside and 1 − R out
+    // (README "Conventions", refraction). Needs refraction on.
+    bool fresnel = false;
     TextureFilter textureFilter = TextureFilter::Nearest;
     uint32_t seed = 0;
     // Point samples per area light, on a k×k jittered grid (k = floor(√areaSamples)):
