@@ -48,6 +48,7 @@ ray::RenderSettings internal(const Settings& s) {
     r.refraction = s.refraction;
     r.textures = s.textures;
     r.depthOfField = s.depthOfField;
+    r.fresnel = s.fresnel;
     r.textureFilter = ray::TextureFilter(int(s.textureFilter));  // same order
     return r;
 }

@@ -81,7 +81,8 @@ View parseView(const std::string& body, const View& current) {
     s.height = intIn(j, "height", kMinViewSide, kMaxViewSide, s.height);
     s.maxDepth = intIn(j, "depth", 0, kMaxViewDepth, s.maxDepth);
     for (auto [key, flag] : {std::pair{"shadows", &s.shadows}, std::pair{"reflections", &s.reflections},
-                             std::pair{"refraction", &s.refraction}, std::pair{"textures", &s.textures}})
+                             std::pair{"refraction", &s.refraction}, std::pair{"textures", &s.textures},
+                             std::pair{"fresnel", &s.fresnel}})
         if (j.contains(key)) *flag = j[key].get<bool>();
     if (j.contains("aa")) {
         std::string aa = j["aa"].get<std::string>();
@@ -115,6 +116,7 @@ public:
                 {"height", view_.settings.height}, {"depth", view_.settings.maxDepth},
                 {"shadows", view_.settings.shadows}, {"reflections", view_.settings.reflections},
                 {"refraction", view_.settings.refraction}, {"textures", view_.settings.textures},
+                {"fresnel", view_.settings.fresnel},
                 {"aa", view_.settings.antialias == AntialiasMode::Off ? "off" : "course"},
                 {"error", sceneError_}};
     }

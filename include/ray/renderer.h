@@ -28,6 +28,7 @@ struct Settings {
     double shutter = 1;                     // motion blur: fraction of the motion
     double threshold = 1.0 / 256.0;         // weight below which a branch stops
     bool shadows = true, reflections = true, refraction = true, textures = true, depthOfField = true;
+    bool fresnel = false;                   // --fresnel: exact Fresnel weights on transparent surfaces
     TextureFilter textureFilter = TextureFilter::Nearest;
 };
 

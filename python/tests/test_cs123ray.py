@@ -82,6 +82,20 @@ def test_one_renderer_many_frames():
         renderer.set_options(colour=1)
 
 
+def test_fresnel_option_changes_glass_only():
+    glass = cs123ray.load_scene(SCENES / "refraction.xml")
+    plain = cs123ray.render(glass, device="ref", width=48, height=36, aa="off")
+    assert np.array_equal(plain, cs123ray.render(glass, device="ref", width=48, height=36, aa="off", fresnel=False))
+    fresnel = cs123ray.render(glass, device="ref", width=48, height=36, aa="off", fresnel=True)
+    assert not np.array_equal(plain, fresnel)
+    opaque = build_sphere_scene()
+    renderer = cs123ray.Renderer(opaque, device="ref")
+    renderer.set_options(width=32, height=24, aa="off")
+    first = renderer.render()
+    renderer.set_options(fresnel=True)
+    assert np.array_equal(first, renderer.render())
+
+
 def test_a_bad_scene_raises_naming_file_and_line(output):
     broken = output / "broken.xml"
     broken.write_text("<scenefile>\n<object type=\"tree\" name=\"root\">\n<transblock>\n</scenefile>\n")
