@@ -94,7 +94,7 @@ TEST_CASE("Fresnel reflectance: 1 at grazing incidence and under total internal 
     CHECK(fresnelReflectance(0.5, 1, -1) == 1);
 }
 
-TEST_CASE("--fresnel parses and is off by default", "[cli][fresnel]") {
+TEST_CASE("the option --fresnel parses and is off by default", "[cli][fresnel]") {
     CHECK_FALSE(parseCommandLine({"a.xml"}).settings.fresnel);
     CHECK(parseCommandLine({"a.xml", "--fresnel"}).settings.fresnel);
     CHECK(std::string(kUsageText).find("--fresnel") != std::string::npos);
@@ -109,7 +109,7 @@ TEST_CASE("--fresnel parses and is off by default", "[cli][fresnel]") {
 //    1/256: 0.96·0.96 = 0.9216;
 //  - with --threshold 0 that branch goes on (depth 4: it reaches the back face at depth 3,
 //    whose 0.96 reaches the wall): 0.9216 + 0.96·0.04·0.04·0.96 = 0.92307456.
-TEST_CASE("--fresnel splits the light at both faces of a slab, inner reflections kept inside",
+TEST_CASE("Fresnel weighting (--fresnel) splits the light at both faces of a slab, inner reflections kept inside",
           "[reference][fresnel]") {
     CHECK(slabCentre("").x == Approx(1.0));
     CHECK(slabCentre("--fresnel").x == Approx(0.9216).epsilon(1e-6));
@@ -122,7 +122,7 @@ TEST_CASE("--fresnel splits the light at both faces of a slab, inner reflections
     CHECK(slabCentre("--fresnel --no-refraction").x == slabCentre("--no-refraction").x);
 }
 
-TEST_CASE("--fresnel changes transparent scenes and nothing else", "[reference][fresnel]") {
+TEST_CASE("Fresnel weighting (--fresnel) changes transparent scenes and nothing else", "[reference][fresnel]") {
     auto render = [](const char* scene, const std::string& options) {
         return renderReference(test::loadSceneQuietly(test::scenesDir() / scene),
                                test::settingsFromOptions("--aa off " + options, 64, 48));
