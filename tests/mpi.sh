@@ -85,7 +85,8 @@ mpi -n 2 "$ray" "$base" 100 70 --tile-size 8 -o "$out/hook.mpi.png" : \
 cmp -s "$out/hook.plain.png" "$out/hook.mpi.png" || fail "a failing rank: the image differs"
 grep -q "warning: rank 2 dropped" "$out/hook.err" || { fail "a failing rank: no warning naming it"; cat "$out/hook.err"; }
 
-# A long frame, stopped after 2 s: mpirun in the background, watched.
+# A long frame (80 s on 2 busy cores), stopped after 5 s, when the ranks are surely
+# rendering: mpirun in the background, watched.
 long=("$showpiece" 2400 1800 --aa stratified --samples 64 --quiet)
 # $1 pid: waits at most 20 s for it to end; prints its exit code (or "hung", killing it).
 wait_briefly() {
@@ -102,7 +103,7 @@ ranks_of() { for p in $(pgrep -x ray); do grep -qa "$1" "/proc/$p/cmdline" 2>/de
 echo old > "$out/killed.png"
 "$mpirun" -q --oversubscribe -n 3 "$ray" "${long[@]}" -o "$out/killed.png" 2> "$out/killed.err" &
 job=$!
-sleep 2
+sleep 5
 victim=$(ranks_of killed.png | sort -n | tail -1)
 [ -n "$victim" ] && kill -9 "$victim"
 code=$(wait_briefly $job)
@@ -115,7 +116,7 @@ for partial in "" --partial; do
     echo old > "$out/interrupted.png"
     "$mpirun" -q --oversubscribe -n 3 "$ray" "${long[@]}" $partial -o "$out/interrupted.png" 2> "$out/interrupted.err" &
     job=$!
-    sleep 2
+    sleep 5
     kill -INT $job
     code=$(wait_briefly $job)
     { [ "$code" != hung ] && [ "$code" -ne 0 ]; } || fail "Ctrl-C$partial: mpirun gave '$code', not a non-zero exit"
