@@ -29,7 +29,10 @@ void printStats(const RenderStats& s, std::ostream& out) {
     const DistributionStats& mpi = s.distribution;
     if (mpi.ranks > 0) {
         std::string perRank;
-        for (int tiles : mpi.tilesPerRank) perRank += (perRank.empty() ? "" : "/") + std::to_string(tiles);
+        for (int tiles : mpi.tilesPerRank) {
+            if (!perRank.empty()) perRank += '/';
+            perRank += std::to_string(tiles);
+        }
         std::snprintf(line, sizeof line,
                       "mpi          %d ranks, %d tiles (%s by rank), rank 0 handled %llu messages, %.2f MB, "
                       "in %.3f s (%.3f ms a tile)\n",
