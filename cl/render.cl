@@ -244,10 +244,19 @@ inline float contrast(float3 a, float3 b, float3 c, float3 d) {
     return fmax(spread.x, fmax(spread.y, spread.z));
 }
 
-/* The course's adaptive antialiasing (SPEC §3): value(square, level) samples the centres
- * of the square's four quadrants; where they differ by more than RAY_COURSE_AA_CONTRAST
- * (0.2) and level < 3, each quadrant's sample is replaced by value(quadrant, level + 1).
- * Written as three nested levels because OpenCL C has no recursion. */
+/* Whether two samples differ by more than RAY_COURSE_AA_CONTRAST in some channel. */
+inline bool courseDiffers(float3 a, float3 b) {
+    float3 d = fabs(a - b);
+    return fmax(d.x, fmax(d.y, d.z)) > RAY_COURSE_AA_CONTRAST;
+}
+
+/* The course's adaptive antialiasing (README, Conventions, "Antialiasing";
+ * host/reference/course_sampling.cpp): value(square, level) samples the centres of the
+ * square's four quadrants a (top left), b (top right), c (bottom left), d (bottom right);
+ * where level < 3, a quadrant whose sample differs from a horizontal or vertical neighbour's
+ * (a–b, c–d, a–c, b–d; not the diagonals) by more than RAY_COURSE_AA_CONTRAST in some channel
+ * is replaced by value(quadrant, level + 1). The result is the mean of the four. Written as
+ * three nested levels because OpenCL C has no recursion. */
 float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
                      float size, PixelTrace* counter) {
     float q = size * 0.25f;
@@ -257,6 +266,16 @@ float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, i
                     samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter));
 }
 
+/* Which quadrants of a, b, c, d the course subdivides: bit 0 a, 1 b, 2 c, 3 d. */
+inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
+    int bits = 0;
+    if (courseDiffers(a, b)) bits |= 1 | 2;
+    if (courseDiffers(c, d)) bits |= 4 | 8;
+    if (courseDiffers(a, c)) bits |= 1 | 4;
+    if (courseDiffers(b, d)) bits |= 2 | 8;
+    return bits;
+}
+
 float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
                      float size, PixelTrace* counter) {
     float q = size * 0.25f, h = size * 0.5f;
@@ -264,12 +283,11 @@ float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, i
     float3 b = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter);
     float3 c = samplePixel(scene, params, i, j, x0 + q, y0 + 3.0f * q, counter);
     float3 d = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter);
-    if (contrast(a, b, c, d) > RAY_COURSE_AA_CONTRAST) {
-        a = courseSquare3(scene, params, i, j, x0, y0, h, counter);
-        b = courseSquare3(scene, params, i, j, x0 + h, y0, h, counter);
-        c = courseSquare3(scene, params, i, j, x0, y0 + h, h, counter);
-        d = courseSquare3(scene, params, i, j, x0 + h, y0 + h, h, counter);
-    }
+    int bits = courseSubdivided(a, b, c, d);
+    if (bits & 1) a = courseSquare3(scene, params, i, j, x0, y0, h, counter);
+    if (bits & 2) b = courseSquare3(scene, params, i, j, x0 + h, y0, h, counter);
+    if (bits & 4) c = courseSquare3(scene, params, i, j, x0, y0 + h, h, counter);
+    if (bits & 8) d = courseSquare3(scene, params, i, j, x0 + h, y0 + h, h, counter);
     return 0.25f * (a + b + c + d);
 }
 
@@ -278,12 +296,11 @@ float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int
     float3 b = samplePixel(scene, params, i, j, 0.75f, 0.25f, counter);
     float3 c = samplePixel(scene, params, i, j, 0.25f, 0.75f, counter);
     float3 d = samplePixel(scene, params, i, j, 0.75f, 0.75f, counter);
-    if (contrast(a, b, c, d) > RAY_COURSE_AA_CONTRAST) {
-        a = courseSquare2(scene, params, i, j, 0.0f, 0.0f, 0.5f, counter);
-        b = courseSquare2(scene, params, i, j, 0.5f, 0.0f, 0.5f, counter);
-        c = courseSquare2(scene, params, i, j, 0.0f, 0.5f, 0.5f, counter);
-        d = courseSquare2(scene, params, i, j, 0.5f, 0.5f, 0.5f, counter);
-    }
+    int bits = courseSubdivided(a, b, c, d);
+    if (bits & 1) a = courseSquare2(scene, params, i, j, 0.0f, 0.0f, 0.5f, counter);
+    if (bits & 2) b = courseSquare2(scene, params, i, j, 0.5f, 0.0f, 0.5f, counter);
+    if (bits & 4) c = courseSquare2(scene, params, i, j, 0.0f, 0.5f, 0.5f, counter);
+    if (bits & 8) d = courseSquare2(scene, params, i, j, 0.5f, 0.5f, 0.5f, counter);
     return 0.25f * (a + b + c + d);
 }
 

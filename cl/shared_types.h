@@ -67,12 +67,13 @@ struct alignas(16) int4 {
 #define RAY_AA_ADAPTIVE 3
 
 /* The antialiasing thresholds (SPEC §3), one definition for both renderers
- * (host/render/render_settings.h): the course mode subdivides a square whose four samples spread
- * (max − min, in the channel where that is largest) by more than RAY_COURSE_AA_CONTRAST;
+ * (host/render/render_settings.h): the course mode subdivides a quadrant whose sample differs
+ * from a horizontal or vertical neighbour's by more than RAY_COURSE_AA_CONTRAST, 50 8-bit
+ * levels, in some channel (README, Conventions, "Antialiasing");
  * --aa adaptive adds its k×k pass where the first four spread by more than
  * RAY_ADAPTIVE_CONTRAST, a tenth of the range, well above the 8-bit step, so that the
  * flat regions of an image stay at four samples. */
-#define RAY_COURSE_AA_CONTRAST 0.2f
+#define RAY_COURSE_AA_CONTRAST (50.0f / 255.0f)
 #define RAY_ADAPTIVE_CONTRAST 0.1f
 
 /* Bits of RayRenderParams.mode.z: the feature switches of the command line. */

@@ -69,15 +69,20 @@ TEST_CASE("kernel matches host on a bump-mapped mesh with mirrored texture coord
 // the float cancellation in the sphere test (spotlight_on_cheese 42%, recursiveSpheres10
 // 76% of pixels within 3/255 before those fixes). A few scenes are chaotic at the pixel
 // level, where float and double legitimately pick different surfaces, and are held to a
-// lower share of close pixels (measured: 93.8, 96.0, 97.3, 98.2 and 97.8%):
+// lower share of close pixels. Measured with the course's per-quadrant subdivision (README,
+// Conventions, "Antialiasing"), which leaves quadrants that match their neighbours at one
+// sample, so that a flipped sample weighs up to 1/4 of a pixel rather than 1/64: 98.3, 96.2,
+// 94.3, 93.0, 89.3 and 96.5% (93.8, 96.0, 97.3, 98.2 and 97.8% for 10, 9, 8, 7 and the plane
+// with the earlier rule, which subdivided every quadrant of a busy square):
 const std::map<std::string, double> kChaoticScenes = {
     // sub-pixel spheres by the thousand: which one a ray meets depends on the last bits
-    {"recursiveSpheres7.xml", 0.97},
-    {"recursiveSpheres8.xml", 0.96},
-    {"recursiveSpheres9.xml", 0.95},
-    {"recursiveSpheres10.xml", 0.92},
+    {"recursiveSpheres6.xml", 0.97},
+    {"recursiveSpheres7.xml", 0.95},
+    {"recursiveSpheres8.xml", 0.93},
+    {"recursiveSpheres9.xml", 0.92},
+    {"recursiveSpheres10.xml", 0.88},
     // a fine checker seen through four glass balls: refraction magnifies texel boundaries
-    {"ayidi_refract2_plane.xml", 0.97},
+    {"ayidi_refract2_plane.xml", 0.95},
 };
 
 TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") {

@@ -619,13 +619,28 @@ TEST_CASE("course antialiasing: sample positions and counts", "[reference][sampl
         REQUIRE(positions == std::vector<std::pair<double, double>>{{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75},
                                                                     {0.75, 0.75}});
     }
-    SECTION("a spread of exactly 0.2 does not subdivide; a little more does") {
+    SECTION("a difference of exactly 50/255 does not subdivide; a little more does") {
         CourseSampleCount count;
-        sampleCourse([](double sx, double) { return Vec3{sx < 0.5 ? 0.25 : 0.45, 0, 0}; }, &count);  // exact in binary
+        // 0.25 + kCourseAaContrast is exact in double (the constant is a float), so is the difference.
+        sampleCourse([](double sx, double) { return Vec3{sx < 0.5 ? 0.25 : 0.25 + kCourseAaContrast, 0, 0}; }, &count);
         REQUIRE(count.traced == 4);
-        sampleCourse([](double sx, double) { return Vec3{0, sx < 0.5 ? 0.4 : 0.61, 0}; }, &count);
+        sampleCourse([](double sx, double) { return Vec3{0, sx < 0.5 ? 0.4 : 0.597, 0}; }, &count);
         REQUIRE(count.traced == 20);
         REQUIRE(count.used == 16);
+    }
+    SECTION("only quadrants that differ from a horizontal or vertical neighbour subdivide") {
+        CourseSampleCount count;
+        // White in the top-left quadrant only: it differs from its right and lower neighbours,
+        // which subdivide with it; the bottom-right quadrant differs only from it, diagonally.
+        Vec3 c = sampleCourse([](double sx, double sy) { return sx < 0.5 && sy < 0.5 ? Vec3{1, 1, 1} : Vec3{}; },
+                              &count);
+        REQUIRE(count.traced == 4 + 12);
+        REQUIRE(count.used == 1 + 12);
+        requireColor(c, {0.25, 0.25, 0.25});
+        // A ramp along the diagonal: neighbours differ by 0.15, the diagonal by 0.3: no subdivision.
+        sampleCourse([](double sx, double sy) { return Vec3{sx < 0.5 ? 0.0 : 0.15, 0, 0} + Vec3{sy < 0.5 ? 0.0 : 0.15, 0, 0}; },
+                     &count);
+        REQUIRE(count.traced == 4);
     }
     SECTION("an edge at x = 0.3: the quadrants it crosses go down to level 3") {
         CourseSampleCount count;

@@ -19,7 +19,14 @@ double spread(const Vec3 (&colors)[4]) {
     return maxComponent(hi - lo);
 }
 
-// value(square, level) of SPEC §3 for the square with top-left corner (x, y) and side size.
+// Whether two samples differ by more than kCourseAaContrast in some channel.
+bool courseDiffers(const Vec3& a, const Vec3& b) {
+    return maxComponent(componentMax(a - b, b - a)) > kCourseAaContrast;
+}
+
+// value(square, level) for the square with top-left corner (x, y) and side size: the
+// course's rule (README, Conventions, "Antialiasing"). A quadrant is subdivided when its
+// sample differs from a horizontal or vertical neighbour's (not the diagonal one's).
 Vec3 courseValue(const PixelSampleFunction& sample, double x, double y, double size, int level,
                  CourseSampleCount& count) {
     // Quadrants in the order top-left, top-right, bottom-left, bottom-right.
@@ -31,10 +38,18 @@ Vec3 courseValue(const PixelSampleFunction& sample, double x, double y, double s
     for (int q = 0; q < 4; ++q) colors[q] = clamp01(sample(quadrantX[q] + half / 2, quadrantY[q] + half / 2));
     count.traced += 4;
 
-    if (level < kCourseAaMaxLevel && spread(colors) > kCourseAaContrast) {
-        for (int q = 0; q < 4; ++q) colors[q] = courseValue(sample, quadrantX[q], quadrantY[q], half, level + 1, count);
-    } else {
-        count.used += 4;
+    bool subdivide[4] = {false, false, false, false};
+    if (level < kCourseAaMaxLevel) {
+        static constexpr int kNeighbours[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};  // rows, then columns
+        for (const auto& pair : kNeighbours) {
+            if (courseDiffers(colors[pair[0]], colors[pair[1]])) subdivide[pair[0]] = subdivide[pair[1]] = true;
+        }
+    }
+    for (int q = 0; q < 4; ++q) {
+        if (subdivide[q])
+            colors[q] = courseValue(sample, quadrantX[q], quadrantY[q], half, level + 1, count);
+        else
+            count.used += 1;
     }
     return (colors[0] + colors[1] + colors[2] + colors[3]) / 4.0;
 }

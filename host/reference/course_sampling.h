@@ -26,10 +26,12 @@ struct CourseSampleCount {
 };
 
 // --aa course: value(pixel, 1), where value(square, level) takes the four samples at the
-// centres of the square's quadrants, each clamped to [0, 1] per channel; if level < 3 and
-// they spread by more than 0.2 (max − min in the channel where that is largest), each
-// quadrant's sample is replaced by value(quadrant, level + 1); the result is the mean of
-// the four. Deterministic; the result is in [0, 1].
+// centres of the square's quadrants, each clamped to [0, 1] per channel; if level < 3, each
+// quadrant whose sample differs from a horizontal or vertical neighbour's (top-left and
+// top-right, bottom-left and bottom-right, top-left and bottom-left, top-right and
+// bottom-right; not the diagonals) by more than kCourseAaContrast = 50/255 in some channel has
+// its sample replaced by value(quadrant, level + 1); the result is the mean of the four.
+// Deterministic; the result is in [0, 1].
 Vec3 sampleCourse(const PixelSampleFunction& sample, CourseSampleCount* count = nullptr);
 
 // --aa stratified: one sample jittered within each cell of a k×k grid, k = floor(√samples)

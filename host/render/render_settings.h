@@ -60,7 +60,7 @@ int areaLightGridSide(const RenderSettings& settings);
 
 // The antialiasing thresholds, shared with the kernel (cl/shared_types.h), as the float
 // values the kernel compares against.
-constexpr double kCourseAaContrast = RAY_COURSE_AA_CONTRAST;  // max − min spread that triggers subdivision
+constexpr double kCourseAaContrast = RAY_COURSE_AA_CONTRAST;  // neighbours differing by more subdivide
 constexpr int kCourseAaMaxLevel = 3;  // levels 1..3: at most 4³ = 64 samples a pixel
 constexpr double kAdaptiveContrast = RAY_ADAPTIVE_CONTRAST;
 
