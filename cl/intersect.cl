@@ -195,12 +195,16 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
                   Hit* hit);
 
 /* Intersects one primitive, updating hit when it is nearer than hit->t.
+ * courseMeshes (--course-meshes): a mesh's hit is keyed by t_obj = t·|M⁻¹d|/|d| (the
+ * course's distance along the normalized object-space direction), which replaces hit->t
+ * (so the hit point is origin + t_obj·d); the world t below which that key beats hit->t,
+ * hit->t/scale, bounds the mesh's own search. objectPoint stays the true one.
  * Motion blur: at time t the instance is translated by t·motion (motions[index], world
  * space), which is the same as moving the ray's origin back by it. The host sets every
  * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
 inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const RayTriangle* triangles,
                                __global const float4* motions, __global const RayPrimitive* prim, int index, Ray ray,
-                               Hit* hit) {
+                               bool courseMeshes, Hit* hit) {
     float3 origin = ray.origin;
     if (ray.time != 0.0f) origin -= ray.time * motions[index].xyz;
     if (prim->info.x == RAY_PRIM_CSG) { /* its operands have transforms of their own */
@@ -209,7 +213,10 @@ inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const 
     }
     float3 o = transformPoint(prim->worldToObject, origin);
     float3 d = transformVector(prim->worldToObject, ray.direction);
-    float best = hit->t;
+    const bool keyed = courseMeshes && prim->info.x == RAY_PRIM_MESH;
+    const float scale = keyed ? length(d) / length(ray.direction) : 1.0f;
+    const float limit = keyed ? hit->t / scale : hit->t;
+    float best = limit;
     int part = 0;
     float3 normal = (float3)(0.0f);
     float2 barycentric = (float2)(0.0f);
@@ -224,8 +231,9 @@ inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const 
             break;
         default: break;
     }
-    if (best < hit->t) {
-        hit->t = best;
+    const float key = keyed ? best * scale : best;
+    if (keyed ? (best < limit && key < hit->t) : best < hit->t) {
+        hit->t = key;
         hit->primitive = index;
         hit->part = part;
         hit->objectPoint = o + best * d;
@@ -292,10 +300,13 @@ inline int nextNode(int inner, const int* innerChild, const float* innerEntry, i
 }
 
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
- * found (shadow rays). Returns whether anything was hit. */
+ * found (shadow rays). Returns whether anything was hit.
+ * courseMeshes: meshes keyed by t_obj (intersectPrimitive). A mesh's key can be smaller
+ * than its world t, so boxes are then not pruned by distance (every box the ray enters is
+ * visited; hits are still compared by key): exact, slower. */
 bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* prims,
               __global const RayTriangle* triangles, __global const float4* motions, Ray ray, float tMax, bool anyHit,
-              Hit* hit) {
+              bool courseMeshes, Hit* hit) {
     hit->t = tMax;
     hit->primitive = -1;
     float3 inverseDirection = safeInverse(ray.direction);
@@ -304,7 +315,8 @@ bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* pri
     int nodeIndex = 0;
     while (true) {
         __global const RayBvhNode* node = &nodes[nodeIndex];
-        float2 entry = childEntryDistances(node, ray.origin, inverseDirection, hit->t);
+        const float pruneLimit = courseMeshes ? RAY_INFINITY : hit->t;
+        float2 entry = childEntryDistances(node, ray.origin, inverseDirection, pruneLimit);
         int4 links = node->links;
         /* Leaves are intersected at once; inner children are queued nearer first. */
         int innerChild[2];
@@ -312,10 +324,10 @@ bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* pri
         int inner = 0;
         for (int c = 0; c < 2; ++c) {
             BvhChild child = bvhChild(links, entry, c);
-            if (child.index < 0 || !(child.entry < hit->t)) continue;
+            if (child.index < 0 || !(child.entry < pruneLimit)) continue;
             if (child.count > 0) {
                 for (int i = child.index; i < child.index + child.count; ++i)
-                    intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, hit);
+                    intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, hit);
                 if (anyHit && hit->primitive >= 0) return true;
             } else {
                 innerChild[inner] = child.index;

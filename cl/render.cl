@@ -109,14 +109,18 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     frame->childCount = 0;
     frame->nextChild = 0;
     Hit hit;
-    if (!traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, RAY_INFINITY, false, &hit))
+    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    if (!traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, RAY_INFINITY, false,
+                  courseMeshes, &hit))
         return;
 
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
     RayMaterial m = scene->materials[prim->info.y];
     float3 p = ray.origin + hit.t * ray.direction;
     float3 faceNormal = hit.objectNormal; /* a mesh's: the triangle's, before its shading normal */
-    if (prim->info.x == RAY_PRIM_MESH) hit.objectNormal = meshShadingNormal(scene->triangleShading, hit.part, hit.barycentric);
+    /* --course-meshes: a mesh keeps its face normal */
+    if (prim->info.x == RAY_PRIM_MESH && !courseMeshes)
+        hit.objectNormal = meshShadingNormal(scene->triangleShading, hit.part, hit.barycentric);
     float2 uv = hitUv(scene, prim->info.x, &hit);
     float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
     /* The object normal points outward. Which side the ray meets is the surface's own: a

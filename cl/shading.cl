@@ -128,8 +128,9 @@ inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLigh
     counter->shadow++;
     Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
     Hit blocker;
+    /* world t for every primitive, --course-meshes or not (README "Conventions", meshes) */
     return traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, shadowRay, distance, true,
-                    &blocker);
+                    false, &blocker);
 }
 
 /* One light (or one sample of an area light) seen from p: f_att · S · I_L · [D·max(N·L, 0)

@@ -86,6 +86,7 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_BILINEAR 32
 #define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/reference/texture_filtering.h */
 #define RAY_FEATURE_FRESNEL 128  /* --fresnel: transparent surfaces weight their branches by exact Fresnel (SPEC §4) */
+#define RAY_FEATURE_COURSE_MESHES 256 /* --course-meshes: mesh hits keyed and placed by t·|M⁻¹d|, face normals */
 
 /* A node of the flattened two-wide BVH: 64 bytes, one cache line.
  *

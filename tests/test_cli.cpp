@@ -216,3 +216,11 @@ TEST_CASE("the second run of a scene reuses the cached kernel", "[cli][kernel]")
     double seconds = std::stod(stats.substr(at + 24));
     CHECK(seconds < 0.5);
 }
+
+TEST_CASE("the option --course-meshes parses and is off by default", "[cli][course-meshes]") {
+    using ray::kUsageText;
+    using ray::parseCommandLine;
+    CHECK_FALSE(parseCommandLine({"a.xml"}).settings.courseMeshes);
+    CHECK(parseCommandLine({"a.xml", "--course-meshes"}).settings.courseMeshes);
+    CHECK(std::string(kUsageText).find("--course-meshes") != std::string::npos);
+}

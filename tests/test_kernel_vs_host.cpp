@@ -159,3 +159,30 @@ TEST_CASE("kernel matches host with stratified sampling and depth of field", "[k
         }
     }
 }
+
+// --course-meshes (README "Conventions", meshes): both renderers key mesh hits by
+// t·|M⁻¹d|, place the hit point there and shade meshes with face normals. The course's
+// pdiddy scene (a mesh scaled 3.5, so its hits move to 1/3.5 of their distance) with its
+// PENDING.tsv options, and the bundled vase.
+TEST_CASE("kernel matches host with the course's mesh distances", "[kernel][kvh][course-meshes]") {
+    auto device = cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    SECTION("mesh_vase.xml") {
+        RenderSettings settings = test::settingsFromOptions("--course-meshes", kWidth, kHeight);
+        compareKernelWithHost(*device, test::scenesDir() / "mesh_vase.xml", settings, "course_meshes_mesh_vase");
+    }
+    auto shared = test::sharedDir();
+    if (!shared) {
+        test::skip("../shared/cs123 is absent: no pdiddy scene");
+        return;
+    }
+    SECTION("pdiddy__cs1230-test_mesh.xml") {
+        RenderSettings settings = test::settingsFromOptions(
+            "--aa course --no-dof --texture-filter course --course-meshes", kWidth, kHeight);
+        compareKernelWithHost(*device, *shared / "cs123" / "scenes" / "pdiddy__cs1230-test_mesh.xml", settings,
+                              "course_meshes_pdiddy");
+    }
+}

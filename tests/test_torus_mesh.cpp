@@ -4,11 +4,13 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <random>
 
 #include "reference/bump_mapping.h"
 #include "scene/mesh.h"
 #include "reference/mesh_intersector.h"
 #include "reference/polynomial.h"
+#include "reference/reference_bvh.h"
 #include "scene/scene_loader.h"
 #include "opencl/scene_packing.h"
 #include "reference/shapes.h"
@@ -179,4 +181,47 @@ TEST_CASE("bump mapping: a flat map keeps the normal, a ramp tilts it by the doc
     Vec3 t = objectTangent(PrimitiveType::Sphere, {0.5, 0, 0}, {1, 0, 0});
     CHECK(t.z == Approx(-0.5));
     CHECK(objectTangent(PrimitiveType::Cube, {0.5, 0, 0}, {1, 0, 0}).z == -1);
+}
+
+// --course-meshes (README "Conventions", meshes): closestHit keys a mesh hit by
+// t_obj = t·|M⁻¹d|/|d|. Boxes are pruned by tMax times a bound on t/t_obj, so the BVH must
+// find exactly the hits brute force finds; on the course's pdiddy scene (a mesh scaled 3.5
+// among trees and a floor) every mesh hit's t is its world t times that factor.
+TEST_CASE("course mesh distances: the BVH finds what brute force finds", "[mesh][course-meshes]") {
+    auto shared = test::sharedDir();
+    if (!shared) {
+        test::skip("../shared/cs123 is absent: no pdiddy scene");
+        return;
+    }
+    LoadOptions options;
+    options.warn = [](const std::string&) {};
+    Scene scene = loadScene(*shared / "cs123" / "scenes" / "pdiddy__cs1230-test_mesh.xml", options);
+    reference::SceneIntersector bvh(scene, reference::SceneSearch::Bvh, true);
+    reference::SceneIntersector brute(scene, reference::SceneSearch::BruteForce, true);
+    reference::SceneIntersector world(scene, reference::SceneSearch::BruteForce, false);
+    const reference::Aabb bounds = bvh.sceneBounds();
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    int meshHits = 0, mismatches = 0;
+    for (int i = 0; i < 4000; ++i) {
+        Vec3 target{bounds.lo.x + unit(random) * (bounds.hi.x - bounds.lo.x),
+                    bounds.lo.y + unit(random) * (bounds.hi.y - bounds.lo.y),
+                    bounds.lo.z + unit(random) * (bounds.hi.z - bounds.lo.z)};
+        Vec3 origin = scene.camera.position, direction = normalize(target - origin);
+        auto a = bvh.closestHit(origin, direction, 0, INFINITY);
+        auto b = brute.closestHit(origin, direction, 0, INFINITY);
+        if (bool(a) != bool(b) || (a && (a->primitive != b->primitive || a->local.t != b->local.t))) ++mismatches;
+        if (!b || scene.primitives[size_t(b->primitive)].type != PrimitiveType::Mesh) continue;
+        ++meshHits;
+        const PrimitiveInstance& mesh = scene.primitives[size_t(b->primitive)];
+        double scale = length(mesh.worldToObject.transformVector(direction));
+        // The mesh's own world hit, searched in the mesh alone, scaled, is the key.
+        auto trueHit = world.closestHit(origin, direction, 0, INFINITY);
+        CHECK(scale < 1);  // pdiddy's mesh is scaled up: its key is nearer than its world t
+        if (trueHit && trueHit->primitive == b->primitive)
+            CHECK(b->local.t == Approx(trueHit->local.t * scale).epsilon(1e-9));
+    }
+    INFO(meshHits << " of 4000 rays hit the mesh");
+    CHECK(mismatches == 0);
+    CHECK(meshHits > 50);
 }

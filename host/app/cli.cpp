@@ -45,6 +45,9 @@ options:
   --fresnel                weight the reflection and transmission of transparent objects
                            by exact Fresnel, reflections kept inside the object (SPEC §4;
                            off by default)
+  --course-meshes          measure mesh hits as the course's solution did: distance along
+                           the normalized object-space ray (t·|M⁻¹d|), hit point placed
+                           there, face normals (README "Conventions"; off by default)
   --texture-filter F       nearest (default, as the course) | bilinear | trilinear |
                            course (bilinear with texel corners at integers, as the
                            course's renders made with its texture filter on)
@@ -186,6 +189,7 @@ void addOptions(CLI::App& app, CliOptions& options) {
     flag("--no-textures", s.textures, false);
     flag("--no-dof", s.depthOfField, false);
     flag("--fresnel", s.fresnel, true);
+    flag("--course-meshes", s.courseMeshes, true);
     text("--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });
     flag("-q,--quiet", options.quiet, true);
     flag("--stats", options.stats, true);

@@ -52,6 +52,8 @@ void defineOptions(CLI::App& app, ExplainOptions& o) {
     app.add_flag("--no-textures", o.noTextures);
     app.add_flag("--no-dof", o.noDof);
     app.add_flag("--fresnel", o.settings.fresnel, "weight transparent surfaces' branches by exact Fresnel");
+    app.add_flag("--course-meshes", o.settings.courseMeshes,
+                 "mesh hits by the course's distance t·|M⁻¹d|, placed there, face normals");
 }
 
 // The positional [w h] [depth] and the switches into the settings; throws UsageError.

@@ -43,7 +43,7 @@ std::optional<TriangleHit> intersectTriangle(const Vec3& origin, const Vec3& dir
     return TriangleHit{dot(e2, qv) * inverseDet, b1, b2};
 }
 
-MeshIntersector::MeshIntersector(const TriangleMesh& mesh) : mesh_(mesh) {
+MeshIntersector::MeshIntersector(const TriangleMesh& mesh, bool faceNormals) : mesh_(mesh), faceNormals_(faceNormals) {
     const int count = int(mesh.triangles.size());
     std::vector<Box> boxes(static_cast<size_t>(count));
     std::vector<Vec3> centres(static_cast<size_t>(count));
@@ -119,7 +119,8 @@ std::optional<ShapeHit> MeshIntersector::intersect(const Vec3& origin, const Vec
     if (bestTriangle < 0) return std::nullopt;
     ShapeHit hit;
     hit.t = best.t;
-    hit.normal = mesh_.shadingNormal(size_t(bestTriangle), best.b1, best.b2);
+    hit.normal = faceNormals_ ? mesh_.faceNormal(size_t(bestTriangle))
+                              : mesh_.shadingNormal(size_t(bestTriangle), best.b1, best.b2);
     auto uv = mesh_.texCoordAt(size_t(bestTriangle), best.b1, best.b2);
     hit.uv = {uv[0], uv[1]};
     hit.tangent = mesh_.uTangent(size_t(bestTriangle));

@@ -13,10 +13,13 @@ namespace ray {
 
 class MeshIntersector {
 public:
-    explicit MeshIntersector(const TriangleMesh& mesh);
+    // faceNormals (--course-meshes): hits carry the triangle's face normal, not the
+    // interpolated vn.
+    explicit MeshIntersector(const TriangleMesh& mesh, bool faceNormals = false);
 
     // The nearest hit with tMin < t < tMax in the mesh's object space: the shading normal
-    // (smooth where the file gives vn) and the texture coordinates at the hit.
+    // (smooth where the file gives vn, the face normal with faceNormals) and the texture
+    // coordinates at the hit.
     std::optional<ShapeHit> intersect(const Vec3& origin, const Vec3& direction, double tMin, double tMax) const;
 
 private:
@@ -31,6 +34,7 @@ private:
     int build(int begin, int end, const std::vector<Box>& boxes, const std::vector<Vec3>& centres);
 
     const TriangleMesh& mesh_;
+    bool faceNormals_ = false;
     std::vector<Node> nodes_;
     std::vector<int> order_;
 };

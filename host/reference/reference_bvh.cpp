@@ -71,10 +71,22 @@ std::optional<double> intersectBox(const Aabb& box, const Vec3& origin, const Ve
     return tMin;
 }
 
-SceneIntersector::SceneIntersector(const Scene& scene, SceneSearch search)
-    : scene_(scene), primitives_(scene.primitives), search_(search) {
+SceneIntersector::SceneIntersector(const Scene& scene, SceneSearch search, bool courseMeshes)
+    : scene_(scene), primitives_(scene.primitives), search_(search), courseMeshes_(courseMeshes) {
     meshes_.reserve(scene.meshes.size());
-    for (const TriangleMesh& mesh : scene.meshes) meshes_.emplace_back(mesh);
+    for (const TriangleMesh& mesh : scene.meshes) meshes_.emplace_back(mesh, courseMeshes);
+    if (courseMeshes) {
+        for (const PrimitiveInstance& instance : primitives_) {
+            if (instance.type != PrimitiveType::Mesh) continue;
+            double frobenius = std::sqrt(dot(instance.objectToWorld.transformVector({1, 0, 0}),
+                                             instance.objectToWorld.transformVector({1, 0, 0})) +
+                                         dot(instance.objectToWorld.transformVector({0, 1, 0}),
+                                             instance.objectToWorld.transformVector({0, 1, 0})) +
+                                         dot(instance.objectToWorld.transformVector({0, 0, 1}),
+                                             instance.objectToWorld.transformVector({0, 0, 1})));
+            meshKeyStretch_ = std::max(meshKeyStretch_, frobenius * (1 + 1e-6));
+        }
+    }
     const int count = int(primitives_.size());
     std::vector<Aabb> boxes(count);
     std::vector<Vec3> centres(count);
@@ -145,7 +157,7 @@ std::optional<SceneHit> SceneIntersector::intersectPrimitive(int index, const Ve
 
 template <class Test>
 void SceneIntersector::traverse(const Vec3& origin, const Vec3& direction, double tMin, double tMax,
-                                Test&& test) const {
+                                double stretch, Test&& test) const {
     if (search_ == SceneSearch::BruteForce) {
         for (int i = 0; i < int(primitives_.size()) && tMax >= 0; ++i) tMax = test(i, tMax);
         return;
@@ -160,11 +172,11 @@ void SceneIntersector::traverse(const Vec3& origin, const Vec3& direction, doubl
     };
     Entry stack[kMaxStack];
     int size = 0;
-    if (auto t = intersectBox(nodes_[0].bounds, origin, direction, tMin, tMax)) stack[size++] = {0, *t};
+    if (auto t = intersectBox(nodes_[0].bounds, origin, direction, tMin, tMax * stretch)) stack[size++] = {0, *t};
 
     while (size > 0) {
         const Entry entry = stack[--size];
-        if (entry.tEnter > tMax) continue;
+        if (entry.tEnter > tMax * stretch) continue;
         const Node& node = nodes_[entry.node];
         if (node.count > 0) {
             for (int i = node.first; i < node.first + node.count; ++i) {
@@ -173,8 +185,8 @@ void SceneIntersector::traverse(const Vec3& origin, const Vec3& direction, doubl
             }
             continue;
         }
-        auto tLeft = intersectBox(nodes_[node.left].bounds, origin, direction, tMin, tMax);
-        auto tRight = intersectBox(nodes_[node.right].bounds, origin, direction, tMin, tMax);
+        auto tLeft = intersectBox(nodes_[node.left].bounds, origin, direction, tMin, tMax * stretch);
+        auto tRight = intersectBox(nodes_[node.right].bounds, origin, direction, tMin, tMax * stretch);
         // Push the farther child first so that the nearer one is visited first.
         if (tLeft && tRight && *tLeft < *tRight) {
             stack[size++] = {node.right, *tRight};
@@ -189,12 +201,24 @@ void SceneIntersector::traverse(const Vec3& origin, const Vec3& direction, doubl
 std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const Vec3& direction, double tMin,
                                                      double tMax, double time) const {
     std::optional<SceneHit> best;
-    traverse(origin, direction, tMin, tMax, [&](int primitive, double tLimit) {
+    const double stretch = courseMeshes_ ? meshKeyStretch_ : 1.0;
+    traverse(origin, direction, tMin, tMax, stretch, [&](int primitive, double tLimit) {
         // Coplanar faces (a chessboard's squares flush with its border) are hit at exactly
         // the same distance. Such a tie goes to the primitive listed first in the scene,
         // as brute force, visiting primitives in that order, decides it, so that the image
         // does not depend on the order in which the BVH happens to visit them.
         double limit = best && primitive < best->primitive ? std::nextafter(tLimit, INFINITY) : tLimit;
+        if (courseMeshes_ && primitives_[primitive].type == PrimitiveType::Mesh) {
+            // The course's key t_obj = t·scale: a key below limit is a world t below
+            // limit/scale; the hit's t becomes the key (the course's hit point).
+            const double scale =
+                length(primitives_[primitive].worldToObject.transformVector(direction)) / length(direction);
+            auto hit = intersectPrimitive(primitive, origin, direction, tMin, limit / scale, time);
+            if (!hit || !(hit->local.t * scale < limit)) return tLimit;
+            hit->local.t *= scale;
+            best = *hit;
+            return hit->local.t;
+        }
         if (auto hit = intersectPrimitive(primitive, origin, direction, tMin, limit, time)) {
             best = *hit;
             return hit->local.t;
@@ -207,7 +231,7 @@ std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const V
 bool SceneIntersector::anyHit(const Vec3& origin, const Vec3& direction, double tMin, double tMax,
                               double time) const {
     bool found = false;
-    traverse(origin, direction, tMin, tMax, [&](int primitive, double tLimit) {
+    traverse(origin, direction, tMin, tMax, 1.0, [&](int primitive, double tLimit) {
         if (intersectPrimitive(primitive, origin, direction, tMin, tLimit, time)) {
             found = true;
             return -1.0;  // stop: one blocker is enough

@@ -63,7 +63,14 @@ enum class SceneSearch { Bvh, BruteForce };
 class SceneIntersector {
 public:
     // Keeps a reference to scene.primitives: the scene must outlive the intersector.
-    explicit SceneIntersector(const Scene& scene, SceneSearch search = SceneSearch::Bvh);
+    //
+    // courseMeshes (--course-meshes, README "Conventions", meshes): closestHit measures a
+    // mesh instance's hit by the course's key t_obj = t·|M⁻¹d|/|d| (the distance along the
+    // normalized object-space direction, M the object-to-world transform), compares it
+    // with the other primitives' world t, returns it as the hit's t (so the hit point is
+    // origin + t_obj·d) and gives meshes their face normals. anyHit (shadow rays) keeps
+    // world t for every primitive.
+    explicit SceneIntersector(const Scene& scene, SceneSearch search = SceneSearch::Bvh, bool courseMeshes = false);
 
     // The nearest hit with tMin < t < tMax along origin + t·direction (world space), with
     // the moving instances where they are at shutter time `time` (scene.h).
@@ -88,13 +95,23 @@ private:
     // Calls test(primitive index) for every primitive whose box the ray reaches before
     // the current tMax; test returns the new tMax (smaller after a hit), or a negative
     // value to stop the search.
+    // Boxes are tested against tMax·stretch: 1 except for closestHit with courseMeshes,
+    // where a mesh's key can be smaller than its world t (meshKeyStretch_).
     template <class Test>
-    void traverse(const Vec3& origin, const Vec3& direction, double tMin, double tMax, Test&& test) const;
+    void traverse(const Vec3& origin, const Vec3& direction, double tMin, double tMax, double stretch,
+                  Test&& test) const;
 
     const Scene& scene_;
     const std::vector<PrimitiveInstance>& primitives_;
     std::vector<MeshIntersector> meshes_;  // one per Scene::meshes entry
     SceneSearch search_;
+    bool courseMeshes_ = false;
+    // With courseMeshes: an upper bound on world t / t_obj over the mesh instances (≥ 1),
+    // the largest Frobenius norm of their transforms' linear parts (≥ its largest
+    // singular value) times 1 + 1e-6 for rounding; 1 when there is no mesh. A box the ray
+    // enters at t holds no mesh key below t / meshKeyStretch_, so pruning boxes by
+    // tMax·meshKeyStretch_ is exact.
+    double meshKeyStretch_ = 1;
     std::vector<Node> nodes_;  // nodes_[0] is the root
     std::vector<int> order_;   // primitive indices, grouped by leaf
     Aabb sceneBounds_;

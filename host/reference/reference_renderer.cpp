@@ -161,7 +161,7 @@ class Tracer {
 public:
     // observer: null for image renders; renderReferencePixel's single thread passes one.
     Tracer(const Scene& scene, const RenderSettings& settings, SceneSearch search, TraceObserver* observer = nullptr)
-        : scene_(scene), settings_(settings), intersector_(scene, search), observer_(observer) {
+        : scene_(scene), settings_(settings), intersector_(scene, search, settings.courseMeshes), observer_(observer) {
         Aabb bounds = intersector_.sceneBounds();
         bounds.grow(scene.camera.position);
         surfaceOffset_ = kSurfaceOffset * std::max(1e-6, length(bounds.hi - bounds.lo));

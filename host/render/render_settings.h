@@ -37,6 +37,12 @@ struct RenderSettings {
     // kt·Ot·(1 − R), and split a ray leaving the object into R inside and 1 − R out
     // (README "Conventions", refraction). Needs refraction on.
     bool fresnel = false;
+    // --course-meshes (off by default): the course solution's mesh bug (README
+    // "Conventions", meshes): a mesh hit's distance is t_obj = t·|M⁻¹d| (along the
+    // normalized object-space direction), compared with the other primitives' world t for
+    // the nearest hit and placing the hit point at origin + t_obj·d; meshes are shaded
+    // with face normals. Shadow rays keep world t.
+    bool courseMeshes = false;
     TextureFilter textureFilter = TextureFilter::Nearest;
     uint32_t seed = 0;
     // Point samples per area light, on a k×k jittered grid (k = floor(√areaSamples)):
