@@ -119,6 +119,7 @@ api::Settings settingsFrom(const py::kwargs& options, api::Settings s) {
         else if (name == "textures") s.textures = value.cast<bool>();
         else if (name == "dof") s.depthOfField = value.cast<bool>();
         else if (name == "fresnel") s.fresnel = value.cast<bool>();
+        else if (name == "course_meshes") s.courseMeshes = value.cast<bool>();
         else if (name == "texture_filter")
             s.textureFilter = enumFromName<api::TextureFilter>(value.cast<std::string>(),
                                                                {{"nearest", api::TextureFilter::Nearest},
@@ -353,7 +354,7 @@ PYBIND11_MODULE(cs123ray, m) {
         .def("set_options", [](api::Renderer& r, const py::kwargs& options) {
             r.setSettings(settingsFrom(options, r.settings()));
         }, "width, height, depth, aa, samples, seed, area_samples, shutter, threshold, shadows, reflections, "
-           "refraction, textures, dof, fresnel, texture_filter")
+           "refraction, textures, dof, fresnel, course_meshes, texture_filter")
         .def("render", [](api::Renderer& r, const std::string& dtype, const py::object& progress) {
             return renderArray(r, dtype, progress);
         }, py::arg("dtype") = "float32", py::arg("progress") = py::none(),

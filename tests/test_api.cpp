@@ -100,6 +100,28 @@ TEST_CASE("API: Settings::fresnel is the CLI's --fresnel, off by default", "[api
     CHECK(differingBytes(renderFresh(loaded, "ref", settings)) == 0);
 }
 
+TEST_CASE("API: Settings::courseMeshes is the CLI's --course-meshes, off by default", "[api][course-meshes]") {
+    const fs::path scene = ray::test::scenesDir() / "mesh_vase.xml";
+    const fs::path png = ray::test::outputDir() / "api_cli_mesh_vase_course_meshes.png";
+    auto run = ray::test::runRay(
+        {scene.string(), "64", "48", "--device", "ref", "--course-meshes", "--quiet", "-o", png.string()});
+    REQUIRE(run.exitCode == 0);
+    const ray::Image cli = ray::readImage(png);
+
+    auto [loaded, warnings] = api::Scene::load(scene);
+    api::Settings settings = small();
+    CHECK_FALSE(settings.courseMeshes);
+    auto differingBytes = [&](const std::vector<float>& rgb) {
+        REQUIRE(rgb.size() == cli.rgb.size());
+        size_t differing = 0;
+        for (size_t i = 0; i < rgb.size(); ++i) differing += api::toByte(rgb[i]) != ray::quantize8(cli.rgb[i]);
+        return differing;
+    };
+    CHECK(differingBytes(renderFresh(loaded, "ref", settings)) > 0);
+    settings.courseMeshes = true;
+    CHECK(differingBytes(renderFresh(loaded, "ref", settings)) == 0);
+}
+
 TEST_CASE("API: warnings come back to the caller, errors carry file and line", "[api]") {
     const std::string xml = "<scenefile>\n<cameradata bogus=\"1\">\n<pos x=\"0\" y=\"0\" z=\"5\"/>\n</cameradata>\n"
                             "<object type=\"tree\" name=\"root\"></object>\n</scenefile>\n";

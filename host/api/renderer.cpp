@@ -49,6 +49,7 @@ ray::RenderSettings internal(const Settings& s) {
     r.textures = s.textures;
     r.depthOfField = s.depthOfField;
     r.fresnel = s.fresnel;
+    r.courseMeshes = s.courseMeshes;
     r.textureFilter = ray::TextureFilter(int(s.textureFilter));  // same order
     return r;
 }

@@ -29,6 +29,7 @@ struct Settings {
     double threshold = 1.0 / 256.0;         // weight below which a branch stops
     bool shadows = true, reflections = true, refraction = true, textures = true, depthOfField = true;
     bool fresnel = false;                   // --fresnel: exact Fresnel weights on transparent surfaces
+    bool courseMeshes = false;              // --course-meshes: mesh hits as the course's renderer finds them
     TextureFilter textureFilter = TextureFilter::Nearest;
 };
 

@@ -82,6 +82,19 @@ def test_one_renderer_many_frames():
         renderer.set_options(colour=1)
 
 
+def test_course_meshes_option_changes_meshes_only():
+    vase = cs123ray.load_scene(SCENES / "mesh_vase.xml")
+    plain = cs123ray.render(vase, device="ref", width=48, height=36, aa="off")
+    course = cs123ray.render(vase, device="ref", width=48, height=36, aa="off", course_meshes=True)
+    assert not np.array_equal(plain, course)
+    opaque = build_sphere_scene()
+    renderer = cs123ray.Renderer(opaque, device="ref")
+    renderer.set_options(width=32, height=24, aa="off")
+    first = renderer.render()
+    renderer.set_options(course_meshes=True)
+    assert np.array_equal(first, renderer.render())
+
+
 def test_fresnel_option_changes_glass_only():
     glass = cs123ray.load_scene(SCENES / "refraction.xml")
     plain = cs123ray.render(glass, device="ref", width=48, height=36, aa="off")
