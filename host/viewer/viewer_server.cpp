@@ -82,7 +82,7 @@ View parseView(const std::string& body, const View& current) {
     s.maxDepth = intIn(j, "depth", 0, kMaxViewDepth, s.maxDepth);
     for (auto [key, flag] : {std::pair{"shadows", &s.shadows}, std::pair{"reflections", &s.reflections},
                              std::pair{"refraction", &s.refraction}, std::pair{"textures", &s.textures},
-                             std::pair{"fresnel", &s.fresnel}})
+                             std::pair{"fresnel", &s.fresnel}, std::pair{"course_meshes", &s.courseMeshes}})
         if (j.contains(key)) *flag = j[key].get<bool>();
     if (j.contains("aa")) {
         std::string aa = j["aa"].get<std::string>();
@@ -116,7 +116,7 @@ public:
                 {"height", view_.settings.height}, {"depth", view_.settings.maxDepth},
                 {"shadows", view_.settings.shadows}, {"reflections", view_.settings.reflections},
                 {"refraction", view_.settings.refraction}, {"textures", view_.settings.textures},
-                {"fresnel", view_.settings.fresnel},
+                {"fresnel", view_.settings.fresnel}, {"course_meshes", view_.settings.courseMeshes},
                 {"aa", view_.settings.antialias == AntialiasMode::Off ? "off" : "course"},
                 {"error", sceneError_}};
     }

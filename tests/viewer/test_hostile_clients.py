@@ -78,6 +78,14 @@ try:
     case("flood of 301 camera changes", f"the frame completed is the last view (frame {done['frame']}, fewer than 301 rendered)")
     assert done["frame"] < 301
 
+    # The switches beyond the course's four round-trip through /view and /state.
+    for on in (True, False):
+        flag = "true" if on else "false"
+        viewer.request("POST", "/view", f'{{"fresnel": {flag}, "course_meshes": {flag}}}'.encode())
+        status, state = viewer.json("GET", "/state")
+        assert status == 200 and state["fresnel"] is on and state["course_meshes"] is on, state
+    case("fresnel and course_meshes switches", "set and cleared through /view, reported by /state")
+
     # Clients that connect and never read (nor send).
     sockets = []
     for _ in range(50):
