@@ -53,6 +53,36 @@ api::Scene sphereSceneInCode() {
     return scene;
 }
 
+// The CLI's 64x48 render of a bundled scene on the reference renderer, with extra options.
+ray::Image renderWithCli(const std::string& sceneName, const std::vector<std::string>& options, const std::string& png) {
+    std::vector<std::string> args = {(ray::test::scenesDir() / sceneName).string(), "64", "48", "--device", "ref",
+                                     "--quiet", "-o", (ray::test::outputDir() / png).string()};
+    args.insert(args.end(), options.begin(), options.end());
+    auto run = ray::test::runRay(args);
+    REQUIRE(run.exitCode == 0);
+    return ray::readImage(ray::test::outputDir() / png);
+}
+
+// How many 8-bit values of an API render differ from the CLI's image.
+size_t bytesDiffering(const std::vector<float>& rgb, const ray::Image& cli) {
+    REQUIRE(rgb.size() == cli.rgb.size());
+    size_t differing = 0;
+    for (size_t i = 0; i < rgb.size(); ++i) differing += api::toByte(rgb[i]) != ray::quantize8(cli.rgb[i]);
+    return differing;
+}
+
+// A boolean Settings member is the CLI's switch `option`: off by default (the image then
+// differs from the switch's), and with it on the API renders the CLI's image exactly.
+void checkSwitchIsCliOption(const std::string& sceneName, const std::string& option, bool api::Settings::*member) {
+    const ray::Image cli = renderWithCli(sceneName, {option}, "api_cli_" + option.substr(2) + ".png");
+    auto [loaded, warnings] = api::Scene::load(ray::test::scenesDir() / sceneName);
+    api::Settings settings = small();
+    CHECK_FALSE(settings.*member);
+    CHECK(bytesDiffering(renderFresh(loaded, "ref", settings), cli) > 0);
+    settings.*member = true;
+    CHECK(bytesDiffering(renderFresh(loaded, "ref", settings), cli) == 0);
+}
+
 // Whether an OpenCL CPU device is there (PoCL); tests of it skip without one.
 bool haveCpuDevice() {
     for (const api::Device& device : api::listDevices())
@@ -63,63 +93,18 @@ bool haveCpuDevice() {
 }  // namespace
 
 TEST_CASE("API: a loaded scene renders what the CLI writes", "[api]") {
-    const fs::path scene = ray::test::scenesDir() / "shadows.xml";
-    const fs::path png = ray::test::outputDir() / "api_cli_shadows.png";
-    auto run = ray::test::runRay({scene.string(), "64", "48", "--device", "ref", "--quiet", "-o", png.string()});
-    REQUIRE(run.exitCode == 0);
-    const ray::Image cli = ray::readImage(png);
-
-    auto [loaded, warnings] = api::Scene::load(scene);
+    const ray::Image cli = renderWithCli("shadows.xml", {}, "api_cli_shadows.png");
+    auto [loaded, warnings] = api::Scene::load(ray::test::scenesDir() / "shadows.xml");
     CHECK(warnings.empty());
-    const std::vector<float> rgb = renderFresh(loaded, "ref", small());
-    REQUIRE(rgb.size() == cli.rgb.size());
-    size_t differing = 0;
-    for (size_t i = 0; i < rgb.size(); ++i) differing += api::toByte(rgb[i]) != ray::quantize8(cli.rgb[i]);
-    CHECK(differing == 0);
+    CHECK(bytesDiffering(renderFresh(loaded, "ref", small()), cli) == 0);
 }
 
 TEST_CASE("API: Settings::fresnel is the CLI's --fresnel, off by default", "[api][fresnel]") {
-    const fs::path scene = ray::test::scenesDir() / "refraction.xml";
-    const fs::path png = ray::test::outputDir() / "api_cli_refraction_fresnel.png";
-    auto run = ray::test::runRay(
-        {scene.string(), "64", "48", "--device", "ref", "--fresnel", "--quiet", "-o", png.string()});
-    REQUIRE(run.exitCode == 0);
-    const ray::Image cli = ray::readImage(png);
-
-    auto [loaded, warnings] = api::Scene::load(scene);
-    api::Settings settings = small();
-    CHECK_FALSE(settings.fresnel);
-    auto differingBytes = [&](const std::vector<float>& rgb) {
-        REQUIRE(rgb.size() == cli.rgb.size());
-        size_t differing = 0;
-        for (size_t i = 0; i < rgb.size(); ++i) differing += api::toByte(rgb[i]) != ray::quantize8(cli.rgb[i]);
-        return differing;
-    };
-    CHECK(differingBytes(renderFresh(loaded, "ref", settings)) > 0);
-    settings.fresnel = true;
-    CHECK(differingBytes(renderFresh(loaded, "ref", settings)) == 0);
+    checkSwitchIsCliOption("refraction.xml", "--fresnel", &api::Settings::fresnel);
 }
 
 TEST_CASE("API: Settings::courseMeshes is the CLI's --course-meshes, off by default", "[api][course-meshes]") {
-    const fs::path scene = ray::test::scenesDir() / "mesh_vase.xml";
-    const fs::path png = ray::test::outputDir() / "api_cli_mesh_vase_course_meshes.png";
-    auto run = ray::test::runRay(
-        {scene.string(), "64", "48", "--device", "ref", "--course-meshes", "--quiet", "-o", png.string()});
-    REQUIRE(run.exitCode == 0);
-    const ray::Image cli = ray::readImage(png);
-
-    auto [loaded, warnings] = api::Scene::load(scene);
-    api::Settings settings = small();
-    CHECK_FALSE(settings.courseMeshes);
-    auto differingBytes = [&](const std::vector<float>& rgb) {
-        REQUIRE(rgb.size() == cli.rgb.size());
-        size_t differing = 0;
-        for (size_t i = 0; i < rgb.size(); ++i) differing += api::toByte(rgb[i]) != ray::quantize8(cli.rgb[i]);
-        return differing;
-    };
-    CHECK(differingBytes(renderFresh(loaded, "ref", settings)) > 0);
-    settings.courseMeshes = true;
-    CHECK(differingBytes(renderFresh(loaded, "ref", settings)) == 0);
+    checkSwitchIsCliOption("mesh_vase.xml", "--course-meshes", &api::Settings::courseMeshes);
 }
 
 TEST_CASE("API: warnings come back to the caller, errors carry file and line", "[api]") {

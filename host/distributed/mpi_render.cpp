@@ -15,7 +15,6 @@
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <numeric>
 #include <optional>
 #include <sched.h>
 #include <thread>
@@ -401,6 +400,7 @@ private:
 // (a second round only when a failed rank gave tiles back after the first ended).
 struct LocalShare {
     std::atomic<bool> done{false};
+    std::atomic<int> tilesKept{0};
     std::atomic<bool> stop{false};
     std::mutex mutex;
     std::vector<FrameStats> rounds;
@@ -417,7 +417,7 @@ void renderLocalShare(Prepared& p, TileDispatcher& dispatcher, LocalShare& share
             }
             DispatcherTiles tiles(dispatcher);
             FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) {
-                dispatcher.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3);
+                if (dispatcher.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3)) ++share.tilesKept;
             });
             FrameResult round = engine.renderFrame(p.scene->camera, p.options.settings, options);
             std::lock_guard lock(share.mutex);
@@ -461,9 +461,7 @@ class Coordinator {
 public:
     Coordinator(Prepared& p, const MpiSession& mpi, int tileSide)
         : p_(p), mpi_(mpi), dispatcher_(p.options.settings.width, p.options.settings.height, tileSide),
-          finished_(size_t(mpi.size), false), tilesPerRank_(size_t(mpi.size), 0) {
-        finished_[0] = true;  // rank 0 reports through LocalShare
-    }
+          rankStats_(size_t(mpi.size)), tilesPerRank_(size_t(mpi.size), 0) {}
 
     int run() {
         ProgressBar progress(!p_.options.quiet);
@@ -474,7 +472,8 @@ public:
         while (!interrupted()) {
             if (handleOneMessage()) continue;
             progress.update(dispatcher_.fractionDone());
-            const bool workersDone = std::all_of(finished_.begin(), finished_.end(), [](bool f) { return f; });
+            const bool workersDone = std::all_of(rankStats_.begin() + 1, rankStats_.end(),
+                                                 [](const std::optional<Json>& stats) { return stats.has_value(); });
             // Rank 0's share ends when the frame is complete or its devices all failed.
             if (workersDone && share.done) break;
             idle();
@@ -482,7 +481,7 @@ public:
         share.stop = true;
         local.join();
         progress.finish();
-        stats_.renderSeconds = secondsSince(start);
+        const double renderSeconds = secondsSince(start);
 
         RenderOutput result;
         result.interrupted = interrupted();
@@ -494,6 +493,7 @@ public:
             code = kExitRuntime;
         } else {
             result.stats = collectStats(share);
+            result.stats.renderSeconds = renderSeconds;
             try {
                 code = finishRender(result, p_.output, p_.options);
             } catch (...) {
@@ -541,73 +541,61 @@ private:
         bytes_ += values.size() * sizeof(int);
     }
 
+    // A tile message is received into floats, so that its pixels are pasted from where they
+    // arrived (the header is a whole number of floats).
     void receiveResult(int from, int bytes) {
-        buffer_.resize(size_t(std::max(bytes, 0)));
+        static_assert(sizeof(TileResultHeader) % sizeof(float) == 0);
+        constexpr size_t kHeaderFloats = sizeof(TileResultHeader) / sizeof(float);
+        buffer_.resize((size_t(std::max(bytes, 0)) + sizeof(float) - 1) / sizeof(float));
         MPI_Recv(buffer_.data(), bytes, MPI_BYTE, from, kResult, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        if (buffer_.size() < sizeof(TileResultHeader)) abortAll(0, "a short tile message from rank " + std::to_string(from));
+        if (size_t(bytes) < sizeof(TileResultHeader)) abortAll(0, "a short tile message from rank " + std::to_string(from));
         TileResultHeader header;
         std::memcpy(&header, buffer_.data(), sizeof header);
         const TileRect rect{header.x, header.y, header.width, header.height};
-        const size_t floats = (buffer_.size() - sizeof header) / sizeof(float);
-        std::vector<float> rgb(floats);
-        std::memcpy(rgb.data(), buffer_.data() + sizeof header, floats * sizeof(float));
+        const size_t floats = (size_t(bytes) - sizeof header) / sizeof(float);
         try {
-            if (dispatcher_.deliver(from, rect, rgb.data(), floats)) {
+            if (dispatcher_.deliver(from, rect, buffer_.data() + kHeaderFloats, floats)) {
                 // The rays of the tiles kept: those of a rank that failed later count too.
                 ++tilesPerRank_[size_t(from)];
-                stats_.primaryRays += header.primaryRays;
-                stats_.shadowRays += header.shadowRays;
-                stats_.secondaryRays += header.secondaryRays;
+                workerRays_.primaryRays += header.primaryRays;
+                workerRays_.shadowRays += header.shadowRays;
+                workerRays_.secondaryRays += header.secondaryRays;
             }
         } catch (const std::invalid_argument& e) {
             abortAll(0, e.what());
         }
     }
 
+    // A worker's statistics: kept, merged in rank order at the end (collectStats).
     void receiveFinished(int from) {
         Json message;
         try {
             message = Json::parse(receiveText(from, kFinished));
-            mergeRankStats(stats_, from, message);
         } catch (const Json::exception& e) {
             abortAll(0, "unreadable statistics from rank " + std::to_string(from) + ": " + e.what());
         }
-        finished_[size_t(from)] = true;
         std::string failure = message.value("failure", "");
         if (failure.rfind("ray: ", 0) == 0) failure.erase(0, 5);
         if (!failure.empty()) {
             const int givenBack = dispatcher_.giveBack(from);
-            stats_.warnings.push_back("rank " + std::to_string(from) + " dropped (" + std::to_string(givenBack) +
-                                      " tiles given to the others): " + failure);
+            dropWarnings_.push_back("rank " + std::to_string(from) + " dropped (" + std::to_string(givenBack) +
+                                    " tiles given to the others): " + failure);
         }
+        rankStats_[size_t(from)] = std::move(message);
     }
 
     RenderStats collectStats(LocalShare& share) {
-        RenderStats stats = stats_;
+        RenderStats stats;
         std::lock_guard lock(share.mutex);
-        FrameStats own = sumRounds(share.rounds);
-        RenderStats mine;
-        mergeRankStats(mine, 0, statsToMessage(own, p_.loadSeconds, share.failure));
-        // The devices by rank (the workers' came in the order they finished).
-        stats.devices.insert(stats.devices.begin(), mine.devices.begin(), mine.devices.end());
-        stats.deviceRanks.insert(stats.deviceRanks.begin(), mine.deviceRanks.begin(), mine.deviceRanks.end());
-        std::vector<size_t> order(stats.devices.size());
-        std::iota(order.begin(), order.end(), size_t(0));
-        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return stats.deviceRanks[a] < stats.deviceRanks[b]; });
-        RenderStats sorted = stats;
-        for (size_t i = 0; i < order.size(); ++i) {
-            sorted.devices[i] = stats.devices[order[i]];
-            sorted.deviceRanks[i] = stats.deviceRanks[order[i]];
-        }
-        stats = std::move(sorted);
-        stats.primaryRays += own.primaryRays;
-        stats.shadowRays += own.shadowRays;
-        stats.secondaryRays += own.secondaryRays;
-        stats.bvhBuildSeconds = std::max(stats.bvhBuildSeconds, mine.bvhBuildSeconds);
-        stats.kernelBuildSeconds = std::max(stats.kernelBuildSeconds, mine.kernelBuildSeconds);
-        stats.uploadSeconds = std::max(stats.uploadSeconds, mine.uploadSeconds);
-        stats.warnings.insert(stats.warnings.begin(), mine.warnings.begin(), mine.warnings.end());
-        if (!share.failure.empty()) stats.warnings.insert(stats.warnings.begin(), "rank 0 dropped: " + share.failure);
+        const FrameStats own = sumRounds(share.rounds);
+        rankStats_[0] = statsToMessage(own, p_.loadSeconds, share.failure);
+        if (!share.failure.empty()) stats.warnings.push_back("rank 0 dropped: " + share.failure);
+        for (size_t rank = 0; rank < rankStats_.size(); ++rank)
+            if (rankStats_[rank]) mergeRankStats(stats, int(rank), *rankStats_[rank]);
+        stats.warnings.insert(stats.warnings.end(), dropWarnings_.begin(), dropWarnings_.end());
+        stats.primaryRays = own.primaryRays + workerRays_.primaryRays;
+        stats.shadowRays = own.shadowRays + workerRays_.shadowRays;
+        stats.secondaryRays = own.secondaryRays + workerRays_.secondaryRays;
 
         const RenderSettings& s = p_.options.settings;
         stats.width = s.width;
@@ -621,7 +609,7 @@ private:
         d.ranks = mpi_.size;
         d.tiles = dispatcher_.tileCount();
         d.tilesPerRank = tilesPerRank_;
-        d.tilesPerRank[0] = d.tiles - std::accumulate(tilesPerRank_.begin() + 1, tilesPerRank_.end(), 0);
+        d.tilesPerRank[0] = share.tilesKept;
         d.messages = messages_;
         d.bytes = bytes_;
         d.dispatchSeconds = dispatchSeconds_;
@@ -631,10 +619,13 @@ private:
     Prepared& p_;
     const MpiSession& mpi_;
     TileDispatcher dispatcher_;
-    std::vector<bool> finished_;
+    std::vector<std::optional<Json>> rankStats_;  // each worker's, once it finished; rank 0's at the end
     std::vector<int> tilesPerRank_;
-    std::vector<char> buffer_;
-    RenderStats stats_;
+    std::vector<std::string> dropWarnings_;  // workers whose devices all failed
+    struct {
+        uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
+    } workerRays_;  // the rays of the workers' tiles kept
+    std::vector<float> buffer_;
     uint64_t messages_ = 0, bytes_ = 0;
     double dispatchSeconds_ = 0;
 };

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iomanip>
 #include <ostream>
+#include <optional>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -97,11 +98,21 @@ fs::path writablePrivateFolder(const fs::path& preferred, const std::string& lea
 // and refuses to start when it cannot create that folder (a user whose home is missing,
 // e.g. nobody, in CI sandboxes). When the variable is unset it is pointed at a folder of
 // ours before the first OpenCL call; the ICD loader starts PoCL in that call.
+std::optional<fs::path> poclCacheFromEnvironment() {
+    if (const char* set = std::getenv("POCL_CACHE_DIR"); set && *set) return fs::path(set);
+    return std::nullopt;
+}
+
+// Our own folder for PoCL's cache: `pocl` in ray's cache folder (empty when there is none).
+fs::path ourPoclCacheFolder() {
+    fs::path ours = cacheDirectory();
+    return ours.empty() ? ours : ours / "pocl";
+}
+
 void preparePoclCacheFolder() {
     static const bool done = [] {
-        if (const char* set = std::getenv("POCL_CACHE_DIR"); set && *set) return true;
-        fs::path ours = cacheDirectory();
-        fs::path folder = writablePrivateFolder(ours.empty() ? ours : ours / "pocl", "pocl");
+        if (poclCacheFromEnvironment()) return true;
+        fs::path folder = writablePrivateFolder(ourPoclCacheFolder(), "pocl");
         if (!folder.empty()) ::setenv("POCL_CACHE_DIR", folder.c_str(), 0);
         return true;
     }();
@@ -111,9 +122,7 @@ void preparePoclCacheFolder() {
 }  // namespace
 
 void usePrivatePoclCacheFolder(const std::string& leaf) {
-    fs::path base;
-    if (const char* set = std::getenv("POCL_CACHE_DIR"); set && *set) base = set;
-    else if (fs::path ours = cacheDirectory(); !ours.empty()) base = ours / "pocl";
+    const fs::path base = poclCacheFromEnvironment().value_or(ourPoclCacheFolder());
     fs::path folder = writablePrivateFolder(base.empty() ? base : base / leaf, "pocl-" + leaf);
     if (!folder.empty()) ::setenv("POCL_CACHE_DIR", folder.c_str(), 1);
 }

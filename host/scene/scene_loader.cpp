@@ -1200,8 +1200,9 @@ Scene loadScene(const fs::path& file, const LoadOptions& options) {
     // Read in one piece: a large flat scene is tens of megabytes, and a stream's growing
     // buffer and its copy cost as much again.
     std::string text;
-    const auto size = fs::file_size(file, ec);
-    if (!ec && fs::is_regular_file(file, ec)) {
+    const bool regular = fs::is_regular_file(file, ec);
+    const auto size = regular ? fs::file_size(file, ec) : 0;
+    if (regular && !ec) {
         text.resize(size_t(size));
         in.read(text.data(), std::streamsize(size));
         text.resize(size_t(in.gcount()));

@@ -82,31 +82,27 @@ def test_one_renderer_many_frames():
         renderer.set_options(colour=1)
 
 
-def test_course_meshes_option_changes_meshes_only():
-    vase = cs123ray.load_scene(SCENES / "mesh_vase.xml")
-    plain = cs123ray.render(vase, device="ref", width=48, height=36, aa="off")
-    course = cs123ray.render(vase, device="ref", width=48, height=36, aa="off", course_meshes=True)
-    assert not np.array_equal(plain, course)
-    opaque = build_sphere_scene()
-    renderer = cs123ray.Renderer(opaque, device="ref")
+def check_switch_changes_only(option, scene_name):
+    """The switch `option` changes the bundled scene it is for, is off by default, and
+    leaves an opaque sphere scene as it was."""
+    scene = cs123ray.load_scene(SCENES / scene_name)
+    plain = cs123ray.render(scene, device="ref", width=48, height=36, aa="off")
+    assert np.array_equal(plain, cs123ray.render(scene, device="ref", width=48, height=36, aa="off", **{option: False}))
+    switched = cs123ray.render(scene, device="ref", width=48, height=36, aa="off", **{option: True})
+    assert not np.array_equal(plain, switched)
+    renderer = cs123ray.Renderer(build_sphere_scene(), device="ref")
     renderer.set_options(width=32, height=24, aa="off")
     first = renderer.render()
-    renderer.set_options(course_meshes=True)
+    renderer.set_options(**{option: True})
     assert np.array_equal(first, renderer.render())
+
+
+def test_course_meshes_option_changes_meshes_only():
+    check_switch_changes_only("course_meshes", "mesh_vase.xml")
 
 
 def test_fresnel_option_changes_glass_only():
-    glass = cs123ray.load_scene(SCENES / "refraction.xml")
-    plain = cs123ray.render(glass, device="ref", width=48, height=36, aa="off")
-    assert np.array_equal(plain, cs123ray.render(glass, device="ref", width=48, height=36, aa="off", fresnel=False))
-    fresnel = cs123ray.render(glass, device="ref", width=48, height=36, aa="off", fresnel=True)
-    assert not np.array_equal(plain, fresnel)
-    opaque = build_sphere_scene()
-    renderer = cs123ray.Renderer(opaque, device="ref")
-    renderer.set_options(width=32, height=24, aa="off")
-    first = renderer.render()
-    renderer.set_options(fresnel=True)
-    assert np.array_equal(first, renderer.render())
+    check_switch_changes_only("fresnel", "refraction.xml")
 
 
 def test_a_bad_scene_raises_naming_file_and_line(output):
