@@ -354,11 +354,12 @@ float3 adaptivePixel(const SceneBuffers* scene, const RayRenderParams* params, i
     return sum / (float)count;
 }
 
-/* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y). */
+/* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
+ * element y * tile width + x of the tile outputs. */
 __kernel void renderTile(RayRenderParams params, __global const RayBvhNode* nodes,
                          __global const RayPrimitive* primitives, __global const RayMaterial* materials,
                          __global const RayLight* lights, __global const RayTexture* textures,
-                         __global const uchar4* texels, __global float4* image, __global uint4* rayCounts,
+                         __global const uchar4* texels, __global float4* tileColors, __global uint4* tileRayCounts,
                          __global const RayTriangle* triangles, __global const RayTriangleShading* triangleShading,
                          __global const float4* motions) {
     int x = get_global_id(0), y = get_global_id(1);
@@ -376,7 +377,7 @@ __kernel void renderTile(RayRenderParams params, __global const RayBvhNode* node
         default: /* unclamped, for float outputs */
             color = traceSample(&scene, &params, i, j, 0.5f, 0.5f, &counter);
     }
-    int pixel = j * params.image.x + i;
-    image[pixel] = (float4)(color, 1.0f);
-    rayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);
+    int pixel = y * params.tile.x + x; /* the outputs hold this tile alone, row by row */
+    tileColors[pixel] = (float4)(color, 1.0f);
+    tileRayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);
 }

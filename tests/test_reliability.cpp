@@ -193,21 +193,6 @@ TEST_CASE("Limits: an image too big for memory is refused before rendering, with
     CHECK(readText(output) == "an earlier render");
 }
 
-TEST_CASE("Limits: an image over the device's largest buffer is refused with exit 3", "[reliability][kernel]") {
-    auto device = ray::test::cpuDevice();
-    if (!device) return ray::test::skip("no OpenCL CPU device");
-    if (device->maxAllocation >= (uint64_t(1) << 32))
-        return ray::test::skip("the CPU device takes 4 GiB buffers: a 16384x16384 image would render");
-    fs::path output = existingOutput("too_big_device.png");
-    auto run = runRay({(ray::test::scenesDir() / "shadows.xml").string(), "16384", "16384", "--device", "cpu", "-o",
-                       output.string()});
-    INFO(run.output);
-    // 3 when the device refuses; 2 on a host with less than ~21 GB free, refused first.
-    CHECK((run.exitCode == 3 || run.exitCode == 2));
-    CHECK((contains(run.output, "allows in one allocation") || contains(run.output, "image needs about")));
-    CHECK(readText(output) == "an earlier render");
-}
-
 TEST_CASE("Limits: out-of-range sizes, depths and sample counts are usage errors", "[reliability]") {
     const std::string scene = (ray::test::scenesDir() / "shadows.xml").string();
     for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{

@@ -89,8 +89,7 @@ Scene loadSceneFor(const CliOptions& options) {
 // The CLI caps each side at kMaxImageSide, but 16384² floats alone need 3 GiB.
 void checkImageFitsInMemory(const CliOptions& options) {
     const RenderSettings& s = options.settings;
-    const uint64_t perPixel = isReferenceDevice(options.device) ? kHostBytesPerPixelReference : kHostBytesPerPixelOpenCl;
-    if (auto shortfall = hostMemoryShortfall(uint64_t(s.width) * uint64_t(s.height) * perPixel))
+    if (auto shortfall = hostMemoryShortfall(uint64_t(s.width) * uint64_t(s.height) * kHostBytesPerPixel))
         throw UsageError("a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image " + *shortfall +
                          "; render a smaller image (the width and height arguments)");
 }

@@ -14,11 +14,9 @@ namespace ray {
 // (2.9 million instances) peaks at 1.8 GB on PoCL, 1.26 GB on the reference.
 constexpr uint64_t kHostBytesPerInstance = 640;
 
-// Host memory per image pixel: the float image (12), the 8-bit copy written out (3), and
-// for OpenCL the read-back color and ray counts (32) plus, on a CPU device whose buffers
-// live in host memory, the device's own two buffers (32).
-constexpr uint64_t kHostBytesPerPixelReference = 15;
-constexpr uint64_t kHostBytesPerPixelOpenCl = 15 + 32 + 32;
+// Host memory per image pixel: the float image (12) and the 8-bit copy written out (3).
+// OpenCL devices add a few tiles' buffers, whatever the image's size (opencl_engine.cpp).
+constexpr uint64_t kHostBytesPerPixel = 15;
 
 // The memory ray may plan to use: MemAvailable from /proc/meminfo, capped by the cgroup's
 // memory.max when there is one, and by $RAY_MEMORY_LIMIT (bytes, or with a K, M or G

@@ -1,6 +1,7 @@
 #include "opencl/opencl_engine.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
@@ -20,12 +21,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+constexpr size_t kTilesInFlight = 4;  // per device: it never idles between launches
+// renderTile's arguments for the launch's tile outputs (cl/render.cl).
+constexpr cl_uint kColorsArgument = 7, kCountsArgument = 8;
+
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string mebibytes(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
 // Refuses, before any upload, a scene whose buffers exceed what the device allows.
-void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t imageBytes) {
+void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t tileBytes) {
     struct Buffer {
         const char* what;
         size_t bytes;
@@ -34,7 +39,7 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
                               {"primitives", packed.primitives.size() * sizeof(gpu::RayPrimitive)},
                               {"textures", packed.texels.size()},
                               {"mesh triangles", packed.triangleShading.size() * sizeof(gpu::RayTriangleShading)},
-                              {"image", imageBytes}};
+                              {"tile", tileBytes}};
     const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
     for (const Buffer& b : buffers) {
         if (b.bytes > device.maxAllocation)
@@ -42,13 +47,13 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
                               " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
                               device.description() + " allows in one allocation" + advice);
     }
-    // The colors and the ray counts: two buffers of imageBytes each.
-    uint64_t total = packed.totalBytes() + 2 * uint64_t(imageBytes);
+    // Each launch in flight has its colors and ray counts: two buffers of tileBytes.
+    uint64_t total = packed.totalBytes() + 2 * kTilesInFlight * uint64_t(tileBytes);
     if (total > device.globalMemory)
         throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
                           mebibytes(device.globalMemory) + " of " + device.description() + advice);
-    // On the host: both buffers read back, and on a CPU device the device's memory too.
-    uint64_t hostBytes = 2 * uint64_t(imageBytes) + (device.isCpu ? total : 0);
+    // On the host: a tile's buffers read back, and on a CPU device the device's memory too.
+    uint64_t hostBytes = 2 * uint64_t(tileBytes) + (device.isCpu ? total : 0);
     if (auto shortfall = hostMemoryShortfall(hostBytes))
         throw DeviceError("rendering on " + device.description() + " " + *shortfall + " on the host" + advice);
 }
@@ -116,8 +121,14 @@ struct DeviceSlot {
     cl::CommandQueue queue;
     int uploadedVersion = -1;  // the engine's packVersion these buffers hold
     cl::Buffer nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions;
-    size_t outputPixels = 0;
-    cl::Buffer colors, counts;
+    // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
+    // frame costs the device (and, on a CPU device, the host) a few tiles, not two
+    // full-frame copies of the image (32 bytes a pixel: 25 MB at 1024x768, 265 MB at 4K).
+    struct TileOutput {
+        cl::Buffer colors, counts;
+        size_t pixels = 0;
+    };
+    std::array<TileOutput, kTilesInFlight> outputs;
     struct Program {
         KernelProgram program;
         cl::Kernel kernel;
@@ -179,7 +190,6 @@ public:
         : frame_(frame), slot_(slot), index_(slotIndex), params_(params), failAfter_(testFailureAfter(slotIndex)) {}
 
     void run(cl::Kernel& kernel) {
-        const size_t kTilesInFlight = 4;  // the device never idles between launches
         auto start = Clock::now();
         bool started = false;
         while (true) {
@@ -221,6 +231,7 @@ public:
 private:
     struct Launch {
         int tile;
+        size_t output;  // index in slot_.outputs
         cl::Event event;
     };
 
@@ -273,8 +284,21 @@ private:
         params.image.z = rect.x;
         params.image.w = rect.y;
         params.tile = {rect.width, rect.height, 0, 0};
-        kernel.setArg(0, sizeof(params), &params);  // captured at enqueue time
-        Launch l{tile, {}};
+        // At most kTilesInFlight launches, finished in order: this output's last user is done.
+        const size_t output = launches_++ % kTilesInFlight;
+        DeviceSlot::TileOutput& out = slot_.outputs[output];
+        const size_t pixels = size_t(rect.width) * size_t(rect.height);
+        if (out.pixels < pixels) {
+            // Host-allocatable: zero-copy reads on CPU devices (PoCL).
+            out.colors = cl::Buffer(slot_.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_float4));
+            out.counts = cl::Buffer(slot_.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_uint4));
+            out.pixels = pixels;
+        }
+        // Arguments are captured at enqueue time.
+        kernel.setArg(0, sizeof(params), &params);
+        kernel.setArg(kColorsArgument, out.colors);
+        kernel.setArg(kCountsArgument, out.counts);
+        Launch l{tile, output, {}};
         slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width), roundUp(rect.height)),
                                          cl::NDRange(group, group), nullptr, &l.event);
         slot_.queue.flush();
@@ -291,17 +315,12 @@ private:
             std::lock_guard lock(frame_.mutex);
             rect = frame_.tiles[size_t(l.tile)];
         }
-        const int width = frame_.image->width;
         const size_t n = size_t(rect.width) * size_t(rect.height);
         std::vector<cl_float4> rgba(n);
         std::vector<cl_uint4> rays(n);
-        auto readRect = [&](const cl::Buffer& buffer, size_t elementBytes, void* out) {
-            slot_.queue.enqueueReadBufferRect(buffer, CL_TRUE, {size_t(rect.x) * elementBytes, size_t(rect.y), 0},
-                                              {0, 0, 0}, {size_t(rect.width) * elementBytes, size_t(rect.height), 1},
-                                              size_t(width) * elementBytes, 0, size_t(rect.width) * elementBytes, 0, out);
-        };
-        readRect(slot_.colors, sizeof(cl_float4), rgba.data());
-        readRect(slot_.counts, sizeof(cl_uint4), rays.data());
+        const DeviceSlot::TileOutput& out = slot_.outputs[l.output];
+        slot_.queue.enqueueReadBuffer(out.colors, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
+        slot_.queue.enqueueReadBuffer(out.counts, CL_TRUE, 0, n * sizeof(cl_uint4), rays.data());
         inFlight_.pop_front();
 
         FinishedTile result;
@@ -351,6 +370,7 @@ private:
     gpu::RayRenderParams params_;
     std::optional<int> failAfter_;
     std::deque<Launch> inFlight_;
+    size_t launches_ = 0;
     int finished_ = 0;
     double busySeconds_ = 0;
 };
@@ -382,10 +402,8 @@ namespace {
 // Uploads the scene (when the device holds an older packing), sizes the output buffers,
 // builds (or reuses) the program for the frame's depth and binds the buffers.
 cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packVersion, const RenderSettings& settings,
-                          double& uploadSeconds, double& buildSeconds) {
-    const size_t pixels = size_t(settings.width) * size_t(settings.height);
-    if (slot.uploadedVersion != packVersion || slot.outputPixels != pixels)
-        checkDeviceLimits(slot.device, packed, pixels * sizeof(cl_float4));
+                          size_t tilePixels, double& uploadSeconds, double& buildSeconds) {
+    checkDeviceLimits(slot.device, packed, tilePixels * sizeof(cl_float4));
     if (!slot.context()) {
         slot.context = cl::Context(slot.device.device);
         slot.queue = cl::CommandQueue(slot.context, slot.device.device);
@@ -404,12 +422,6 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packV
         slot.uploadedVersion = packVersion;
         uploadSeconds = secondsSince(start);
     }
-    if (slot.outputPixels != pixels) {
-        // Host-allocatable: zero-copy reads on CPU devices (PoCL).
-        slot.colors = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_float4));
-        slot.counts = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_uint4));
-        slot.outputPixels = pixels;
-    }
     auto found = slot.programs.find(settings.maxDepth);
     if (found == slot.programs.end()) {
         DeviceSlot::Program p;
@@ -419,10 +431,12 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packV
         found = slot.programs.emplace(settings.maxDepth, std::move(p)).first;
     }
     cl::Kernel& kernel = found->second.kernel;
-    const cl::Buffer* args[] = {&slot.nodes,  &slot.primitives, &slot.materials, &slot.lights,
-                                &slot.textures, &slot.texels,   &slot.colors,    &slot.counts,
-                                &slot.triangles, &slot.triangleShading, &slot.motions};
-    for (size_t i = 0; i < std::size(args); ++i) kernel.setArg(cl_uint(i + 1), *args[i]);
+    // Arguments 1-11 in renderTile's order; the tile outputs are set at each launch.
+    const std::pair<cl_uint, const cl::Buffer*> args[] = {
+        {1, &slot.nodes},     {2, &slot.primitives}, {3, &slot.materials}, {4, &slot.lights},
+        {5, &slot.textures},  {6, &slot.texels},     {9, &slot.triangles}, {10, &slot.triangleShading},
+        {11, &slot.motions}};
+    for (const auto& [index, buffer] : args) kernel.setArg(index, *buffer);
     return kernel;
 }
 
@@ -450,6 +464,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     result.image = Image(settings.width, settings.height);
     const int side = std::max(8, options.tileSize > 0 ? options.tileSize : 128);
     GridTiles grid(settings.width, settings.height, side);
+    const size_t tilePixels = size_t(side) * size_t(side);  // a guide: launches grow their buffers as needed
     Frame frame;
     frame.options = &options;
     frame.source = options.tiles ? options.tiles : &grid;
@@ -477,7 +492,8 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
                 try {
                     cl::Kernel* kernel = nullptr;
                     try {
-                        kernel = &prepareDevice(s, e.packed, e.packVersion, settings, uploads[i], builds[i]);
+                        kernel = &prepareDevice(s, e.packed, e.packVersion, settings, tilePixels, uploads[i],
+                                                builds[i]);
                     } catch (...) {
                         frame.deviceReady();
                         throw;
