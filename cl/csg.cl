@@ -154,6 +154,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
         if (entersResult == (leaving != 0)) normal = -normal;
         hit->t = t;
         hit->primitive = operand;
+        hit->order = prims[operand].info.z;
         hit->part = part;
         hit->objectPoint = transformPoint(prims[operand].worldToObject, origin) +
                            t * transformVector(prims[operand].worldToObject, direction);

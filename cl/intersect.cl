@@ -29,6 +29,7 @@ typedef struct {
     float3 objectPoint;
     float3 objectNormal; /* outward, unnormalized */
     float2 barycentric;  /* meshes: the weights of the triangle's corners 1 and 2 (part: the triangle) */
+    int order;           /* the hit primitive's info.z: exact ties go to the lower (cl/shared_types.h) */
 } Hit;
 
 inline float3 transformPoint(__global const float4* m, float3 p) {
@@ -186,7 +187,7 @@ inline void intersectCone(float3 o, float3 d, float* best, int* part, float3* no
 
 /* The torus and meshes: cl/torus_mesh.cl. */
 void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
-void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
+void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, float* best, int* part, float3* normal, float2* barycentric);
 
 /* Constructive solid geometry: cl/csg.cl. prims is the primitive buffer (the program's
@@ -202,7 +203,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
  * Motion blur: at time t the instance is translated by t·motion (motions[index], world
  * space), which is the same as moving the ray's origin back by it. The host sets every
  * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
-inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const RayTriangle* triangles,
+inline void intersectPrimitive(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
                                __global const float4* motions, __global const RayPrimitive* prim, int index, Ray ray,
                                bool courseMeshes, Hit* hit) {
     float3 origin = ray.origin;
@@ -215,7 +216,9 @@ inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const 
     float3 d = transformVector(prim->worldToObject, ray.direction);
     const bool keyed = courseMeshes && prim->info.x == RAY_PRIM_MESH;
     const float scale = keyed ? length(d) / length(ray.direction) : 1.0f;
-    const float limit = keyed ? hit->t / scale : hit->t;
+    /* A primitive listed before the one hit so far also takes a hit at exactly hit->t. */
+    const bool winsTies = hit->primitive >= 0 && prim->info.z < hit->order;
+    const float limit = keyed ? hit->t / scale : (winsTies ? nextafter(hit->t, RAY_INFINITY) : hit->t);
     float best = limit;
     int part = 0;
     float3 normal = (float3)(0.0f);
@@ -232,9 +235,10 @@ inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const 
         default: break;
     }
     const float key = keyed ? best * scale : best;
-    if (keyed ? (best < limit && key < hit->t) : best < hit->t) {
+    if (keyed ? (best < limit && key < hit->t) : best < limit) {
         hit->t = key;
         hit->primitive = index;
+        hit->order = prim->info.z;
         hit->part = part;
         hit->objectPoint = o + best * d;
         hit->objectNormal = normal;
@@ -246,22 +250,28 @@ inline void intersectPrimitive(__global const RayBvhNode* nodes, __global const 
  * the operand that is not NaN, which costs a compare-unordered and a blend per call on
  * CPUs; a select compiles to one vminps/vmaxps (the traversal ran ~25% faster on PoCL).
  * The slab test below never sees a NaN (safeInverse), so it uses these. */
-inline float2 minNumber2(float2 a, float2 b) { return select(b, a, a < b); }
-inline float2 maxNumber2(float2 a, float2 b) { return select(b, a, a > b); }
+inline float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
+inline float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
 
-/* Slab distances to both children of a node; returns the entry distances (left, right),
- * +infinity for a child the ray misses within (0, tMax). */
-inline float2 childEntryDistances(__global const RayBvhNode* node, float3 origin, float3 inverseDirection, float tMax) {
-    float4 tx = (node->xBounds - origin.x) * inverseDirection.x;
-    float4 ty = (node->yBounds - origin.y) * inverseDirection.y;
-    float4 tz = (node->zBounds - origin.z) * inverseDirection.z;
-    /* lanes .lo are the min planes of (left, right), .hi the max planes */
-    float2 tNear = maxNumber2(maxNumber2(minNumber2(tx.lo, tx.hi), minNumber2(ty.lo, ty.hi)),
-                              maxNumber2(minNumber2(tz.lo, tz.hi), (float2)(0.0f)));
-    float2 tFar = minNumber2(minNumber2(maxNumber2(tx.lo, tx.hi), maxNumber2(ty.lo, ty.hi)),
-                             minNumber2(maxNumber2(tz.lo, tz.hi), (float2)(tMax)));
-    return select((float2)(RAY_INFINITY), tNear, tNear <= tFar);
+/* Slab distances to the four children of a wide node (cl/shared_types.h): the distance at
+ * which the ray enters each child's box within (0, tMax), +infinity for a child it misses
+ * and for an absent one. */
+inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
+                                  float tMax) {
+    float4 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
+    float4 ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y;
+    float4 tz0 = (node->minZ - origin.z) * inverseDirection.z, tz1 = (node->maxZ - origin.z) * inverseDirection.z;
+    float4 tNear = maxNumber4(maxNumber4(minNumber4(tx0, tx1), minNumber4(ty0, ty1)),
+                              maxNumber4(minNumber4(tz0, tz1), (float4)(0.0f)));
+    float4 tFar = minNumber4(minNumber4(maxNumber4(tx0, tx1), maxNumber4(ty0, ty1)),
+                             minNumber4(maxNumber4(tz0, tz1), (float4)(tMax)));
+    return select((float4)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
 }
+
+/* Whether a child whose entry distance is `entry` (childEntryDistances) is to be visited
+ * when the nearest hit so far is at `limit`: one entered exactly there may hold a tie (see
+ * Hit.order); +infinity is a miss even when nothing has been hit yet. */
+inline bool enteredBy(float entry, float limit) { return entry <= limit && entry < RAY_INFINITY; }
 
 /* 1/d with exact zeros replaced by a tiny signed value, so that no 0·∞ NaN reaches the
  * slab test (an empty child's ±1e30 bounds then give huge but ordered distances). */
@@ -272,71 +282,93 @@ inline float3 safeInverse(float3 d) {
                     1.0f / (fabs(d.z) > tiny ? d.z : copysign(tiny, d.z)));
 }
 
-/* Child c (0: left, 1: right) of a node, decoded from its links (cl/shared_types.h): its
- * index (-1: absent), its primitive count (0: an inner node) and the distance at which the
- * ray enters its box (+infinity: missed). */
+/* The nodes still to visit, each with the distance at which the ray enters it, so that a
+ * node is skipped when a hit nearer than that has been found since it was pushed. A wide
+ * node pushes at most 3 of its children and no path is deeper than RAY_BVH_STACK, so
+ * 3 · RAY_BVH_STACK entries never overflow. */
+#define RAY_WIDE_BVH_STACK (3 * RAY_BVH_STACK)
 typedef struct {
-    int index, count;
-    float entry;
-} BvhChild;
+    int node[RAY_WIDE_BVH_STACK];
+    float entry[RAY_WIDE_BVH_STACK];
+    int top;
+} BvhStack;
 
-inline BvhChild bvhChild(int4 links, float2 entry, int c) {
-    BvhChild child = {c == 0 ? links.x : links.z, c == 0 ? links.y : links.w, c == 0 ? entry.x : entry.y};
-    return child;
+/* The inner children of one node that the ray enters; with `ordered`, farthest first. */
+typedef struct {
+    int node[4];
+    float entry[4];
+    int count;
+} InnerChildren;
+
+inline void addInnerChild(InnerChildren* inner, int node, float entry, bool ordered) {
+    int i = inner->count++;
+    while (ordered && i > 0 && inner->entry[i - 1] < entry) {
+        inner->node[i] = inner->node[i - 1];
+        inner->entry[i] = inner->entry[i - 1];
+        --i;
+    }
+    inner->node[i] = node;
+    inner->entry[i] = entry;
 }
 
-/* The step after a node's children have been tested, shared by the instance walk and the
- * per-mesh walk (cl/torus_mesh.cl): descend into the nearer of the inner children that the
- * ray enters and queue the other, or resume from the stack. Returns the next node, or -1
- * when the walk is over. The builder caps the depth at RAY_BVH_STACK, so no push is lost. */
-inline int nextNode(int inner, const int* innerChild, const float* innerEntry, int* stack, int* top) {
-    if (inner == 2) {
-        bool leftFirst = innerEntry[0] <= innerEntry[1];
-        if (*top < RAY_BVH_STACK) stack[(*top)++] = leftFirst ? innerChild[1] : innerChild[0];
-        return leftFirst ? innerChild[0] : innerChild[1];
+/* The step after a node's children have been tested, shared by the scene's walk and each
+ * mesh's (cl/torus_mesh.cl): descend into the last (nearest) inner child still entered
+ * by `limit` and push the others, or resume from the stack, skipping the nodes entered
+ * beyond `limit` (a node entered exactly there may hold a tie: see Hit.order). Returns the
+ * next node, or -1 when the walk is over. */
+inline int nextNode(const InnerChildren* inner, BvhStack* stack, float limit) {
+    int next = -1;
+    for (int i = 0; i < inner->count; ++i) {
+        if (!enteredBy(inner->entry[i], limit)) continue;
+        if (next >= 0) {
+            stack->node[stack->top] = inner->node[next];
+            stack->entry[stack->top++] = inner->entry[next];
+        }
+        next = i;
     }
-    if (inner == 1) return innerChild[0];
-    return *top > 0 ? stack[--(*top)] : -1;
+    if (next >= 0) return inner->node[next];
+    while (stack->top > 0) {
+        --stack->top;
+        if (enteredBy(stack->entry[stack->top], limit)) return stack->node[stack->top];
+    }
+    return -1;
 }
 
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
- * found (shadow rays). Returns whether anything was hit.
+ * found (shadow rays, which visit children in node order: any occluder will do).
+ * Returns whether anything was hit. Leaves are intersected as their parent is visited.
  * courseMeshes: meshes keyed by t_obj (intersectPrimitive). A mesh's key can be smaller
  * than its world t, so boxes are then not pruned by distance (every box the ray enters is
  * visited; hits are still compared by key): exact, slower. */
-bool traceBvh(__global const RayBvhNode* nodes, __global const RayPrimitive* prims,
+bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
               __global const RayTriangle* triangles, __global const float4* motions, Ray ray, float tMax, bool anyHit,
               bool courseMeshes, Hit* hit) {
     hit->t = tMax;
     hit->primitive = -1;
     float3 inverseDirection = safeInverse(ray.direction);
-    int stack[RAY_BVH_STACK];
-    int top = 0;
+    BvhStack stack;
+    stack.top = 0;
     int nodeIndex = 0;
-    while (true) {
-        __global const RayBvhNode* node = &nodes[nodeIndex];
-        const float pruneLimit = courseMeshes ? RAY_INFINITY : hit->t;
-        float2 entry = childEntryDistances(node, ray.origin, inverseDirection, pruneLimit);
-        int4 links = node->links;
-        /* Leaves are intersected at once; inner children are queued nearer first. */
-        int innerChild[2];
-        float innerEntry[2];
-        int inner = 0;
-        for (int c = 0; c < 2; ++c) {
-            BvhChild child = bvhChild(links, entry, c);
-            if (child.index < 0 || !(child.entry < pruneLimit)) continue;
-            if (child.count > 0) {
-                for (int i = child.index; i < child.index + child.count; ++i)
+    do {
+        __global const RayWideBvhNode* node = &nodes[nodeIndex];
+        float4 entry4 = childEntryDistances(node, ray.origin, inverseDirection, courseMeshes ? RAY_INFINITY : hit->t);
+        int4 index4 = node->index, count4 = node->count;
+        const float entry[4] = {entry4.s0, entry4.s1, entry4.s2, entry4.s3};
+        const int index[4] = {index4.s0, index4.s1, index4.s2, index4.s3};
+        const int count[4] = {count4.s0, count4.s1, count4.s2, count4.s3};
+        InnerChildren inner;
+        inner.count = 0;
+        for (int c = 0; c < 4; ++c) {
+            if (!enteredBy(entry[c], courseMeshes ? RAY_INFINITY : hit->t)) continue;
+            if (count[c] > 0) {
+                for (int i = index[c]; i < index[c] + count[c]; ++i)
                     intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, hit);
                 if (anyHit && hit->primitive >= 0) return true;
             } else {
-                innerChild[inner] = child.index;
-                innerEntry[inner] = child.entry;
-                ++inner;
+                addInnerChild(&inner, index[c], entry[c], !anyHit);
             }
         }
-        nodeIndex = nextNode(inner, innerChild, innerEntry, stack, &top);
-        if (nodeIndex < 0) break;
-    }
+        nodeIndex = nextNode(&inner, &stack, courseMeshes ? RAY_INFINITY : hit->t);
+    } while (nodeIndex >= 0);
     return hit->primitive >= 0;
 }

@@ -356,7 +356,7 @@ float3 adaptivePixel(const SceneBuffers* scene, const RayRenderParams* params, i
 
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
  * element y * tile width + x of the tile outputs. */
-__kernel void renderTile(RayRenderParams params, __global const RayBvhNode* nodes,
+__kernel void renderTile(RayRenderParams params, __global const RayWideBvhNode* nodes,
                          __global const RayPrimitive* primitives, __global const RayMaterial* materials,
                          __global const RayLight* lights, __global const RayTexture* textures,
                          __global const uchar4* texels, __global float4* tileColors, __global uint4* tileRayCounts,

@@ -1,7 +1,7 @@
 /* Texture mapping (SPEC §5) and the lighting model (SPEC §4). */
 
 typedef struct {
-    __global const RayBvhNode* nodes;
+    __global const RayWideBvhNode* nodes;
     __global const RayPrimitive* primitives;
     __global const RayMaterial* materials;
     __global const RayLight* lights;

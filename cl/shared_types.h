@@ -107,11 +107,38 @@ RAY_STRUCT(RayBvhNode) {
     int4 links;
 } RAY_END_STRUCT(RayBvhNode);
 
+/* A node of the four-wide BVH the kernel walks: 128 bytes, two cache lines.
+ *
+ * The host builds the two-wide tree above (host/accel/bvh.h) and collapses it
+ * (host/accel/wide_bvh.h): a node keeps up to four of its binary descendants as children,
+ * so a ray visits about half as many nodes, and one fetch tests four boxes with float4
+ * operations laid out structure-of-arrays: lane c of minX..maxZ is child c's box, and the
+ * slab distances of all four come from six subtracts and six multiplies.
+ *
+ * index, count: lane c describes child c. A count of 0 means an inner node at that index;
+ * a count > 0 a leaf holding primitives [index, index + count) of the primitive buffer
+ * (stored in BVH order, as the binary tree's leaves order them). An absent child has index
+ * -1 (its bounds are empty, but the walk tests the index: a slab test can "hit" an empty
+ * box). Node 0 is the root. A node has at most 3 children more than its parent's one, and
+ * no root-to-leaf path is longer than the binary tree's (kBvhMaxDepth), so a stack of
+ * 3 · kBvhMaxDepth entries never overflows (RAY_WIDE_BVH_STACK). */
+RAY_STRUCT(RayWideBvhNode) {
+    float4 minX, maxX;
+    float4 minY, maxY;
+    float4 minZ, maxZ;
+    int4 index;
+    int4 count;
+} RAY_END_STRUCT(RayWideBvhNode);
+
 /* A primitive instance: 64 bytes.
  * worldToObject: rows of the 3×4 world-to-object transform (translation in .w). The normal
  * transform (inverse transpose of object-to-world) is the transpose of its 3×3 part, so it
  * needs no storage of its own.
- * info: (type RAY_PRIM_*, material index, mesh index or -1, the mesh's root node or -1). */
+ * info: (type RAY_PRIM_*, material index, order, the mesh's root node or -1). order is the
+ * instance's place in the scene's list of primitives; in a csg operand's record, the place
+ * of (the first instance of) its csg object. Hits at exactly the same distance (coplanar
+ * faces) go to the lower order, as in the reference renderer, so that the image does not
+ * depend on the order in which a BVH visits them. */
 RAY_STRUCT(RayPrimitive) {
     float4 worldToObject[3];
     int4 info;

@@ -149,34 +149,32 @@ inline void intersectTriangle(__global const RayTriangle* triangle, int index, f
  * stored once however many instances use them), walked as traceBvh walks the scene's; its
  * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
  * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
-void intersectMesh(__global const RayBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
+void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, float* best, int* part, float3* normal, float2* barycentric) {
     float3 inverseDirection = safeInverse(d);
-    int stack[RAY_BVH_STACK];
-    int top = 0;
+    BvhStack stack;
+    stack.top = 0;
     int nodeIndex = root;
-    while (true) {
-        __global const RayBvhNode* node = &nodes[nodeIndex];
-        float2 entry = childEntryDistances(node, o, inverseDirection, *best);
-        int4 links = node->links;
-        int innerChild[2];
-        float innerEntry[2];
-        int inner = 0;
-        for (int c = 0; c < 2; ++c) {
-            BvhChild child = bvhChild(links, entry, c);
-            if (child.index < 0 || !(child.entry < *best)) continue;
-            if (child.count > 0) {
-                for (int i = child.index; i < child.index + child.count; ++i)
+    do {
+        __global const RayWideBvhNode* node = &nodes[nodeIndex];
+        float4 entry4 = childEntryDistances(node, o, inverseDirection, *best);
+        int4 index4 = node->index, count4 = node->count;
+        const float entry[4] = {entry4.s0, entry4.s1, entry4.s2, entry4.s3};
+        const int index[4] = {index4.s0, index4.s1, index4.s2, index4.s3};
+        const int count[4] = {count4.s0, count4.s1, count4.s2, count4.s3};
+        InnerChildren inner;
+        inner.count = 0;
+        for (int c = 0; c < 4; ++c) {
+            if (!(entry[c] < *best)) continue;
+            if (count[c] > 0) {
+                for (int i = index[c]; i < index[c] + count[c]; ++i)
                     intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
             } else {
-                innerChild[inner] = child.index;
-                innerEntry[inner] = child.entry;
-                ++inner;
+                addInnerChild(&inner, index[c], entry[c], true);
             }
         }
-        nodeIndex = nextNode(inner, innerChild, innerEntry, stack, &top);
-        if (nodeIndex < 0) break;
-    }
+        nodeIndex = nextNode(&inner, &stack, *best);
+    } while (nodeIndex >= 0);
 }
 
 /* The shading normal of a mesh hit (object space): the corners' normals (the file's vn, or

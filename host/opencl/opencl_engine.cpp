@@ -35,7 +35,7 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
         const char* what;
         size_t bytes;
     };
-    const Buffer buffers[] = {{"BVH nodes", packed.nodes.size() * sizeof(gpu::RayBvhNode)},
+    const Buffer buffers[] = {{"BVH nodes", packed.nodes.size() * sizeof(gpu::RayWideBvhNode)},
                               {"primitives", packed.primitives.size() * sizeof(gpu::RayPrimitive)},
                               {"textures", packed.texels.size()},
                               {"mesh triangles", packed.triangleShading.size() * sizeof(gpu::RayTriangleShading)},

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <array>
 #include <cstddef>
+#include <limits>
 
 #include "reference/texture_filtering.h"
 
@@ -16,6 +17,9 @@ static_assert(sizeof(gpu::float4) == 16 && alignof(gpu::float4) == 16);
 static_assert(sizeof(gpu::int4) == 16 && alignof(gpu::int4) == 16);
 static_assert(sizeof(gpu::RayBvhNode) == 64);
 static_assert(offsetof(gpu::RayBvhNode, links) == 48);
+static_assert(sizeof(gpu::RayWideBvhNode) == 128);
+static_assert(offsetof(gpu::RayWideBvhNode, minY) == 32 && offsetof(gpu::RayWideBvhNode, index) == 96 &&
+              offsetof(gpu::RayWideBvhNode, count) == 112);
 static_assert(sizeof(gpu::RayPrimitive) == 64);
 static_assert(offsetof(gpu::RayPrimitive, info) == 48);
 static_assert(sizeof(gpu::RayMaterial) == 128);
@@ -39,26 +43,33 @@ namespace {
 
 gpu::float4 toFloat4(const Vec3& v, double w = 0) { return {float(v.x), float(v.y), float(v.z), float(w)}; }
 
-gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, const std::vector<int>& meshRoots) {
+// order: the tie-breaking rank of cl/shared_types.h (the instance's index in the scene).
+gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, int order, const std::vector<int>& meshRoots) {
     gpu::RayPrimitive p;
     for (int row = 0; row < 3; ++row) {
         const double* m = instance.worldToObject.m[row];
         p.worldToObject[row] = {float(m[0]), float(m[1]), float(m[2]), float(m[3])};
     }
     int root = instance.type == PrimitiveType::Mesh ? meshRoots[size_t(instance.mesh)] : -1;
-    p.info = {int(instance.type), instance.material, instance.mesh, root};
+    p.info = {int(instance.type), instance.material, order, root};
     return p;
 }
 
 // Every csg object's program, appended to the primitive buffer (cl/shared_types.h), and
 // the program's place in the csg object's own record (in BVH order already in packed).
 void packCsgPrograms(const Scene& scene, const std::vector<uint32_t>& bvhOrder, PackedScene& packed) {
+    // Each object's operands break ties with the rank of its first instance.
+    std::vector<int> firstInstance(scene.csgObjects.size(), std::numeric_limits<int>::max());
+    for (uint32_t index : bvhOrder)
+        if (const PrimitiveInstance& instance = scene.primitives[index]; instance.type == PrimitiveType::Csg)
+            firstInstance[size_t(instance.csg)] = std::min(firstInstance[size_t(instance.csg)], int(index));
     std::vector<int> programStart;
-    for (const CsgObject& object : scene.csgObjects) {
+    for (size_t k = 0; k < scene.csgObjects.size(); ++k) {
         programStart.push_back(int(packed.primitives.size()));
-        for (const CsgStep& step : object.program) {
+        for (const CsgStep& step : scene.csgObjects[k].program) {
             if (step.kind == CsgStepKind::Operand) {
-                packed.primitives.push_back(packPrimitive(scene.csgOperands[size_t(step.operand)], packed.meshRoots));
+                packed.primitives.push_back(
+                    packPrimitive(scene.csgOperands[size_t(step.operand)], firstInstance[k], packed.meshRoots));
                 continue;
             }
             gpu::RayPrimitive op;
@@ -135,10 +146,11 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
     }
     FlatBvh bvh = buildBvh(bounds);
     const int nodeOffset = int(packed.nodes.size()), triangleOffset = int(packed.triangles.size());
-    for (gpu::RayBvhNode node : bvh.nodes) {
-        int* links[2][2] = {{&node.links.x, &node.links.y}, {&node.links.z, &node.links.w}};
-        for (auto& [index, count] : links)
-            if (*index >= 0) *index += *count > 0 ? triangleOffset : nodeOffset;
+    for (gpu::RayWideBvhNode node : widenBvh(bvh.nodes)) {
+        int* index = &node.index.x;
+        const int* count = &node.count.x;
+        for (int c = 0; c < 4; ++c)
+            if (index[c] >= 0) index[c] += count[c] > 0 ? triangleOffset : nodeOffset;
         packed.nodes.push_back(node);
     }
     for (uint32_t i : bvh.primitiveOrder) {
@@ -205,13 +217,13 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
     std::vector<BoundingBox> bounds(scene.primitives.size());
     for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = worldBounds(scene.primitives[i]);
     FlatBvh bvh = buildBvh(bounds);
-    packed.nodes = std::move(bvh.nodes);
+    packed.nodes = widenBvh(bvh.nodes);
     for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
     // The build time counts the meshes' trees with the scene's.
     packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     packed.primitives.reserve(scene.primitives.size());
     for (uint32_t index : bvh.primitiveOrder)
-        packed.primitives.push_back(packPrimitive(scene.primitives[index], packed.meshRoots));
+        packed.primitives.push_back(packPrimitive(scene.primitives[index], int(index), packed.meshRoots));
     packCsgPrograms(scene, bvh.primitiveOrder, packed);
     bool anyMotion = std::any_of(scene.primitives.begin(), scene.primitives.end(),
                                  [](const PrimitiveInstance& p) { return p.motion != Vec3{}; });

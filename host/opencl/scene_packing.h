@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "accel/bvh.h"
+#include "accel/wide_bvh.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 #include "shared_types.h"
@@ -12,7 +13,7 @@
 namespace ray {
 
 struct PackedScene {
-    std::vector<gpu::RayBvhNode> nodes;
+    std::vector<gpu::RayWideBvhNode> nodes;  // the four-wide BVH (host/accel/wide_bvh.h)
     std::vector<gpu::RayPrimitive> primitives;  // in BVH order
     std::vector<gpu::RayMaterial> materials;
     std::vector<gpu::RayLight> lights;

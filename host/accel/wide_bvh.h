@@ -1,0 +1,18 @@
+// Collapsing the binary BVH into the four-wide one the kernel walks (the node layout and
+// why: RayWideBvhNode in cl/shared_types.h).
+#pragma once
+
+#include <vector>
+
+#include "shared_types.h"
+
+namespace ray {
+
+// Each wide node takes a binary node's children and keeps opening the inner child of
+// largest surface area (the one a ray most likely enters) until it has four children or
+// only leaves. Leaves keep their primitive ranges, so the primitive order is unchanged.
+// Child indices of inner nodes refer to the returned array (its node 0 is the root);
+// `binary` must be a tree from buildBvh (node 0 its root).
+std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<gpu::RayBvhNode>& binary);
+
+}  // namespace ray
