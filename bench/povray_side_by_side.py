@@ -18,7 +18,8 @@ Outputs: DIR/povray.md (the table), DIR/povray.json (every run), DIR/povray_rati
 DIR/povray_scaling.png (matplotlib, when it is installed).
 
 Needs the Debian packages povray, python3-numpy (the converter) and python3-matplotlib (the
-plots); this script and the converter run on Debian's python3, not on another one on PATH.
+plots; scripts/install-deps.sh --bench installs them); this script and the converter run on
+Debian's python3, not on another one on PATH.
 """
 import argparse
 import json

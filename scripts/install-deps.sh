@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages ray builds with, if any is missing.
+#   scripts/install-deps.sh           what the build and the tests need
+#   scripts/install-deps.sh --bench   that, and what bench/ needs beyond it: POV-Ray 3.7
+#                                     (the baseline) and matplotlib (the plots)
 set -euo pipefail
 
 packages=(cmake make g++ pkg-config
@@ -10,6 +13,12 @@ packages=(cmake make g++ pkg-config
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
           libcpp-httplib-dev chromium chromium-driver python3-selenium
           libopenmpi-dev openmpi-bin)  # mpirun -n N ray: tests/mpi.sh
+if [ "${1:-}" = "--bench" ]; then
+    packages+=(povray python3-matplotlib)  # bench/povray_side_by_side.py
+elif [ $# -gt 0 ]; then
+    echo "usage: $0 [--bench]" >&2
+    exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do
