@@ -1,19 +1,20 @@
 #include "primitive_count.h"
 
-#include <tinyxml2.h>
-
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
 
+#include "scene/xml_tree.h"
+
 namespace bench {
 
 namespace {
 
-using tinyxml2::XMLElement;
+using ray::XmlElement;
 
 // Element names and keywords are matched ignoring case, as the loader does.
 bool sameWord(const char* a, const char* b) {
@@ -27,48 +28,46 @@ bool sameWord(const char* a, const char* b) {
 }
 
 // Attributes are positional (SPEC §1): an object's first is its type, the second its name.
-const char* attributeAt(const XMLElement& element, int position) {
-    const tinyxml2::XMLAttribute* attribute = element.FirstAttribute();
-    for (int i = 0; attribute && i < position; ++i) attribute = attribute->Next();
-    return attribute ? attribute->Value() : nullptr;
+const char* attributeAt(XmlElement element, size_t position) {
+    return position < element.attributeCount() ? element.attributeValue(position) : nullptr;
 }
 
 class PrimitiveCounter {
 public:
-    explicit PrimitiveCounter(const XMLElement& scenefile) {
-        for (const XMLElement* e = scenefile.FirstChildElement(); e; e = e->NextSiblingElement())
-            if (sameWord(e->Name(), "object") && sameWord(attributeAt(*e, 0), "tree") && attributeAt(*e, 1))
-                trees_.emplace(attributeAt(*e, 1), e);
+    explicit PrimitiveCounter(XmlElement scenefile) {
+        for (XmlElement e = scenefile.firstChild(); e; e = e.nextSibling())
+            if (sameWord(e.name(), "object") && sameWord(attributeAt(e, 0), "tree") && attributeAt(e, 1))
+                trees_.emplace(attributeAt(e, 1), e);
     }
 
     // Throws std::out_of_range for an undefined master, std::logic_error for a cycle.
     uint64_t countTree(const std::string& name) {
         if (auto done = counted_.find(name); done != counted_.end()) return done->second;
         if (!counting_.insert(name).second) throw std::logic_error("cyclic master " + name);
-        uint64_t total = countTreeBody(*trees_.at(name));
+        uint64_t total = countTreeBody(trees_.at(name));
         counting_.erase(name);
         return counted_[name] = total;
     }
 
 private:
     // A tree's children are transblocks, or (tolerated by the loader) bare objects.
-    uint64_t countTreeBody(const XMLElement& tree) {
+    uint64_t countTreeBody(XmlElement tree) {
         uint64_t total = 0;
-        for (const XMLElement* e = tree.FirstChildElement(); e; e = e->NextSiblingElement()) {
-            if (sameWord(e->Name(), "transblock")) total += countBlock(*e);
-            else if (sameWord(e->Name(), "object")) total += countObject(*e);
+        for (XmlElement e = tree.firstChild(); e; e = e.nextSibling()) {
+            if (sameWord(e.name(), "transblock")) total += countBlock(e);
+            else if (sameWord(e.name(), "object")) total += countObject(e);
         }
         return total;
     }
 
-    uint64_t countBlock(const XMLElement& block) {
+    uint64_t countBlock(XmlElement block) {
         uint64_t total = 0;
-        for (const XMLElement* e = block.FirstChildElement(); e; e = e->NextSiblingElement())
-            if (sameWord(e->Name(), "object")) total += countObject(*e);
+        for (XmlElement e = block.firstChild(); e; e = e.nextSibling())
+            if (sameWord(e.name(), "object")) total += countObject(e);
         return total;
     }
 
-    uint64_t countObject(const XMLElement& object) {
+    uint64_t countObject(XmlElement object) {
         const char* type = attributeAt(object, 0);
         if (sameWord(type, "primitive")) return 1;
         if (sameWord(type, "tree")) return countTreeBody(object);
@@ -76,21 +75,28 @@ private:
         return 0;
     }
 
-    std::map<std::string, const XMLElement*> trees_;
+    std::map<std::string, XmlElement> trees_;
     std::map<std::string, uint64_t> counted_;
     std::set<std::string> counting_;
 };
 
+// The loader's own limit on element nesting (scene_loader.cpp): deeper files are refused.
+constexpr int kMaxElementDepth = 2008;
+
 }  // namespace
 
 std::optional<uint64_t> countPrimitives(const std::filesystem::path& scene) {
-    tinyxml2::XMLDocument document;
-    if (document.LoadFile(scene.c_str()) != tinyxml2::XML_SUCCESS) return std::nullopt;
-    const XMLElement* root = document.FirstChildElement();
-    if (!root) return std::nullopt;
+    std::ifstream in(scene, std::ios::binary);
+    if (!in) return std::nullopt;
     try {
-        return PrimitiveCounter(*root).countTree("root");
-    } catch (const std::exception&) {
+        const ray::XmlTree document = ray::XmlTree::parse(
+            [&](char* buffer, size_t capacity) {
+                in.read(buffer, std::streamsize(capacity));
+                return size_t(in.gcount());
+            },
+            kMaxElementDepth);
+        return PrimitiveCounter(document.root()).countTree("root");
+    } catch (const std::exception&) {  // ray::XmlError, or the counter's
         return std::nullopt;
     }
 }

@@ -6,7 +6,7 @@
 set -euo pipefail
 
 packages=(cmake make g++ pkg-config
-          libtinyxml2-dev libtinyobjloader-dev libopenimageio-dev libpng-dev libjpeg-dev
+          libexpat1-dev libtinyobjloader-dev libopenimageio-dev libpng-dev libjpeg-dev
           ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
           catch2 libcli11-dev nlohmann-json3-dev
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-pil

@@ -627,6 +627,41 @@ TEST_CASE("malformed XML is an error with its line", "[loader]") {
                Contains("test.xml:2: error: malformed XML: an attribute of <pos> is malformed"));
     CHECK_THAT(errorOf(""), Contains("test.xml: error: the file is empty"));
     CHECK_THAT(errorOf("<scene/>"), Contains("test.xml:1: error: the root element is <scene>"));
+    CHECK_THAT(errorOf("<!-- only a comment -->"), Contains("test.xml: error: the file has no XML element"));
+    CHECK_THAT(errorOf("<scenefile>\n<globaldata>\n"),
+               Contains("test.xml:2: error: malformed XML: <globaldata> is not closed (the file ends first)"));
+    CHECK_THAT(errorOf(rootScene(block("<texture file=\"a&b.png\"/>"))),
+               Contains("malformed XML: an attribute of <texture> has a bare '&' (write & as &amp;)"));
+    CHECK_THAT(errorOf("<scenefile>\n<!-- caf\xE9 -->\n</scenefile>"),
+               Contains("test.xml:2: error: malformed XML: byte 0xE9 is not UTF-8 text"));
+}
+
+TEST_CASE("XML the old parser took still loads: \"--\" in comments, text after the root", "[loader]") {
+    const std::string xml = "<!-- render with --no-dof -- or not --->\n" +
+                            rootScene(block("<!-- --course-meshes -->" + primitive())) + "trailing text";
+    Loaded loaded = load(xml);
+    CHECK(loaded.scene.primitives.size() == 1);
+    CHECK(loaded.warnings.empty());
+}
+
+TEST_CASE("a scene file is read in pieces: one larger than a piece loads whole", "[loader]") {
+    // Over 1 MiB, the size of each piece read, and lines counted across the pieces.
+    std::string blocks;
+    for (int i = 0; i < 12000; ++i)
+        blocks += block("<translate x=\"" + std::to_string(i) + "\" y=\"0\" z=\"0\"/>" + primitive());
+    const std::string xml = rootScene(blocks + "<bogus/>");
+    REQUIRE(xml.size() > (1u << 20));
+    fs::path file = tempFolder("pieces") / "big.xml";
+    writeText(file, xml);
+    std::vector<std::string> warnings;
+    LoadOptions options;
+    options.warn = [&](const std::string& w) { warnings.push_back(w); };
+    Scene scene = ray::loadScene(file, options);
+    REQUIRE(scene.primitives.size() == 12000);
+    CHECK(scene.primitives.back().objectToWorld.m[0][3] == 11999);
+    REQUIRE(warnings.size() == 1);
+    CHECK_THAT(warnings[0], Contains(at(xml, "<bogus/>", file.string()) + "warning: unknown element <bogus>"));
+    fs::remove_all(file.parent_path());
 }
 
 TEST_CASE("a stray '=' before a number is read past, with a warning", "[loader]") {

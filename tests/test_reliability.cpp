@@ -258,13 +258,21 @@ TEST_CASE("Limits: masters nested 100000 deep are refused, 999 deep render", "[r
                       Catch::Contains("nest more than 1000 levels deep"));
     CHECK(ray::loadSceneFromText(chain(999), "chain.xml", options).primitives.size() == 1);
 
-    // Inline trees nested 20000 deep: tinyxml2's own depth limit.
-    std::string nested = "<scenefile><object type=\"tree\" name=\"root\">";
-    for (int i = 0; i < 20000; ++i) nested += "<transblock><object type=\"tree\">";
-    nested += "<transblock>" + kSphere + "</transblock>";
-    for (int i = 0; i < 20000; ++i) nested += "</object></transblock>";
-    nested += "</object></scenefile>";
-    CHECK_THROWS_AS(ray::loadSceneFromText(nested, "nested.xml", options), ray::InputError);
+    // Inline trees: 999 levels below the root load, one more is the nesting rule's error,
+    // and 20000 levels (40000 elements deep) stop at the XML tree's depth limit, before the
+    // parser's recursion could exhaust the stack.
+    auto nested = [](int levels) {
+        std::string xml = "<scenefile><object type=\"tree\" name=\"root\">";
+        for (int i = 0; i < levels; ++i) xml += "<transblock><object type=\"tree\">";
+        xml += "<transblock>" + kSphere + "</transblock>";
+        for (int i = 0; i < levels; ++i) xml += "</object></transblock>";
+        return xml + "</object></scenefile>";
+    };
+    CHECK(ray::loadSceneFromText(nested(999), "nested.xml", options).primitives.size() == 1);
+    CHECK_THROWS_WITH(ray::loadSceneFromText(nested(1000), "nested.xml", options),
+                      Catch::Contains("nest more than 1000 levels deep"));
+    CHECK_THROWS_WITH(ray::loadSceneFromText(nested(20000), "nested.xml", options),
+                      Catch::Contains("nested.xml:1: error: elements nest more than 2008 levels deep"));
 }
 
 TEST_CASE("Limits: huge, truncated and bogus textures leave the surface its colors", "[reliability]") {

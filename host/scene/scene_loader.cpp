@@ -44,10 +44,7 @@
 // to the first, with a warning.
 #include "scene/scene_loader.h"
 
-#include <tinyxml2.h>
-
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -65,11 +62,10 @@
 #include <variant>
 
 #include "scene/file_search.h"
+#include "scene/xml_tree.h"
 #include "core/memory_limits.h"
 
 namespace fs = std::filesystem;
-using tinyxml2::XMLAttribute;
-using tinyxml2::XMLElement;
 
 namespace ray {
 namespace {
@@ -117,7 +113,7 @@ std::string lowercase(std::string text) {
     return text;
 }
 
-std::string tag(const XMLElement& element) { return std::string("<") + element.Name() + ">"; }
+std::string tag(XmlElement element) { return std::string("<") + element.name() + ">"; }
 
 bool isBlank(const char* text) {
     for (; *text; ++text)
@@ -151,17 +147,10 @@ std::optional<double> parseNumber(const char* text) {
 
 class Values {
 public:
-    // Kept in a fixed array: a large flat scene has millions of elements, and a heap
-    // allocation for each was a tenth of its load time. Attributes past the array (only
-    // ever unknown ones) are still counted and reached through the element.
-    Values(const XMLElement& element, const Diagnostics& diagnostics)
-        : element_(element), diagnostics_(diagnostics) {
-        for (const XMLAttribute* a = element.FirstAttribute(); a; a = a->Next(), ++count_)
-            if (count_ < kKept) attributes_[count_] = a;
-    }
+    Values(XmlElement element, const Diagnostics& diagnostics) : element_(element), diagnostics_(diagnostics) {}
 
-    size_t count() const { return count_; }
-    int line() const { return element_.GetLineNum(); }
+    size_t count() const { return element_.attributeCount(); }
+    int line() const { return element_.line(); }
 
     // Checks the number of attributes: fewer than `required` is an error, more than
     // `required + optional` a warning. `usage` names them, as in "x y z".
@@ -173,33 +162,33 @@ public:
                                    std::to_string(count()),
                                std::string("write it as ") + example(usage));
         for (size_t i = required + optional; i < count(); ++i)
-            diagnostics_.warning(line(), "unknown attribute '" + std::string(attribute(i).Name()) +
+            diagnostics_.warning(line(), "unknown attribute '" + std::string(element_.attributeName(i)) +
                                              "' of " + tag(element_) + " (it takes " + usage +
                                              "); it is ignored");
     }
 
-    const char* text(size_t i) const { return attribute(i).Value(); }
+    const char* text(size_t i) const { return element_.attributeValue(i); }
 
     double number(size_t i) const {
-        const XMLAttribute& attribute = this->attribute(i);
+        const char* text = element_.attributeValue(i);
         // The common case first, without building any message.
-        if (std::optional<double> value = parseNumber(attribute.Value()); value && std::isfinite(*value)) return *value;
-        std::string what = "attribute '" + std::string(attribute.Name()) + "' of " + tag(element_);
-        if (isBlank(attribute.Value())) {
+        if (std::optional<double> value = parseNumber(text); value && std::isfinite(*value)) return *value;
+        std::string what = "attribute '" + std::string(element_.attributeName(i)) + "' of " + tag(element_);
+        if (isBlank(text)) {
             diagnostics_.warning(line(), "empty " + what + " reads as 0");
             return 0;
         }
-        std::optional<double> value = parseNumber(attribute.Value());
-        if (!value && attribute.Value()[0] == '=' && (value = parseNumber(attribute.Value() + 1)))
+        std::optional<double> value = parseNumber(text);
+        if (!value && text[0] == '=' && (value = parseNumber(text + 1)))
             // A stray '=' ("r="=0.1"", as in the course's pikachu_head.xml) is a typo whose
             // intent is plain; read the number after it, and say so.
-            diagnostics_.warning(line(), "'" + std::string(attribute.Value()) + "' has a stray '=' (" + what +
-                                             "); it reads as " + std::string(attribute.Value() + 1));
+            diagnostics_.warning(line(), "'" + std::string(text) + "' has a stray '=' (" + what +
+                                             "); it reads as " + std::string(text + 1));
         if (!value)
-            diagnostics_.error(line(), "'" + std::string(attribute.Value()) + "' is not a number (" + what + ")",
+            diagnostics_.error(line(), "'" + std::string(text) + "' is not a number (" + what + ")",
                                "write a decimal number such as 1.5");
         if (!std::isfinite(*value))
-            diagnostics_.error(line(), "'" + std::string(attribute.Value()) + "' is not a finite number (" + what + ")",
+            diagnostics_.error(line(), "'" + std::string(text) + "' is not a finite number (" + what + ")",
                                "write a finite decimal number");
         return *value;
     }
@@ -211,24 +200,14 @@ public:
 private:
     std::string example(const char* usage) const {
         std::istringstream names(usage);
-        std::string result = "<" + std::string(element_.Name()), name;
+        std::string result = "<" + std::string(element_.name()), name;
         while (names >> name)
             if (name.front() != '[') result += " " + name + "=\"...\"";
         return result + "/>";
     }
 
-    const XMLAttribute& attribute(size_t i) const {
-        if (i < kKept) return *attributes_[i];
-        const XMLAttribute* a = attributes_[kKept - 1];
-        for (size_t k = kKept - 1; k < i; ++k) a = a->Next();
-        return *a;
-    }
-
-    static constexpr size_t kKept = 8;
-    const XMLElement& element_;
+    XmlElement element_;
     const Diagnostics& diagnostics_;
-    std::array<const XMLAttribute*, kKept> attributes_{};
-    size_t count_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -301,22 +280,22 @@ public:
     SceneParser(const Diagnostics& diagnostics, const FileSearch& search, Scene& scene)
         : diagnostics_(diagnostics), search_(search), scene_(scene) {}
 
-    void parseDocument(const XMLElement& root) {
-        if (!sameName(root.Name(), "scenefile"))
-            diagnostics_.error(root.GetLineNum(), "the root element is " + tag(root) + ", not <scenefile>",
+    void parseDocument(XmlElement root) {
+        if (!sameName(root.name(), "scenefile"))
+            diagnostics_.error(root.line(), "the root element is " + tag(root) + ", not <scenefile>",
                                "give a CS123 scene file");
         expectNoAttributes(root);
-        for (const XMLElement* child = root.FirstChildElement(); child; child = child->NextSiblingElement()) {
-            if (sameName(child->Name(), "globaldata"))
-                parseGlobals(*child);
-            else if (sameName(child->Name(), "cameradata"))
-                parseCamera(*child);
-            else if (sameName(child->Name(), "lightdata"))
-                parseLight(*child);
-            else if (sameName(child->Name(), "object"))
-                parseTopLevelTree(*child);
+        for (XmlElement child = root.firstChild(); child; child = child.nextSibling()) {
+            if (sameName(child.name(), "globaldata"))
+                parseGlobals(child);
+            else if (sameName(child.name(), "cameradata"))
+                parseCamera(child);
+            else if (sameName(child.name(), "lightdata"))
+                parseLight(child);
+            else if (sameName(child.name(), "object"))
+                parseTopLevelTree(child);
             else
-                warnUnknown(*child, root);
+                warnUnknown(child, root);
         }
     }
 
@@ -324,62 +303,62 @@ public:
 
 private:
     // Containers (<globaldata>, <transblock> …) take no attributes: any is unknown.
-    void expectNoAttributes(const XMLElement& element) const {
+    void expectNoAttributes(XmlElement element) const {
         Values(element, diagnostics_).expect(0, 0, "no attributes");
     }
 
-    void warnUnknown(const XMLElement& element, const XMLElement& parent) const {
-        diagnostics_.warning(element.GetLineNum(),
+    void warnUnknown(XmlElement element, XmlElement parent) const {
+        diagnostics_.warning(element.line(),
                              "unknown element " + tag(element) + " in " + tag(parent) + "; it is ignored");
     }
 
     // <globaldata>
-    void parseGlobals(const XMLElement& element) {
+    void parseGlobals(XmlElement element) {
         expectNoAttributes(element);
         GlobalCoefficients& g = scene_.globals;
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
-            const char* name = child->Name();
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
+            const char* name = child.name();
             double* target = sameName(name, "ambientcoeff")       ? &g.ka
                              : sameName(name, "diffusecoeff")     ? &g.kd
                              : sameName(name, "specularcoeff")    ? &g.ks
                              : sameName(name, "transparentcoeff") ? &g.kt
                                                                   : nullptr;
             if (target)
-                *target = single(*child);
+                *target = single(child);
             else
-                warnUnknown(*child, element);
+                warnUnknown(child, element);
         }
     }
 
     // <cameradata>: look is a direction, focus a point; one or the other.
-    void parseCamera(const XMLElement& element) {
+    void parseCamera(XmlElement element) {
         expectNoAttributes(element);
         Camera& camera = scene_.camera;
         std::optional<Vec3> focus;
         int lookLine = 0, focusLine = 0;
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
-            const char* name = child->Name();
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
+            const char* name = child.name();
             if (sameName(name, "pos")) {
-                camera.position = triple(*child);
+                camera.position = triple(child);
             } else if (sameName(name, "look")) {
-                camera.look = triple(*child);
-                lookLine = child->GetLineNum();
+                camera.look = triple(child);
+                lookLine = child.line();
             } else if (sameName(name, "focus")) {
-                focus = triple(*child);
-                focusLine = child->GetLineNum();
+                focus = triple(child);
+                focusLine = child.line();
             } else if (sameName(name, "up")) {
-                camera.up = triple(*child);
+                camera.up = triple(child);
             } else if (sameName(name, "heightangle")) {
-                camera.heightAngleDegrees = single(*child);
-                checkHeightAngle(*child, camera.heightAngleDegrees);
+                camera.heightAngleDegrees = single(child);
+                checkHeightAngle(child, camera.heightAngleDegrees);
             } else if (sameName(name, "aspectratio")) {
-                single(*child);  // validated, then ignored: the image's width/height rule
+                single(child);  // validated, then ignored: the image's width/height rule
             } else if (sameName(name, "aperture")) {
-                camera.aperture = single(*child);
+                camera.aperture = single(child);
             } else if (sameName(name, "focallength")) {
-                camera.focalLength = single(*child);
+                camera.focalLength = single(child);
             } else {
-                warnUnknown(*child, element);
+                warnUnknown(child, element);
             }
         }
         if (lookLine && focusLine)
@@ -389,58 +368,58 @@ private:
         checkCameraAxes(element, camera);
     }
 
-    void checkHeightAngle(const XMLElement& element, double degrees) const {
+    void checkHeightAngle(XmlElement element, double degrees) const {
         if (!(degrees > 0 && degrees < 180))
-            diagnostics_.error(element.GetLineNum(),
+            diagnostics_.error(element.line(),
                                "heightangle " + std::to_string(degrees) + " is not a field of view",
                                "give the full vertical field of view in degrees, between 0 and 180");
     }
 
-    void checkCameraAxes(const XMLElement& element, const Camera& camera) const {
+    void checkCameraAxes(XmlElement element, const Camera& camera) const {
         if (length(camera.look) == 0)
-            diagnostics_.error(element.GetLineNum(), "the camera looks nowhere (its look direction is zero)",
+            diagnostics_.error(element.line(), "the camera looks nowhere (its look direction is zero)",
                                "give a non-zero <look>, or a <focus> point away from <pos>");
         if (length(cross(camera.look, camera.up)) <= 1e-12 * length(camera.look) * length(camera.up))
-            diagnostics_.error(element.GetLineNum(), "the camera's up vector is zero or parallel to its look direction",
+            diagnostics_.error(element.line(), "the camera's up vector is zero or parallel to its look direction",
                                "give an <up> that points away from the look direction");
     }
 
     // <lightdata>: every field is read whatever the type; the renderer uses what applies.
-    void parseLight(const XMLElement& element) {
+    void parseLight(XmlElement element) {
         expectNoAttributes(element);
         Light light;
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
-            const char* name = child->Name();
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
+            const char* name = child.name();
             if (sameName(name, "id")) {
-                single(*child);  // validated; lights are identified by their order
+                single(child);  // validated; lights are identified by their order
             } else if (sameName(name, "type")) {
-                light.type = lightType(*child);
+                light.type = lightType(child);
             } else if (sameName(name, "color")) {
-                light.color = color(*child);
+                light.color = color(child);
             } else if (sameName(name, "function")) {
-                light.attenuation = triple(*child);
+                light.attenuation = triple(child);
             } else if (sameName(name, "position")) {
-                light.position = triple(*child);
+                light.position = triple(child);
             } else if (sameName(name, "direction")) {
-                light.direction = triple(*child);
+                light.direction = triple(child);
             } else if (sameName(name, "angle")) {
-                light.angleDegrees = single(*child);
+                light.angleDegrees = single(child);
             } else if (sameName(name, "penumbra")) {
-                light.penumbraDegrees = single(*child);
+                light.penumbraDegrees = single(child);
             } else if (sameName(name, "radius")) {
-                light.radius = single(*child);
+                light.radius = single(child);
             } else if (sameName(name, "width")) {
-                light.width = single(*child);
+                light.width = single(child);
             } else if (sameName(name, "height")) {
-                light.height = single(*child);
+                light.height = single(child);
             } else {
-                warnUnknown(*child, element);
+                warnUnknown(child, element);
             }
         }
         scene_.lights.push_back(light);
     }
 
-    LightType lightType(const XMLElement& element) const {
+    LightType lightType(XmlElement element) const {
         Values values(element, diagnostics_);
         values.expect(1, 0, "v");
         std::string type = lowercase(values.text(0));
@@ -448,68 +427,68 @@ private:
         if (type == "directional") return LightType::Directional;
         if (type == "spot") return LightType::Spot;
         if (type == "area") return LightType::Area;
-        diagnostics_.error(element.GetLineNum(), "unknown light type '" + std::string(values.text(0)) + "'",
+        diagnostics_.error(element.line(), "unknown light type '" + std::string(values.text(0)) + "'",
                            "use point, directional, spot or area");
     }
 
     // A top-level <object type="tree" name="N">.
-    void parseTopLevelTree(const XMLElement& element) {
+    void parseTopLevelTree(XmlElement element) {
         Values values(element, diagnostics_);
         if (values.count() == 0 || !sameName(values.text(0), "tree"))
-            diagnostics_.error(element.GetLineNum(), "a top-level <object> must be a tree",
+            diagnostics_.error(element.line(), "a top-level <object> must be a tree",
                                "write <object type=\"tree\" name=\"...\"> and put primitives in its transblocks");
         if (values.count() < 2)
-            diagnostics_.error(element.GetLineNum(), "a top-level tree needs a name",
+            diagnostics_.error(element.line(), "a top-level tree needs a name",
                                "add name=\"root\" for the scene, or another name to use it as a master");
         values.expect(2, 0, "type name");
         std::string name = values.text(1);
         auto [it, added] = trees_.try_emplace(name);
         if (!added)
-            diagnostics_.error(element.GetLineNum(),
+            diagnostics_.error(element.line(),
                                "a second tree named '" + name + "' (the first is on line " +
                                    std::to_string(it->second.line) + ")",
                                "give each top-level tree its own name");
         it->second.name = name;
-        it->second.line = element.GetLineNum();
+        it->second.line = element.line();
         it->second.tree = parseTree(element);
     }
 
     // The transblocks of a tree, top-level or inline.
-    TreeNode parseTree(const XMLElement& element) {
+    TreeNode parseTree(XmlElement element) {
         TreeNode tree;
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
-            if (sameName(child->Name(), "transblock")) {
-                tree.blocks.push_back(parseBlock(*child));
-            } else if (sameName(child->Name(), "object")) {
-                diagnostics_.warning(child->GetLineNum(),
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
+            if (sameName(child.name(), "transblock")) {
+                tree.blocks.push_back(parseBlock(child));
+            } else if (sameName(child.name(), "object")) {
+                diagnostics_.warning(child.line(),
                                      "<object> outside a <transblock>; it is placed as if in a transblock "
                                      "without transforms");
                 Block block;
-                block.items.push_back(parseObject(*child));
+                block.items.push_back(parseObject(child));
                 tree.blocks.push_back(std::move(block));
             } else {
-                warnUnknown(*child, element);
+                warnUnknown(child, element);
             }
         }
         return tree;
     }
 
     // M = T1 · T2 · … · Tn: the last transform listed acts on the objects first.
-    Block parseBlock(const XMLElement& element) {
+    Block parseBlock(XmlElement element) {
         expectNoAttributes(element);
         Block block;
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
-            if (sameName(child->Name(), "object")) {
-                block.items.push_back(parseObject(*child));
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
+            if (sameName(child.name(), "object")) {
+                block.items.push_back(parseObject(child));
                 continue;
             }
-            if (sameName(child->Name(), "motion")) {
-                parseMotion(*child, block);
+            if (sameName(child.name(), "motion")) {
+                parseMotion(child, block);
                 continue;
             }
-            std::optional<std::pair<Affine, Affine>> transform = parseTransform(*child);
+            std::optional<std::pair<Affine, Affine>> transform = parseTransform(child);
             if (!transform) {
-                warnUnknown(*child, element);
+                warnUnknown(child, element);
                 continue;
             }
             block.toParent = block.toParent * transform->first;
@@ -521,17 +500,17 @@ private:
     // <motion x y z/> (our extension, see the header comment): the block's displacement
     // at the end of the shutter, in the parent's frame. A second one in the same block adds
     // to the first, with a warning (it is more likely a slip than a wish).
-    void parseMotion(const XMLElement& element, Block& block) const {
+    void parseMotion(XmlElement element, Block& block) const {
         Vec3 displacement = triple(element);  // three finite numbers, or an error
         if (block.motion != Vec3{})
-            diagnostics_.warning(element.GetLineNum(),
+            diagnostics_.warning(element.line(),
                                  "a second <motion> in one <transblock>; the displacements add up");
         block.motion += displacement;
     }
 
     // A transform element and its exact inverse; nullopt for other elements.
-    std::optional<std::pair<Affine, Affine>> parseTransform(const XMLElement& element) const {
-        const char* name = element.Name();
+    std::optional<std::pair<Affine, Affine>> parseTransform(XmlElement element) const {
+        const char* name = element.name();
         if (sameName(name, "translate")) {
             Vec3 t = triple(element);
             return std::pair{Affine::translation(t), Affine::translation(-t)};
@@ -542,14 +521,14 @@ private:
             Vec3 axis = values.vec3();
             double degrees = values.number(3);
             if (length(axis) == 0)
-                diagnostics_.error(element.GetLineNum(), "the rotation axis is zero",
+                diagnostics_.error(element.line(), "the rotation axis is zero",
                                    "give the axis to rotate about, such as x=\"0\" y=\"1\" z=\"0\"");
             return std::pair{Affine::rotation(axis, degrees), Affine::rotation(axis, -degrees)};
         }
         if (sameName(name, "scale")) {
             Vec3 s = triple(element);
             if (s.x == 0 || s.y == 0 || s.z == 0)
-                diagnostics_.error(element.GetLineNum(), "a zero scale flattens what it holds to nothing",
+                diagnostics_.error(element.line(), "a zero scale flattens what it holds to nothing",
                                    "use a small non-zero factor, or remove the object");
             return std::pair{Affine::scaling(s), Affine::scaling({1 / s.x, 1 / s.y, 1 / s.z})};
         }
@@ -558,37 +537,37 @@ private:
     }
 
     // <matrix> with four row children (row0…row3) of four values, row-major.
-    std::pair<Affine, Affine> parseMatrix(const XMLElement& element) const {
+    std::pair<Affine, Affine> parseMatrix(XmlElement element) const {
         expectNoAttributes(element);
-        std::vector<const XMLElement*> rows;
-        for (const XMLElement* row = element.FirstChildElement(); row; row = row->NextSiblingElement())
+        std::vector<XmlElement> rows;
+        for (XmlElement row = element.firstChild(); row; row = row.nextSibling())
             rows.push_back(row);
         if (rows.size() != 4)
-            diagnostics_.error(element.GetLineNum(),
+            diagnostics_.error(element.line(),
                                "<matrix> has " + std::to_string(rows.size()) + " rows, not 4",
                                "give four rows <row0 v1= v2= v3= v4=/> … <row3 …/>");
         Affine m;
         double lastRow[4];
         for (int r = 0; r < 4; ++r) {
-            Values values(*rows[r], diagnostics_);
+            Values values(rows[r], diagnostics_);
             values.expect(4, 0, "v1 v2 v3 v4");
             for (int c = 0; c < 4; ++c) (r < 3 ? m.m[r][c] : lastRow[c]) = values.number(c);
         }
         if (lastRow[0] != 0 || lastRow[1] != 0 || lastRow[2] != 0 || lastRow[3] != 1)
-            diagnostics_.error(rows[3]->GetLineNum(), "the matrix's last row is not 0 0 0 1",
+            diagnostics_.error(rows[3].line(), "the matrix's last row is not 0 0 0 1",
                                "give an affine transform (translation in the last column)");
         Affine inverse = m.inverse();
         if (!std::isfinite(inverse.m[0][0]))
-            diagnostics_.error(element.GetLineNum(), "the matrix is singular (it flattens what it holds)",
+            diagnostics_.error(element.line(), "the matrix is singular (it flattens what it holds)",
                                "give an invertible matrix");
         return {m, inverse};
     }
 
     // <object type="primitive|tree|master" ...> inside a transblock.
-    SceneItem parseObject(const XMLElement& element) {
+    SceneItem parseObject(XmlElement element) {
         Values values(element, diagnostics_);
         if (values.count() == 0)
-            diagnostics_.error(element.GetLineNum(), "<object> has no type",
+            diagnostics_.error(element.line(), "<object> has no type",
                                "write type=\"primitive\", \"tree\" or \"master\"");
         std::string type = lowercase(values.text(0));
         if (type == "primitive") return parsePrimitive(element, values);
@@ -599,93 +578,93 @@ private:
         if (type == "csg") return parseCsg(element, values);
         if (type == "master") {
             if (values.count() < 2)
-                diagnostics_.error(element.GetLineNum(), "a master object needs the name of the tree it places",
+                diagnostics_.error(element.line(), "a master object needs the name of the tree it places",
                                    "write <object type=\"master\" name=\"...\"/>");
             values.expect(2, 0, "type name");
-            return MasterReference{values.text(1), element.GetLineNum(), nullptr};
+            return MasterReference{values.text(1), element.line(), nullptr};
         }
-        diagnostics_.error(element.GetLineNum(), "unknown object type '" + std::string(values.text(0)) + "'",
+        diagnostics_.error(element.line(), "unknown object type '" + std::string(values.text(0)) + "'",
                            "use primitive, tree, master or csg");
     }
 
     // <object type="csg" operation="union|intersection|difference">: every child
     // <transblock> (or bare <object>) is one operand.
-    std::unique_ptr<CsgNode> parseCsg(const XMLElement& element, const Values& values) {
+    std::unique_ptr<CsgNode> parseCsg(XmlElement element, const Values& values) {
         const char* usage = "write <object type=\"csg\" operation=\"union\"> (or intersection, difference)";
         if (values.count() < 2)
-            diagnostics_.error(element.GetLineNum(), "a csg object needs an operation", usage);
+            diagnostics_.error(element.line(), "a csg object needs an operation", usage);
         values.expect(2, 0, "type operation");
         auto node = std::make_unique<CsgNode>();
-        node->line = element.GetLineNum();
+        node->line = element.line();
         std::string operation = lowercase(values.text(1));
         if (operation == "union") node->operation = CsgStepKind::Union;
         else if (operation == "intersection") node->operation = CsgStepKind::Intersection;
         else if (operation == "difference") node->operation = CsgStepKind::Difference;
-        else diagnostics_.error(element.GetLineNum(), "unknown csg operation '" + std::string(values.text(1)) + "'", usage);
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+        else diagnostics_.error(element.line(), "unknown csg operation '" + std::string(values.text(1)) + "'", usage);
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             TreeNode operand;
-            if (sameName(child->Name(), "transblock")) {
-                operand.blocks.push_back(parseBlock(*child));
-            } else if (sameName(child->Name(), "object")) {
-                operand.blocks.emplace_back().items.push_back(parseObject(*child));
+            if (sameName(child.name(), "transblock")) {
+                operand.blocks.push_back(parseBlock(child));
+            } else if (sameName(child.name(), "object")) {
+                operand.blocks.emplace_back().items.push_back(parseObject(child));
             } else {
-                warnUnknown(*child, element);
+                warnUnknown(child, element);
                 continue;
             }
             node->operands.push_back(std::move(operand));
         }
         if (node->operands.size() < 2)
-            diagnostics_.error(element.GetLineNum(),
+            diagnostics_.error(element.line(),
                                "a csg object needs two or more operands but has " +
                                    std::to_string(node->operands.size()),
                                "put each operand in a <transblock> of its own inside the csg object");
         return node;
     }
 
-    PrimitiveNode parsePrimitive(const XMLElement& element, const Values& values) {
+    PrimitiveNode parsePrimitive(XmlElement element, const Values& values) {
         if (values.count() < 2)
-            diagnostics_.error(element.GetLineNum(), "a primitive needs a name",
+            diagnostics_.error(element.line(), "a primitive needs a name",
                                "write name=\"cube\" (or sphere, cylinder, cone, torus, mesh)");
         PrimitiveNode node;
-        node.line = element.GetLineNum();
+        node.line = element.line();
         node.type = primitiveType(element, values.text(1));
         if (node.type == PrimitiveType::Mesh) {
             if (values.count() < 3)
-                diagnostics_.error(element.GetLineNum(), "a mesh primitive needs its OBJ file",
+                diagnostics_.error(element.line(), "a mesh primitive needs its OBJ file",
                                    "add meshfile=\"path/to/file.obj\" after the name");
             values.expect(3, 0, "type name meshfile");
             node.meshFile = resolveMesh(element, values.text(2));
         } else {
             values.expect(2, 0, "type name");
         }
-        for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement())
-            parseMaterialElement(*child, element, node);
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling())
+            parseMaterialElement(child, element, node);
         return node;
     }
 
-    PrimitiveType primitiveType(const XMLElement& element, const std::string& name) const {
+    PrimitiveType primitiveType(XmlElement element, const std::string& name) const {
         static const std::pair<const char*, PrimitiveType> kNames[] = {
             {"cube", PrimitiveType::Cube},   {"sphere", PrimitiveType::Sphere}, {"cylinder", PrimitiveType::Cylinder},
             {"cone", PrimitiveType::Cone},   {"torus", PrimitiveType::Torus},   {"mesh", PrimitiveType::Mesh},
         };
         for (const auto& [known, type] : kNames)
             if (sameName(name.c_str(), known)) return type;
-        diagnostics_.error(element.GetLineNum(), "unknown primitive '" + name + "'",
+        diagnostics_.error(element.line(), "unknown primitive '" + name + "'",
                            "use cube, sphere, cylinder, cone, torus or mesh");
     }
 
-    fs::path resolveMesh(const XMLElement& element, const std::string& reference) const {
+    fs::path resolveMesh(XmlElement element, const std::string& reference) const {
         std::vector<fs::path> tried;
         if (std::optional<fs::path> found = search_.resolve(reference, &tried)) return *found;
-        diagnostics_.error(element.GetLineNum(),
+        diagnostics_.error(element.line(),
                            "mesh file '" + reference + "' not found (" + whereLooked(reference, tried) + ")",
                            "put the OBJ file there, or name its folder with a search path");
     }
 
     // The material children of a primitive: each sets one field.
-    void parseMaterialElement(const XMLElement& element, const XMLElement& primitive, PrimitiveNode& node) {
+    void parseMaterialElement(XmlElement element, XmlElement primitive, PrimitiveNode& node) {
         Material& m = node.material;
-        const char* name = element.Name();
+        const char* name = element.name();
         if (sameName(name, "diffuse")) m.diffuse = color(element);
         else if (sameName(name, "ambient")) m.ambient = color(element);
         else if (sameName(name, "specular")) m.specular = color(element);
@@ -703,32 +682,32 @@ private:
     // <texture file u v> or <bumpmap file u v>: sets the repeats and resolves the file.
     // A file that cannot be found is a warning (once per file name; scenes repeat one
     // texture hundreds of times): the surface keeps its material colors.
-    std::optional<ImageReference> imageReference(const XMLElement& element, TextureMap& map, const char* what) {
+    std::optional<ImageReference> imageReference(XmlElement element, TextureMap& map, const char* what) {
         Values values(element, diagnostics_);
         values.expect(1, 2, "file [u] [v]");
         map.repeatU = values.numberOr(1, 1.0);
         map.repeatV = values.numberOr(2, 1.0);
         std::string reference = values.text(0);
         if (isBlank(reference.c_str())) {
-            diagnostics_.warning(element.GetLineNum(), std::string(what) + " without a file name; it is ignored");
+            diagnostics_.warning(element.line(), std::string(what) + " without a file name; it is ignored");
             return std::nullopt;
         }
         auto [known, isNew] = resolvedImages_.try_emplace(reference);
         if (!isNew) {
             if (!known->second) return std::nullopt;
-            return ImageReference{*known->second, element.GetLineNum()};
+            return ImageReference{*known->second, element.line()};
         }
         std::vector<fs::path> tried;
         known->second = search_.resolve(reference, &tried);
-        if (known->second) return ImageReference{*known->second, element.GetLineNum()};
+        if (known->second) return ImageReference{*known->second, element.line()};
         if (auto special = firstNonRegular(tried)) {
-            diagnostics_.warning(element.GetLineNum(), std::string(what) + " file " + special->string() +
+            diagnostics_.warning(element.line(), std::string(what) + " file " + special->string() +
                                                            " is not a regular file (a FIFO, device or folder: reading "
                                                            "it could block or never end); it is not read, and the "
                                                            "surface keeps its material colors");
             return std::nullopt;
         }
-        diagnostics_.warning(element.GetLineNum(), std::string(what) + " file '" + reference + "' not found (" +
+        diagnostics_.warning(element.line(), std::string(what) + " file '" + reference + "' not found (" +
                                                        whereLooked(reference, tried) +
                                                        "); the surface keeps its material colors");
         return std::nullopt;
@@ -755,20 +734,20 @@ private:
         return text + "for the path and each of its trailing parts under " + joined(roots, ", ");
     }
 
-    double single(const XMLElement& element) const {
+    double single(XmlElement element) const {
         Values values(element, diagnostics_);
         values.expect(1, 0, "v");
         return values.number(0);
     }
 
-    Vec3 triple(const XMLElement& element) const {
+    Vec3 triple(XmlElement element) const {
         Values values(element, diagnostics_);
         values.expect(3, 0, "x y z");
         return values.vec3();
     }
 
     // r g b, and an alpha the format allows and the renderer does not use.
-    Vec3 color(const XMLElement& element) const {
+    Vec3 color(XmlElement element) const {
         Values values(element, diagnostics_);
         values.expect(3, 1, "r g b [a]");
         if (values.count() > 3) values.number(3);  // validated, then ignored
@@ -786,9 +765,13 @@ private:
 // Pass 2: counting instances, resolving masters, finding cycles
 
 // How deep inline trees and masters may nest. Counting and flattening recurse once per
-// level; a chain of 100000 masters overflowed the stack (tests/data/limits/). tinyxml2
-// itself stops inline nesting at a few hundred XML levels.
+// level; a chain of 100000 masters overflowed the stack (tests/data/limits/).
 constexpr int kMaxNestingLevels = 1000;
+
+// How deep XML elements may nest (XmlTree refuses deeper ones). The parse pass recurses
+// per element; one level of inline tree is two elements (<object>, <transblock>), so
+// inline trees can reach kMaxNestingLevels, whose message speaks of trees, before this.
+constexpr int kMaxElementDepth = 2 * kMaxNestingLevels + 8;
 
 uint64_t saturatingAdd(uint64_t a, uint64_t b) {
     return a > std::numeric_limits<uint64_t>::max() - b ? std::numeric_limits<uint64_t>::max() : a + b;
@@ -1102,36 +1085,27 @@ private:
 
 // ---------------------------------------------------------------------------------------
 
-// What tinyxml2 found wrong, in words. Its detail names the element when it can
-// ("... Line number=2: XMLElement name=globaldata").
-std::string describeXmlError(const tinyxml2::XMLDocument& document) {
-    std::string text = document.ErrorStr() ? document.ErrorStr() : "";
-    const std::string marker = "XMLElement name=";
-    size_t at = text.find(marker);
-    std::string element = at == std::string::npos ? "an element" : "<" + text.substr(at + marker.size()) + ">";
-    switch (document.ErrorID()) {
-        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
-            return element + " is not closed, or closed by the wrong end tag";
-        case tinyxml2::XML_ERROR_PARSING_ELEMENT: return element + " is malformed";
-        case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
-            return "an attribute of " + element + " is malformed (values need quotes)";
-        default: {
-            // "XML_ERROR_PARSING_COMMENT" -> "parsing comment"
-            std::string name = lowercase(document.ErrorName());
-            if (name.rfind("xml_error_", 0) == 0) name.erase(0, 10);
-            for (char& c : name)
-                if (c == '_') c = ' ';
-            return "error " + name;
+// Runs `parse`, one of the XmlTree::parse; what is wrong with the XML becomes an
+// InputError in the loader's words.
+template <typename Parse>
+XmlTree parseXml(const Diagnostics& diagnostics, Parse parse) {
+    try {
+        return parse();
+    } catch (const XmlError& e) {
+        switch (e.kind) {
+            case XmlError::Kind::Empty:
+                diagnostics.error(0, "the file is empty", "give a CS123 scene file (<scenefile> ... </scenefile>)");
+            case XmlError::Kind::NoElement:
+                diagnostics.error(0, "the file has no XML element", "give a CS123 scene file");
+            case XmlError::Kind::TooDeep:
+                diagnostics.error(e.line, e.what(), "flatten the hierarchy (fewer levels of nested trees)");
+            case XmlError::Kind::TooLarge:
+                diagnostics.error(e.line, e.what(), "split the scene, or place repeated parts with masters");
+            case XmlError::Kind::Malformed:
+                break;
         }
+        diagnostics.error(e.line, std::string("malformed XML: ") + e.what(), "fix the XML syntax at that line");
     }
-}
-
-void parseXml(const std::string& xml, tinyxml2::XMLDocument& document, const Diagnostics& diagnostics) {
-    if (isBlank(xml.c_str()))
-        diagnostics.error(0, "the file is empty", "give a CS123 scene file (<scenefile> ... </scenefile>)");
-    if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
-        diagnostics.error(document.ErrorLineNum(), "malformed XML: " + describeXmlError(document),
-                          "fix the XML syntax at that line");
 }
 
 // The scene's root tree; a file without trees is an empty scene.
@@ -1147,24 +1121,19 @@ NamedTree* findRoot(std::map<std::string, NamedTree>& trees, int scenefileLine, 
     return &it->second;
 }
 
-}  // namespace
-
-Scene loadSceneFromText(const std::string& xml, const fs::path& file, const LoadOptions& options) {
-    Diagnostics diagnostics(file.string(), options);
-    tinyxml2::XMLDocument document;
-    parseXml(xml, document, diagnostics);
-    const XMLElement* scenefile = document.RootElement();
-    if (!scenefile) diagnostics.error(0, "the file has no XML element", "give a CS123 scene file");
-
+// Passes 1 to 3 over the parsed XML (the header comment).
+Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& options,
+                        const Diagnostics& diagnostics) {
+    const XmlElement scenefile = tree.root();  // a parsed tree always has one
     Scene scene;
     scene.sourceFile = file;
     FileSearch search{options.searchPaths, file.parent_path()};
     SceneParser parser(diagnostics, search, scene);
-    parser.parseDocument(*scenefile);
-    // The parsed graph holds everything the later passes need: the DOM (several times the
-    // file's size) goes now, and the flattened scene reuses its memory.
-    const int scenefileLine = scenefile->GetLineNum();
-    document.Clear();
+    parser.parseDocument(scenefile);
+    // The parsed graph holds everything the later passes need: the XML tree goes now, and
+    // the flattened scene reuses its memory.
+    const int scenefileLine = scenefile.line();
+    tree.clear();
 
     InstanceCounter counter(diagnostics, parser.trees());
     counter.countAll();
@@ -1188,6 +1157,14 @@ Scene loadSceneFromText(const std::string& xml, const fs::path& file, const Load
     return scene;
 }
 
+}  // namespace
+
+Scene loadSceneFromText(const std::string& xml, const fs::path& file, const LoadOptions& options) {
+    Diagnostics diagnostics(file.string(), options);
+    XmlTree tree = parseXml(diagnostics, [&] { return XmlTree::parse(xml, kMaxElementDepth); });
+    return loadSceneFromTree(std::move(tree), file, options, diagnostics);
+}
+
 Scene loadScene(const fs::path& file, const LoadOptions& options) {
     std::error_code ec;
     if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
@@ -1197,21 +1174,20 @@ Scene loadScene(const fs::path& file, const LoadOptions& options) {
     if (!in)
         throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
                          "); check the path");
-    // Read in one piece: a large flat scene is tens of megabytes, and a stream's growing
-    // buffer and its copy cost as much again.
-    std::string text;
-    const bool regular = fs::is_regular_file(file, ec);
-    const auto size = regular ? fs::file_size(file, ec) : 0;
-    if (regular && !ec) {
-        text.resize(size_t(size));
-        in.read(text.data(), std::streamsize(size));
-        text.resize(size_t(in.gcount()));
-    } else {
-        std::ostringstream stream;  // a FIFO or a device: read to its end
-        stream << in.rdbuf();
-        text = stream.str();
-    }
-    return loadSceneFromText(text, file, options);
+    // Read and parsed a piece at a time (xml_tree.h): the text of a large flat scene, tens
+    // of megabytes, is never held whole. A FIFO or a device is read like a file, to its end.
+    Diagnostics diagnostics(file.string(), options);
+    const XmlSource read = [&](char* buffer, size_t capacity) {
+        in.read(buffer, std::streamsize(capacity));
+        if (in.bad())
+            throw InputError(file.string() + ": error: the scene file could not be read to its end; check the disk");
+        return size_t(in.gcount());
+    };
+    // The file's size sizes the tree's arrays up front (unknown for a FIFO or a device).
+    std::uintmax_t size = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
+    if (ec) size = 0;
+    XmlTree tree = parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, size_t(size)); });
+    return loadSceneFromTree(std::move(tree), file, options, diagnostics);
 }
 
 }  // namespace ray

@@ -1,0 +1,137 @@
+// An XML document as a compact, read-only tree of elements and their attributes, built by
+// libexpat's streaming parser from text read a piece at a time.
+//
+// The scene format (SPEC §1) lives entirely in element names and attributes, so that is all
+// the tree keeps: character data, comments and processing instructions are skipped. A large
+// flat scene has millions of elements; the tree holds them in three arrays (see XmlTree),
+// with no allocation per element, and the text it parses is never held in one piece.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ray {
+
+// Why a text is not an XML tree: what() says what is wrong, in words, without the file's
+// name; line is where (1-based), 0 when no line applies.
+class XmlError : public std::runtime_error {
+public:
+    enum class Kind {
+        Empty,      // nothing but blanks
+        NoElement,  // no element at all (only comments, say)
+        Malformed,  // not well-formed XML
+        TooDeep,    // elements nested deeper than the limit given to parse
+        TooLarge,   // over 4 GiB of names and values (the tree's offsets are 32-bit)
+    };
+    XmlError(Kind kind, int line, const std::string& message) : std::runtime_error(message), kind(kind), line(line) {}
+    Kind kind;
+    int line;
+};
+
+// Fills `buffer` with up to `capacity` bytes of the document and returns how many; 0 means
+// the document has ended. It may throw (a read error): the exception passes through parse.
+using XmlSource = std::function<size_t(char* buffer, size_t capacity)>;
+
+class XmlTree;
+
+// An element of an XmlTree: a handle (the tree and an index), cheap to copy, valid while
+// the tree lives. A default-constructed one names no element and converts to false.
+class XmlElement {
+public:
+    XmlElement() = default;
+    explicit operator bool() const { return tree_ != nullptr; }
+
+    const char* name() const;
+    int line() const;  // of its start tag
+    size_t attributeCount() const;
+    // Attributes in the order written; i < attributeCount().
+    const char* attributeName(size_t i) const;
+    const char* attributeValue(size_t i) const;
+    // The first child element and the next sibling element; false when there is none.
+    XmlElement firstChild() const;
+    XmlElement nextSibling() const;
+
+private:
+    friend class XmlTree;
+    XmlElement(const XmlTree* tree, uint32_t index) : tree_(tree), index_(index) {}
+    const XmlTree* tree_ = nullptr;
+    uint32_t index_ = 0;
+};
+
+class XmlTree {
+public:
+    // Parses a document read from `source`. Elements nested deeper than maxDepth are refused
+    // (XmlError::Kind::TooDeep): the tree itself needs no recursion, but whoever walks it does.
+    // `expectedBytes`, the document's size when known (0: unknown), sizes the arrays up
+    // front, so that they are not copied as they grow. Throws XmlError, or what `source` throws.
+    static XmlTree parse(const XmlSource& source, int maxDepth, size_t expectedBytes = 0);
+    static XmlTree parse(std::string_view text, int maxDepth);
+
+    XmlTree() = default;
+    XmlTree(XmlTree&&) = default;
+    XmlTree& operator=(XmlTree&&) = default;
+    XmlTree(const XmlTree&) = delete;  // handles point at the tree: copies would confuse them
+    XmlTree& operator=(const XmlTree&) = delete;
+
+    // The root element; false for an empty tree (a default-constructed or cleared one).
+    XmlElement root() const { return elements_.empty() ? XmlElement() : XmlElement(this, 0); }
+    size_t elementCount() const { return elements_.size(); }
+    size_t attributeCount() const { return attributes_.size(); }
+    // The memory the tree holds, for measurements.
+    size_t bytes() const;
+    // Frees everything; handles into the tree must not be used after this.
+    void clear();
+
+private:
+    friend class XmlElement;
+    friend class XmlTreeBuilder;
+
+    // The layout. Elements are records in document order, so elements_[0] is the root and
+    // every parent comes before its children; index 0 therefore never names a child or a
+    // sibling, and 0 in firstChild or nextSibling means "none". An element's attributes are
+    // the attributeCount records of attributes_ from firstAttribute, in the order written.
+    // Names and values are NUL-terminated strings in text_, addressed by their offset;
+    // each distinct element or attribute name is stored once (a scene repeats a few dozen
+    // names millions of times). 24 bytes an element, 8 an attribute, plus the values' text.
+    struct ElementRecord {
+        uint32_t name = 0;  // offset in text_
+        uint32_t firstAttribute = 0;
+        uint32_t attributeCount = 0;
+        uint32_t firstChild = 0;
+        uint32_t nextSibling = 0;
+        uint32_t line = 0;
+    };
+    struct AttributeRecord {
+        uint32_t name = 0;   // offset in text_
+        uint32_t value = 0;  // offset in text_
+    };
+
+    std::vector<ElementRecord> elements_;
+    std::vector<AttributeRecord> attributes_;
+    std::vector<char> text_;
+};
+
+inline const char* XmlElement::name() const { return &tree_->text_[tree_->elements_[index_].name]; }
+inline int XmlElement::line() const { return int(tree_->elements_[index_].line); }
+inline size_t XmlElement::attributeCount() const { return tree_->elements_[index_].attributeCount; }
+inline const char* XmlElement::attributeName(size_t i) const {
+    return &tree_->text_[tree_->attributes_[tree_->elements_[index_].firstAttribute + i].name];
+}
+inline const char* XmlElement::attributeValue(size_t i) const {
+    return &tree_->text_[tree_->attributes_[tree_->elements_[index_].firstAttribute + i].value];
+}
+inline XmlElement XmlElement::firstChild() const {
+    const uint32_t child = tree_->elements_[index_].firstChild;
+    return child ? XmlElement(tree_, child) : XmlElement();
+}
+inline XmlElement XmlElement::nextSibling() const {
+    const uint32_t sibling = tree_->elements_[index_].nextSibling;
+    return sibling ? XmlElement(tree_, sibling) : XmlElement();
+}
+
+}  // namespace ray
