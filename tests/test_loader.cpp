@@ -664,6 +664,27 @@ TEST_CASE("a scene file is read in pieces: one larger than a piece loads whole",
     fs::remove_all(file.parent_path());
 }
 
+TEST_CASE("numbers: plain decimals and what only strtod reads give the same values", "[loader]") {
+    auto x = [](const std::string& value) {
+        return load(rootScene(block("<translate x=\"" + value + "\" y=\"0\" z=\"0\"/>" + primitive())))
+            .scene.primitives[0]
+            .objectToWorld.m[0][3];
+    };
+    CHECK(x("1.5") == 1.5);
+    CHECK(x("-3.65636") == std::strtod("-3.65636", nullptr));
+    CHECK(x("0.1") == 0.1);
+    CHECK(x("1.") == 1);
+    CHECK(x(".5") == 0.5);
+    CHECK(x("-.25") == -0.25);
+    CHECK(x("+2") == 2);
+    CHECK(x(" 2 ") == 2);
+    CHECK(x("1e3") == 1000);
+    CHECK(x("0x10") == 16);
+    CHECK(x("12345678901234567890.5") == std::strtod("12345678901234567890.5", nullptr));
+    CHECK(x("0.00000000000000000000000123") == std::strtod("0.00000000000000000000000123", nullptr));
+    CHECK(x("9007199254740993") == std::strtod("9007199254740993", nullptr));  // 2^53 + 1
+}
+
 TEST_CASE("a stray '=' before a number is read past, with a warning", "[loader]") {
     std::vector<std::string> warnings;
     ray::LoadOptions options;
