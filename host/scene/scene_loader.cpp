@@ -257,15 +257,26 @@ struct ImageReference {
     int line = 0;
 };
 
+// What few primitives name, kept apart so that the common primitive stays small (a large
+// flat scene holds 10^5 of them).
+struct PrimitiveFiles {
+    std::optional<ImageReference> texture, bumpMap;
+    fs::path meshFile;  // resolved; meshes only
+};
+
 struct PrimitiveNode {
     PrimitiveType type = PrimitiveType::Cube;
     int line = 0;
     Material material;  // image indices filled in on first use
-    std::optional<ImageReference> texture, bumpMap;
-    fs::path meshFile;  // resolved; meshes only
+    std::unique_ptr<PrimitiveFiles> files;  // null when it names none
     // Indices into the Scene, set when the first instance is made.
     int sceneMaterial = -1;
     int sceneMesh = -1;
+
+    PrimitiveFiles& filesToSet() {
+        if (!files) files = std::make_unique<PrimitiveFiles>();
+        return *files;
+    }
 };
 
 struct TreeNode;
@@ -338,6 +349,7 @@ public:
     }
 
     std::map<std::string, NamedTree>& trees() { return trees_; }
+    size_t primitiveElements() const { return primitiveElements_; }
 
 private:
     // Containers (<globaldata>, <transblock> …) take no attributes: any is unknown.
@@ -494,6 +506,9 @@ private:
     // The transblocks of a tree, top-level or inline.
     TreeNode parseTree(XmlElement element) {
         TreeNode tree;
+        size_t children = 0;  // a flat scene's root holds 10^5 blocks: no copies as they come
+        for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) ++children;
+        tree.blocks.reserve(children);
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             if (sameName(child.name(), "transblock")) {
                 tree.blocks.push_back(parseBlock(child));
@@ -660,6 +675,7 @@ private:
     }
 
     PrimitiveNode parsePrimitive(XmlElement element, const Values& values) {
+        ++primitiveElements_;
         if (values.count() < 2)
             diagnostics_.error(element.line(), "a primitive needs a name",
                                "write name=\"cube\" (or sphere, cylinder, cone, torus, mesh)");
@@ -671,7 +687,7 @@ private:
                 diagnostics_.error(element.line(), "a mesh primitive needs its OBJ file",
                                    "add meshfile=\"path/to/file.obj\" after the name");
             values.expect(3, 0, "type name meshfile");
-            node.meshFile = resolveMesh(element, values.text(2));
+            node.filesToSet().meshFile = resolveMesh(element, values.text(2));
         } else {
             values.expect(2, 0, "type name");
         }
@@ -712,8 +728,8 @@ private:
         else if (sameName(name, "shininess")) m.shininess = single(element);
         else if (sameName(name, "ior")) m.ior = single(element);
         else if (sameName(name, "blend")) m.blend = single(element);
-        else if (sameName(name, "texture")) node.texture = imageReference(element, m.texture, "texture");
-        else if (sameName(name, "bumpmap")) node.bumpMap = imageReference(element, m.bumpMap, "bump map");
+        else if (sameName(name, "texture")) node.filesToSet().texture = imageReference(element, m.texture, "texture");
+        else if (sameName(name, "bumpmap")) node.filesToSet().bumpMap = imageReference(element, m.bumpMap, "bump map");
         else warnUnknown(element, primitive);
     }
 
@@ -797,6 +813,7 @@ private:
     Scene& scene_;
     std::map<std::string, NamedTree> trees_;
     std::map<std::string, std::optional<fs::path>> resolvedImages_;  // by reference as written
+    size_t primitiveElements_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -1064,8 +1081,8 @@ private:
     int materialOf(PrimitiveNode& node) {
         if (node.sceneMaterial >= 0) return node.sceneMaterial;
         Material material = node.material;
-        if (node.texture) material.texture.image = imageOf(*node.texture);
-        if (node.bumpMap) material.bumpMap.image = imageOf(*node.bumpMap);
+        if (node.files && node.files->texture) material.texture.image = imageOf(*node.files->texture);
+        if (node.files && node.files->bumpMap) material.bumpMap.image = imageOf(*node.files->bumpMap);
         node.sceneMaterial = int(scene_.materials.size());
         scene_.materials.push_back(material);
         return node.sceneMaterial;
@@ -1073,7 +1090,7 @@ private:
 
     int meshOf(PrimitiveNode& node) {
         if (node.type != PrimitiveType::Mesh || node.sceneMesh >= 0) return node.sceneMesh;
-        node.sceneMesh = indexOf(node.meshFile, meshIndex_, [&](const fs::path& file) {
+        node.sceneMesh = indexOf(node.files->meshFile, meshIndex_, [&](const fs::path& file) {
             scene_.meshFiles.push_back(file);
             scene_.meshes.push_back(loadObjMesh(file));  // an unreadable file is an InputError
             return int(scene_.meshFiles.size()) - 1;
@@ -1171,6 +1188,7 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
     // The parsed graph holds everything the later passes need: the XML tree goes now, and
     // the flattened scene reuses its memory.
     const int scenefileLine = scenefile.line();
+    const size_t primitiveElements = parser.primitiveElements();
     tree.clear();
 
     InstanceCounter counter(diagnostics, parser.trees());
@@ -1191,6 +1209,8 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
                           "use fewer levels of masters or a machine with more memory");
 
     scene.primitives.reserve(root->instances);
+    // One material per primitive element used, at most.
+    scene.materials.reserve(size_t(std::min<uint64_t>(primitiveElements, root->instances)));
     Flattener(diagnostics, options, scene).flatten(root->tree, Affine::identity(), Affine::identity());
     return scene;
 }
