@@ -79,8 +79,11 @@ kill -9 $pid; wait $pid 2>/dev/null
 echo "kill -9 during the write: old image intact; the half-written temporary file stays (no process left to remove it)"
 
 # 5. A texture that is a FIFO, or /dev/zero: a warning, no hang (timeout 60 s would fail).
-mkfifo "$WORK/fifo.png"
-for texture in "$WORK/fifo.png" /dev/zero; do
+# The FIFO's name is unique: the texture search also looks in the scene folder's parents
+# (/tmp), where a regular file of a plain name like fifo.png would be found instead.
+FIFO="$WORK/fifo-$(basename "$WORK").png"
+mkfifo "$FIFO"
+for texture in "$FIFO" /dev/zero; do
     sed "s#</scenefile>#<object type=\"tree\" name=\"t\"><transblock><object type=\"primitive\" name=\"cube\"><texture file=\"$texture\" u=\"1\" v=\"1\"/></object></transblock></object></scenefile>#" \
         "$WORK/scene.xml" > "$WORK/textured.xml"
     timeout 60 "$RAY" "$WORK/textured.xml" 16 12 --device ref -o "$WORK/tex.png" 2>"$WORK/err"
