@@ -60,7 +60,6 @@
 #include <sstream>
 #include <variant>
 
-#include "core/huge_pages.h"
 #include "scene/file_search.h"
 #include "scene/xml_tree.h"
 #include "core/memory_limits.h"
@@ -510,7 +509,6 @@ private:
         size_t children = 0;  // a flat scene's root holds 10^5 blocks: no copies as they come
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) ++children;
         tree.blocks.reserve(children);
-        adviseHugePages(tree.blocks);
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             if (sameName(child.name(), "transblock")) {
                 tree.blocks.push_back(parseBlock(child));
@@ -1213,8 +1211,6 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
     scene.primitives.reserve(root->instances);
     // One material per primitive element used, at most.
     scene.materials.reserve(size_t(std::min<uint64_t>(primitiveElements, root->instances)));
-    adviseHugePages(scene.primitives);
-    adviseHugePages(scene.materials);
     Flattener(diagnostics, options, scene).flatten(root->tree, Affine::identity(), Affine::identity());
     return scene;
 }

@@ -18,8 +18,6 @@
 #include <string>
 #include <unordered_map>
 
-#include "core/huge_pages.h"
-
 namespace ray {
 namespace {
 
@@ -195,9 +193,6 @@ private:
         tree_.elements_.reserve(std::min(bytes / 24, cap));
         tree_.attributes_.reserve(std::min(bytes / 10, cap));
         tree_.text_.reserve(std::min(bytes / 2, cap));
-        adviseHugePages(tree_.elements_);
-        adviseHugePages(tree_.attributes_);
-        adviseHugePages(tree_.text_);
     }
 
     struct Open {
