@@ -1,5 +1,6 @@
 #include "accel/wide_bvh.h"
 
+#include <array>
 #include <cstddef>
 #include <utility>
 
@@ -38,22 +39,41 @@ BinaryChild binaryChild(const gpu::RayBvhNode& node, int c) {
     return child;
 }
 
-// Up to four children for the wide node standing for binary node `node`.
-std::vector<BinaryChild> gatherChildren(const std::vector<gpu::RayBvhNode>& binary, int node) {
-    std::vector<BinaryChild> children;
+// Up to four children, in the binary tree's order.
+struct WideChildren {
+    std::array<BinaryChild, 4> child;
+    int count = 0;
+
+    void insert(int at, const BinaryChild& c) {
+        for (int i = count; i > at; --i) child[size_t(i)] = child[size_t(i - 1)];
+        child[size_t(at)] = c;
+        ++count;
+    }
+    void erase(int at) {
+        for (int i = at; i + 1 < count; ++i) child[size_t(i)] = child[size_t(i + 1)];
+        --count;
+    }
+};
+
+// The children of the wide node standing for binary node `node`. Fixed arrays, no heap: a
+// large scene has millions of nodes.
+WideChildren gatherChildren(const std::vector<gpu::RayBvhNode>& binary, int node) {
+    WideChildren children;
     for (int c = 0; c < 2; ++c)
-        if (BinaryChild child = binaryChild(binary[size_t(node)], c); !child.absent()) children.push_back(child);
-    while (children.size() < 4) {
+        if (BinaryChild child = binaryChild(binary[size_t(node)], c); !child.absent())
+            children.insert(children.count, child);
+    while (children.count < 4) {
         int open = -1;
-        for (size_t i = 0; i < children.size(); ++i)
-            if (children[i].inner() && (open < 0 || children[i].halfArea() > children[size_t(open)].halfArea()))
-                open = int(i);
+        for (int i = 0; i < children.count; ++i)
+            if (children.child[size_t(i)].inner() &&
+                (open < 0 || children.child[size_t(i)].halfArea() > children.child[size_t(open)].halfArea()))
+                open = i;
         if (open < 0) break;  // only leaves left
-        const int opened = children[size_t(open)].index;
-        children.erase(children.begin() + open);
+        const int opened = children.child[size_t(open)].index;
+        children.erase(open);
         for (int c = 0; c < 2; ++c)
             if (BinaryChild child = binaryChild(binary[size_t(opened)], c); !child.absent())
-                children.insert(children.begin() + open++, child);  // in the binary tree's order
+                children.insert(open++, child);  // in the binary tree's order
     }
     return children;
 }
@@ -74,11 +94,11 @@ std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<gpu::RayBvhNode>& bi
     while (!pending.empty()) {
         auto [node, slot] = pending.back();
         pending.pop_back();
-        std::vector<BinaryChild> children = gatherChildren(binary, node);
+        const WideChildren children = gatherChildren(binary, node);
         gpu::RayWideBvhNode out;
         for (int c = 0; c < 4; ++c) {
             // Absent: an empty box (min > max) and index -1.
-            const BinaryChild child = size_t(c) < children.size() ? children[size_t(c)] : BinaryChild{};
+            const BinaryChild child = c < children.count ? children.child[size_t(c)] : BinaryChild{};
             const bool present = !child.absent();
             setLane(out.minX, c, present ? child.min[0] : 1e30f);
             setLane(out.minY, c, present ? child.min[1] : 1e30f);

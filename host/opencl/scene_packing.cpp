@@ -5,7 +5,9 @@
 #include <cmath>
 #include <array>
 #include <cstddef>
+#include <future>
 #include <limits>
+#include <thread>
 
 #include "reference/texture_filtering.h"
 
@@ -201,6 +203,25 @@ void packTextures(const Scene& scene, bool mipmaps, PackedScene& packed) {
     }
 }
 
+// Below this many primitives the per-primitive loops run on one thread: starting threads
+// would cost more than they save.
+constexpr size_t kParallelPackThreshold = 65536;
+
+// Runs body(begin, end) over slices of [0, n), one per core when n is large: the bounds and
+// the primitive records of a scene of millions of instances (recursiveSpheres10: 2.9
+// million) are independent of one another, and each is a gather from the 200-byte
+// instances that waits on memory. The slices write disjoint elements.
+template <class Body>
+void forEachSlice(size_t n, const Body& body) {
+    const size_t threads = n < kParallelPackThreshold ? 1 : std::max(1u, std::thread::hardware_concurrency());
+    const size_t slice = (n + threads - 1) / threads;
+    std::vector<std::future<void>> others;
+    for (size_t t = 1; t < threads; ++t)
+        others.push_back(std::async(std::launch::async, body, std::min(n, t * slice), std::min(n, (t + 1) * slice)));
+    body(size_t(0), std::min(n, slice));
+    for (std::future<void>& f : others) f.get();
+}
+
 }  // namespace
 
 size_t PackedScene::totalBytes() const {
@@ -215,15 +236,21 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
 
     auto start = std::chrono::steady_clock::now();
     std::vector<BoundingBox> bounds(scene.primitives.size());
-    for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = worldBounds(scene.primitives[i]);
+    forEachSlice(bounds.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) bounds[i] = worldBounds(scene.primitives[i]);
+    });
     FlatBvh bvh = buildBvh(bounds);
     packed.nodes = widenBvh(bvh.nodes);
     for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
     // The build time counts the meshes' trees with the scene's.
     packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    packed.primitives.reserve(scene.primitives.size());
-    for (uint32_t index : bvh.primitiveOrder)
-        packed.primitives.push_back(packPrimitive(scene.primitives[index], int(index), packed.meshRoots));
+    packed.primitives.resize(scene.primitives.size());
+    forEachSlice(packed.primitives.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const uint32_t index = bvh.primitiveOrder[i];
+            packed.primitives[i] = packPrimitive(scene.primitives[index], int(index), packed.meshRoots);
+        }
+    });
     packCsgPrograms(scene, bvh.primitiveOrder, packed);
     bool anyMotion = std::any_of(scene.primitives.begin(), scene.primitives.end(),
                                  [](const PrimitiveInstance& p) { return p.motion != Vec3{}; });
