@@ -77,10 +77,12 @@ code=$?
 [ $code -eq 2 ] || fail "a rank with another scene: exit $code, not 2"
 grep -q "rank 2 differs from rank 0's" "$out/differs.err" || { fail "a rank with another scene: no message"; cat "$out/differs.err"; }
 
-# Rank 2's only device fails after two tiles: the others finish the frame.
-"$ray" "$base" 100 70 --quiet -o "$out/hook.plain.png"
-mpi -n 2 "$ray" "$base" 100 70 --tile-size 8 -o "$out/hook.mpi.png" : \
-    -n 1 -x RAY_TEST_FAIL_DEVICE=0:2 "$ray" "$base" 100 70 --tile-size 8 -o "$out/hook.mpi.png" 2> "$out/hook.err" \
+# Rank 2's only device fails after two tiles: the others finish the frame. The frame has
+# 1200 tiles, so that it lasts well beyond the ranks' differences in start-up: with 117, the
+# other ranks once finished it before rank 2 had rendered two (and it never failed).
+"$ray" "$base" 320 240 --quiet -o "$out/hook.plain.png"
+mpi -n 2 "$ray" "$base" 320 240 --tile-size 8 -o "$out/hook.mpi.png" : \
+    -n 1 -x RAY_TEST_FAIL_DEVICE=0:2 "$ray" "$base" 320 240 --tile-size 8 -o "$out/hook.mpi.png" 2> "$out/hook.err" \
     || fail "a failing rank: exited $?"
 cmp -s "$out/hook.plain.png" "$out/hook.mpi.png" || fail "a failing rank: the image differs"
 grep -q "warning: rank 2 dropped" "$out/hook.err" || { fail "a failing rank: no warning naming it"; cat "$out/hook.err"; }
