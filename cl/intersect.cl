@@ -268,6 +268,24 @@ inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 or
     return select((float4)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
 }
 
+/* A wide node's four children as a walk reads them: the distance at which the ray enters
+ * each (childEntryDistances: +infinity when missed or absent), its index and its count. */
+typedef struct {
+    float entry[4];
+    int index[4];
+    int count[4];
+} NodeChildren;
+
+inline NodeChildren testChildren(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
+                                 float tMax) {
+    float4 entry = childEntryDistances(node, origin, inverseDirection, tMax);
+    int4 index = node->index, count = node->count;
+    NodeChildren c = {{entry.s0, entry.s1, entry.s2, entry.s3},
+                      {index.s0, index.s1, index.s2, index.s3},
+                      {count.s0, count.s1, count.s2, count.s3}};
+    return c;
+}
+
 /* Whether a child whose entry distance is `entry` (childEntryDistances) is to be visited
  * when the nearest hit so far is at `limit`: one entered exactly there may hold a tie (see
  * Hit.order); +infinity is a miss even when nothing has been hit yet. */
@@ -334,6 +352,10 @@ inline int nextNode(const InnerChildren* inner, BvhStack* stack, float limit) {
     return -1;
 }
 
+/* The distance beyond which traceBvh skips a box: the nearest hit so far, or none under
+ * courseMeshes (see traceBvh). */
+inline float pruneDistance(const Hit* hit, bool courseMeshes) { return courseMeshes ? RAY_INFINITY : hit->t; }
+
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays, which visit children in node order: any occluder will do).
  * Returns whether anything was hit. Leaves are intersected as their parent is visited.
@@ -350,25 +372,22 @@ bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive*
     stack.top = 0;
     int nodeIndex = 0;
     do {
-        __global const RayWideBvhNode* node = &nodes[nodeIndex];
-        float4 entry4 = childEntryDistances(node, ray.origin, inverseDirection, courseMeshes ? RAY_INFINITY : hit->t);
-        int4 index4 = node->index, count4 = node->count;
-        const float entry[4] = {entry4.s0, entry4.s1, entry4.s2, entry4.s3};
-        const int index[4] = {index4.s0, index4.s1, index4.s2, index4.s3};
-        const int count[4] = {count4.s0, count4.s1, count4.s2, count4.s3};
+        NodeChildren children =
+            testChildren(&nodes[nodeIndex], ray.origin, inverseDirection, pruneDistance(hit, courseMeshes));
         InnerChildren inner;
         inner.count = 0;
         for (int c = 0; c < 4; ++c) {
-            if (!enteredBy(entry[c], courseMeshes ? RAY_INFINITY : hit->t)) continue;
-            if (count[c] > 0) {
-                for (int i = index[c]; i < index[c] + count[c]; ++i)
+            if (!enteredBy(children.entry[c], pruneDistance(hit, courseMeshes))) continue;
+            const int first = children.index[c], count = children.count[c];
+            if (count > 0) {
+                for (int i = first; i < first + count; ++i)
                     intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, hit);
                 if (anyHit && hit->primitive >= 0) return true;
             } else {
-                addInnerChild(&inner, index[c], entry[c], !anyHit);
+                addInnerChild(&inner, first, children.entry[c], !anyHit);
             }
         }
-        nodeIndex = nextNode(&inner, &stack, courseMeshes ? RAY_INFINITY : hit->t);
+        nodeIndex = nextNode(&inner, &stack, pruneDistance(hit, courseMeshes));
     } while (nodeIndex >= 0);
     return hit->primitive >= 0;
 }

@@ -156,21 +156,17 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
     stack.top = 0;
     int nodeIndex = root;
     do {
-        __global const RayWideBvhNode* node = &nodes[nodeIndex];
-        float4 entry4 = childEntryDistances(node, o, inverseDirection, *best);
-        int4 index4 = node->index, count4 = node->count;
-        const float entry[4] = {entry4.s0, entry4.s1, entry4.s2, entry4.s3};
-        const int index[4] = {index4.s0, index4.s1, index4.s2, index4.s3};
-        const int count[4] = {count4.s0, count4.s1, count4.s2, count4.s3};
+        NodeChildren children = testChildren(&nodes[nodeIndex], o, inverseDirection, *best);
         InnerChildren inner;
         inner.count = 0;
         for (int c = 0; c < 4; ++c) {
-            if (!(entry[c] < *best)) continue;
-            if (count[c] > 0) {
-                for (int i = index[c]; i < index[c] + count[c]; ++i)
+            if (!(children.entry[c] < *best)) continue;
+            const int first = children.index[c], count = children.count[c];
+            if (count > 0) {
+                for (int i = first; i < first + count; ++i)
                     intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
             } else {
-                addInnerChild(&inner, index[c], entry[c], true);
+                addInnerChild(&inner, first, children.entry[c], true);
             }
         }
         nodeIndex = nextNode(&inner, &stack, *best);

@@ -4,25 +4,23 @@
 #include <cstddef>
 #include <utility>
 
+#include "accel/bvh.h"
+
 namespace ray {
 
 using std::size_t;
 
 namespace {
 
-// A child as a binary node describes it: its box, and its (index, count) link.
+// A child as a binary node describes it: its box, and its (index, count) link. The default
+// is an absent child: index -1 and an empty box (min 1e30 > max -1e30), as the wide node
+// stores one.
 struct BinaryChild {
-    float min[3] = {}, max[3] = {};
+    BoundingBox box;
     int index = -1, count = 0;
 
     bool absent() const { return index < 0; }
     bool inner() const { return index >= 0 && count == 0; }
-    // Half the surface area: only comparisons between children matter.
-    float halfArea() const {
-        float d[3];
-        for (int a = 0; a < 3; ++a) d[a] = max[a] > min[a] ? max[a] - min[a] : 0.0f;
-        return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
-    }
 };
 
 // Child c (0: left, 1: right) of a binary node; lanes of xBounds are
@@ -31,8 +29,8 @@ BinaryChild binaryChild(const gpu::RayBvhNode& node, int c) {
     const gpu::float4* bounds[3] = {&node.xBounds, &node.yBounds, &node.zBounds};
     BinaryChild child;
     for (int a = 0; a < 3; ++a) {
-        child.min[a] = c == 0 ? bounds[a]->x : bounds[a]->y;
-        child.max[a] = c == 0 ? bounds[a]->z : bounds[a]->w;
+        child.box.min[a] = c == 0 ? bounds[a]->x : bounds[a]->y;
+        child.box.max[a] = c == 0 ? bounds[a]->z : bounds[a]->w;
     }
     child.index = c == 0 ? node.links.x : node.links.z;
     child.count = c == 0 ? node.links.y : node.links.w;
@@ -66,7 +64,8 @@ WideChildren gatherChildren(const std::vector<gpu::RayBvhNode>& binary, int node
         int open = -1;
         for (int i = 0; i < children.count; ++i)
             if (children.child[size_t(i)].inner() &&
-                (open < 0 || children.child[size_t(i)].halfArea() > children.child[size_t(open)].halfArea()))
+                (open < 0 || children.child[size_t(i)].box.surfaceArea() >
+                                 children.child[size_t(open)].box.surfaceArea()))
                 open = i;
         if (open < 0) break;  // only leaves left
         const int opened = children.child[size_t(open)].index;
@@ -97,15 +96,13 @@ std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<gpu::RayBvhNode>& bi
         const WideChildren children = gatherChildren(binary, node);
         gpu::RayWideBvhNode out;
         for (int c = 0; c < 4; ++c) {
-            // Absent: an empty box (min > max) and index -1.
             const BinaryChild child = c < children.count ? children.child[size_t(c)] : BinaryChild{};
-            const bool present = !child.absent();
-            setLane(out.minX, c, present ? child.min[0] : 1e30f);
-            setLane(out.minY, c, present ? child.min[1] : 1e30f);
-            setLane(out.minZ, c, present ? child.min[2] : 1e30f);
-            setLane(out.maxX, c, present ? child.max[0] : -1e30f);
-            setLane(out.maxY, c, present ? child.max[1] : -1e30f);
-            setLane(out.maxZ, c, present ? child.max[2] : -1e30f);
+            setLane(out.minX, c, child.box.min[0]);
+            setLane(out.minY, c, child.box.min[1]);
+            setLane(out.minZ, c, child.box.min[2]);
+            setLane(out.maxX, c, child.box.max[0]);
+            setLane(out.maxY, c, child.box.max[1]);
+            setLane(out.maxZ, c, child.box.max[2]);
             setLane(out.count, c, child.count);
             if (child.inner()) {
                 setLane(out.index, c, int(wide.size()));

@@ -120,6 +120,7 @@ struct DeviceSlot {
     cl::Context context;
     cl::CommandQueue queue;
     int uploadedVersion = -1;  // the engine's packVersion these buffers hold
+    size_t checkedTilePixels = 0;  // the tile size checkDeviceLimits last passed with them
     cl::Buffer nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions;
     // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
     // frame costs the device (and, on a CPU device, the host) a few tiles, not two
@@ -403,7 +404,10 @@ namespace {
 // builds (or reuses) the program for the frame's depth and binds the buffers.
 cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packVersion, const RenderSettings& settings,
                           size_t tilePixels, double& uploadSeconds, double& buildSeconds) {
-    checkDeviceLimits(slot.device, packed, tilePixels * sizeof(cl_float4));
+    if (slot.uploadedVersion != packVersion || slot.checkedTilePixels != tilePixels) {
+        checkDeviceLimits(slot.device, packed, tilePixels * sizeof(cl_float4));
+        slot.checkedTilePixels = tilePixels;
+    }
     if (!slot.context()) {
         slot.context = cl::Context(slot.device.device);
         slot.queue = cl::CommandQueue(slot.context, slot.device.device);

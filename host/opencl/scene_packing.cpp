@@ -6,9 +6,9 @@
 #include <array>
 #include <cstddef>
 #include <future>
-#include <limits>
 #include <thread>
 
+#include "accel/wide_bvh.h"
 #include "reference/texture_filtering.h"
 
 namespace ray {
@@ -61,10 +61,11 @@ gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, int order, co
 // the program's place in the csg object's own record (in BVH order already in packed).
 void packCsgPrograms(const Scene& scene, const std::vector<uint32_t>& bvhOrder, PackedScene& packed) {
     // Each object's operands break ties with the rank of its first instance.
-    std::vector<int> firstInstance(scene.csgObjects.size(), std::numeric_limits<int>::max());
-    for (uint32_t index : bvhOrder)
-        if (const PrimitiveInstance& instance = scene.primitives[index]; instance.type == PrimitiveType::Csg)
-            firstInstance[size_t(instance.csg)] = std::min(firstInstance[size_t(instance.csg)], int(index));
+    std::vector<int> firstInstance(scene.csgObjects.size(), -1);
+    for (size_t i = 0; i < scene.primitives.size(); ++i)
+        if (const PrimitiveInstance& instance = scene.primitives[i];
+            instance.type == PrimitiveType::Csg && firstInstance[size_t(instance.csg)] < 0)
+            firstInstance[size_t(instance.csg)] = int(i);
     std::vector<int> programStart;
     for (size_t k = 0; k < scene.csgObjects.size(); ++k) {
         programStart.push_back(int(packed.primitives.size()));

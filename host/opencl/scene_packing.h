@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "accel/bvh.h"
-#include "accel/wide_bvh.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 #include "shared_types.h"
