@@ -504,7 +504,7 @@ TEST_CASE("every material field", "[loader]") {
   <specular r="0.7" g="0.8" b="0.9"/><reflective r="1" g="0" b="0"/>
   <transparent r="0" g="1" b="0"/><emissive r="0" g="0" b="1"/>
   <shininess v="25"/><ior v="1.5"/><blend v="0.75"/>
-  <texture file="nowhere/a.png" u="2" v="3"/><bumpmap file="nowhere/b.png"/>)"))));
+  <texture file="nowhere/ray-test-no-texture.png" u="2" v="3"/><bumpmap file="nowhere/ray-test-no-bump.png"/>)"))));
     const ray::Material& m = loaded.scene.materials.at(0);
     CHECK(m.diffuse == Vec3(0.1, 0.2, 0.3));
     CHECK(m.ambient == Vec3(0.4, 0.5, 0.6));
@@ -566,19 +566,19 @@ TEST_CASE("textures are resolved from the scene's folder and loaded once", "[loa
 TEST_CASE("a missing texture is a warning that says where it looked", "[loader]") {
     fs::path root = tempFolder("missing");
     fs::path sceneFile = root / "scenes" / "s.xml";
-    std::string xml = rootScene(block(primitive("cube", "\n<texture file=\"/course/image/gone.png\"/>")));
+    std::string xml = rootScene(block(primitive("cube", "\n<texture file=\"/course/image/ray-test-gone.png\"/>")));
     Loaded loaded = load(xml, {}, sceneFile);
     REQUIRE(loaded.warnings.size() == 1);
     const std::string& w = loaded.warnings[0];
-    CHECK_THAT(w, Contains(at(xml, "<texture", sceneFile.string()) + "warning: texture file '/course/image/gone.png' not found"));
+    CHECK_THAT(w, Contains(at(xml, "<texture", sceneFile.string()) + "warning: texture file '/course/image/ray-test-gone.png' not found"));
     CHECK_THAT(w, Contains((root / "scenes").string()));
     CHECK_THAT(w, Contains("keeps its material colors"));
     CHECK(loaded.scene.materials[0].texture.image == -1);
     CHECK(loaded.scene.images.empty());
 
     // One warning per file, however many surfaces name it.
-    std::string twice = rootScene(block(primitive("cube", "<texture file=\"gone.png\"/>") +
-                                        primitive("cube", "<bumpmap file=\"gone.png\"/>")));
+    std::string twice = rootScene(block(primitive("cube", "<texture file=\"ray-test-gone.png\"/>") +
+                                        primitive("cube", "<bumpmap file=\"ray-test-gone.png\"/>")));
     CHECK(load(twice, {}, sceneFile).warnings.size() == 1);
     fs::remove_all(root);
 }
@@ -742,7 +742,7 @@ TEST_CASE("containers take no attributes", "[loader]") {
 TEST_CASE("strict turns every warning into an error", "[loader]") {
     std::string emptyValue = rootScene(block("<translate x=\"1\" y=\"2\" z=\"\"/>" + primitive()));
     std::string unknownElement = rootScene(block(primitive()), "<physics/>");
-    std::string missingTexture = rootScene(block(primitive("cube", "<texture file=\"gone.png\"/>")));
+    std::string missingTexture = rootScene(block(primitive("cube", "<texture file=\"ray-test-gone.png\"/>")));
     for (const std::string& xml : {emptyValue, unknownElement, missingTexture}) {
         CHECK(errorOf(xml).empty());
         CHECK_THAT(errorOf(xml, strictOptions()), Contains("test.xml:") && Contains(": error: "));
