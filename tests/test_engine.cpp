@@ -2,6 +2,9 @@
 // frames, each with its own camera and settings, tiles reported as they finish.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <mutex>
 
 #include "opencl/opencl_engine.h"
@@ -66,4 +69,31 @@ TEST_CASE("The engine drops a failing device and fails only when none is left", 
     unsetenv("RAY_TEST_FAIL_DEVICE");
     CHECK(engine.devicesLeft() == 0);
     CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
+}
+
+TEST_CASE("An 8-bit frame holds the bytes an 8-bit file of the float frame holds", "[engine][kernel]") {
+    auto device = ray::test::cpuDevice();
+    if (!device) return ray::test::skip("no OpenCL CPU device");
+    // Reflections and highlights: values above 1 (clamped) and between the 8-bit steps.
+    ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
+    ray::RenderSettings settings = ray::test::settingsFromOptions("--aa course", 45, 37, 3);
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
+    ray::FrameOptions options;
+    options.tileSize = 16;  // tiles cut at the right and bottom edges too
+    const ray::FrameResult floats = engine.renderFrame(scene.camera, settings, options);
+    options.eightBit = true;
+    const ray::FrameResult bytes = engine.renderFrame(scene.camera, settings, options);
+    CHECK(bytes.image.empty());
+    REQUIRE(bytes.bytes.width == 45);
+    REQUIRE(bytes.bytes.height == 37);
+    CHECK(bytes.bytes.rgb == ray::quantize8(floats.image).rgb);
+
+    // The files are the same, byte for byte.
+    const auto folder = std::filesystem::temp_directory_path() / ("ray_test_engine_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder);
+    ray::writeImage(floats.image, folder / "floats.png");
+    ray::writeImage(bytes.bytes, folder / "bytes.png");
+    CHECK(ray::test::readFileBytes(folder / "floats.png") == ray::test::readFileBytes(folder / "bytes.png"));
+    CHECK_THROWS_AS(ray::writeImage(bytes.bytes, folder / "bytes.exr"), ray::ImageError);
+    std::filesystem::remove_all(folder);
 }

@@ -50,6 +50,7 @@ int run(const CliOptions& options) {
     job.cancel = interruptFlag();
     job.referenceBruteForce = options.referenceBruteForce;
     job.tileSize = options.tileSize;
+    job.eightBit = !isFloatFormat(output);
     beginRendering();
     RenderOutput result = render(job);
     progress.finish();

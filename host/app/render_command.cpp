@@ -94,13 +94,25 @@ void checkImageFitsInMemory(const CliOptions& options) {
                          "; render a smaller image (the width and height arguments)");
 }
 
+namespace {
+
+// The image of a render: 8-bit when the render kept it so (RenderJob::eightBit).
+void writeRendered(const RenderOutput& result, const std::filesystem::path& output) {
+    if (!result.bytes.empty())
+        writeImage(result.bytes, output);
+    else
+        writeImage(result.image, output);
+}
+
+}  // namespace
+
 int finishRender(const RenderOutput& result, const std::filesystem::path& output, const CliOptions& options) {
     for (const std::string& warning : result.stats.warnings) std::cerr << "ray: warning: " << warning << "\n";
     if (result.interrupted) {
         // The output file is left as it was, or with --partial gets what was rendered
         // (unrendered pixels black).
         if (options.partial) {
-            writeImage(result.image, output);
+            writeRendered(result, output);
             std::cerr << "ray: interrupted; wrote the partial image to " << output.string() << "\n";
         } else {
             std::cerr << "ray: interrupted; " << output.string()
@@ -108,7 +120,7 @@ int finishRender(const RenderOutput& result, const std::filesystem::path& output
         }
         return interruptExitCode();
     }
-    writeImage(result.image, output);
+    writeRendered(result, output);
     if (!options.quiet) std::cerr << "wrote " << output.string() << "\n";
     if (options.stats) printStats(result.stats, std::cerr);
     if (!options.statsJson.empty()) writeStatsJson(result.stats, options.statsJson);

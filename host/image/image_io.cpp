@@ -88,21 +88,19 @@ bool canWriteImageFormat(const fs::path& file) {
 
 namespace {
 
-// Any format but PNG, through OpenImageIO's module: it writes the temporary file itself, which
-// is then decoded again before the rename, so a write the encoder did not notice failing
-// (a full disk once left a truncated image and "wrote out.png") cannot pass.
-void writeWithOiio(const Image& image, const fs::path& file) {
+// Any format but PNG, through OpenImageIO's module: `samples` are 3 floats a pixel for a
+// float format, else 3 bytes. The module writes the temporary file itself, which is then
+// decoded again before the rename, so a write the encoder did not notice failing (a full
+// disk once left a truncated image and "wrote out.png") cannot pass.
+void writeWithOiio(const fs::path& file, int width, int height, const void* samples) {
     if (!oiioCanWrite(file))
         throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
                          kOutputFormatAdvice);
-    const bool floats = isFloatFormat(file);
-    const std::vector<uint8_t> bytes = floats ? std::vector<uint8_t>() : quantize8(image.rgb.data(), image.rgb.size());
-    const void* data = floats ? static_cast<const void*>(image.rgb.data()) : bytes.data();
     writeFileAtomicallyVia(file, [&](const fs::path& tmp) {
-        writeImageWithOiio(tmp, file, image.width, image.height, floats, data);
+        writeImageWithOiio(tmp, file, width, height, isFloatFormat(file), samples);
         try {
             const Image check = readImageWithOiio(tmp);
-            if (check.width != image.width || check.height != image.height) throw ImageError("wrong size");
+            if (check.width != width || check.height != height) throw ImageError("wrong size");
         } catch (const ImageError& e) {
             throw ImageError(file.string() + ": cannot write image: the written file does not decode (" + e.what() +
                              "); is the disk full?");
@@ -110,16 +108,38 @@ void writeWithOiio(const Image& image, const fs::path& file) {
     });
 }
 
+void refuseEmpty(bool empty, const fs::path& file) {
+    if (empty) throw ImageError(file.string() + ": refusing to write an empty image");
+}
+
 }  // namespace
 
+ByteImage quantize8(const Image& image) {
+    ByteImage bytes;
+    bytes.width = image.width;
+    bytes.height = image.height;
+    bytes.rgb = quantize8(image.rgb.data(), image.rgb.size());
+    return bytes;
+}
+
 void writeImage(const Image& image, const fs::path& file) {
-    if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
+    refuseEmpty(image.empty(), file);
+    if (isFloatFormat(file))
+        writeWithOiio(file, image.width, image.height, image.rgb.data());
+    else
+        writeImage(quantize8(image), file);
+}
+
+void writeImage(const ByteImage& image, const fs::path& file) {
+    refuseEmpty(image.empty(), file);
+    if (isFloatFormat(file))
+        throw ImageError(file.string() + ": an 8-bit image cannot be written as floats; " + kOutputFormatAdvice);
     if (lowerExtension(file) == ".png") {
         // Encoded in memory by libpng, so every byte reaches the disk through checked writes.
         const std::vector<uint8_t> png = encodePng(image);
         writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
     } else {
-        writeWithOiio(image, file);
+        writeWithOiio(file, image.width, image.height, image.rgb.data());
     }
 }
 

@@ -144,9 +144,9 @@ void noFlush(png_structp) {}
 
 }  // namespace
 
-std::vector<uint8_t> encodePng(const Image& image) {
+std::vector<uint8_t> encodePng(const ByteImage& image) {
     if (image.empty()) throw ImageError("refusing to encode an empty image");
-    const std::vector<uint8_t> pixels = quantize8(image.rgb.data(), image.rgb.size());
+    const std::vector<uint8_t>& pixels = image.rgb;
     const auto encoded = std::make_unique<std::vector<uint8_t>>();  // reached after a longjmp too
     encoded->reserve(pixels.size() / 4);
     PngErrorText error;

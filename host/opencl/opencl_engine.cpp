@@ -166,7 +166,8 @@ struct Frame {
     int done = 0, devicesLeft = 0;
     int preparing = 0;  // devices still uploading or building: tiles wait for all of them
     uint64_t pixelsDone = 0, pixelsTotal = 0;
-    Image* image = nullptr;
+    Image* image = nullptr;     // the frame: one of these two (FrameOptions::eightBit)
+    ByteImage* bytes = nullptr;
     FrameStats* stats = nullptr;
 
     bool cancelled() const { return options->cancel && options->cancel->load(); }
@@ -349,7 +350,10 @@ private:
         ++frame_.done;
         ++finished_;
         const TileRect& r = result.rect;
-        pasteTile(*frame_.image, r, result.rgb);
+        if (frame_.bytes)
+            pasteTile(*frame_.bytes, r, result.rgb);
+        else
+            pasteTile(*frame_.image, r, result.rgb);
         FrameStats& s = *frame_.stats;
         s.primaryRays += result.primaryRays;
         s.shadowRays += result.shadowRays;
@@ -465,14 +469,18 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     }
     const gpu::RayRenderParams params = makeRenderParams(camera, e.scene.globals, settings, e.packed);
 
-    result.image = Image(settings.width, settings.height);
+    if (options.eightBit)
+        result.bytes = ByteImage(settings.width, settings.height);
+    else
+        result.image = Image(settings.width, settings.height);
     const int side = std::max(8, options.tileSize > 0 ? options.tileSize : 128);
     GridTiles grid(settings.width, settings.height, side);
     const size_t tilePixels = size_t(side) * size_t(side);  // a guide: launches grow their buffers as needed
     Frame frame;
     frame.options = &options;
     frame.source = options.tiles ? options.tiles : &grid;
-    frame.image = &result.image;
+    frame.image = options.eightBit ? nullptr : &result.image;
+    frame.bytes = options.eightBit ? &result.bytes : nullptr;
     frame.stats = &stats;
     frame.pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
     stats.devices.resize(e.slots.size());

@@ -73,6 +73,9 @@ struct FrameOptions {
     const std::atomic<bool>* cancel = nullptr;
     // Where the tiles come from; null: every tile of the image, cut by tileSize.
     TileSource* tiles = nullptr;
+    // Keep the frame as the 8-bit values an 8-bit file holds (FrameResult::bytes), each
+    // tile quantized as it arrives, instead of floats: a quarter of the memory.
+    bool eightBit = false;
 };
 
 struct FrameStats {
@@ -88,7 +91,8 @@ struct FrameStats {
 };
 
 struct FrameResult {
-    Image image;
+    Image image;      // the frame, unless FrameOptions::eightBit (then empty)
+    ByteImage bytes;  // the frame with FrameOptions::eightBit (else empty)
     FrameStats stats;
     bool cancelled = false;
 };

@@ -4,14 +4,15 @@
 
 namespace ray {
 
-Image renderOpenCl(const std::vector<OpenClDevice>& devices, const Scene& scene, const RenderSettings& settings,
-                   const OpenClRenderOptions& options, RenderStats* stats) {
+FrameResult renderOpenClFrame(const std::vector<OpenClDevice>& devices, const Scene& scene,
+                              const RenderSettings& settings, const OpenClRenderOptions& options, RenderStats* stats) {
     OpenClEngine engine(scene, devices);
     FrameOptions frame;
     frame.tileSize = options.tileSize;
     frame.workGroupSize = options.workGroupSize;
     frame.progress = options.progress;
     frame.cancel = options.cancel;
+    frame.eightBit = options.eightBit;
     FrameResult result = engine.renderFrame(scene.camera, settings, frame);
     if (stats) {
         RenderStats local;
@@ -29,7 +30,14 @@ Image renderOpenCl(const std::vector<OpenClDevice>& devices, const Scene& scene,
         local.warnings = result.stats.warnings;
         *stats = local;
     }
-    return std::move(result.image);
+    return result;
+}
+
+Image renderOpenCl(const std::vector<OpenClDevice>& devices, const Scene& scene, const RenderSettings& settings,
+                   const OpenClRenderOptions& options, RenderStats* stats) {
+    OpenClRenderOptions floats = options;
+    floats.eightBit = false;
+    return std::move(renderOpenClFrame(devices, scene, settings, floats, stats).image);
 }
 
 Image renderOpenCl(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,

@@ -79,7 +79,14 @@ RenderOutput render(const RenderJob& job) {
         if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
         if (job.tileSize > 0) options.tileSize = job.tileSize;
         // Every device of the selection ("all", "0,2") cooperates on the one frame.
-        out.image = renderOpenCl(selectOpenClDevices(job.device), job.scene, job.settings, options, &out.stats);
+        options.eightBit = job.eightBit;
+        FrameResult frame = renderOpenClFrame(selectOpenClDevices(job.device), job.scene, job.settings, options, &out.stats);
+        out.image = std::move(frame.image);
+        out.bytes = std::move(frame.bytes);
+    }
+    if (job.eightBit && !out.image.empty()) {  // the reference renders floats
+        out.bytes = quantize8(out.image);
+        out.image = Image();
     }
     out.interrupted = job.cancel && job.cancel->load();
     out.stats.width = job.settings.width;

@@ -32,10 +32,14 @@ struct RenderJob {
     bool referenceBruteForce = false;
     // OpenCL tile side (--tile-size); 0: automatic.
     int tileSize = 0;
+    // Return the image as the 8-bit values an 8-bit file holds (RenderOutput::bytes), for
+    // an output that is one: OpenCL devices keep only those, a quarter of the memory.
+    bool eightBit = false;
 };
 
 struct RenderOutput {
-    Image image;
+    Image image;      // unless RenderJob::eightBit (then empty)
+    ByteImage bytes;  // with RenderJob::eightBit (else empty)
     RenderStats stats;
     bool interrupted = false;  // stopped by RenderJob::cancel: the image is partial
 };

@@ -29,4 +29,13 @@ void pasteTile(Image& image, const TileRect& rect, const float* rgb) {
                     image.rgb.begin() + ptrdiff_t((size_t(rect.y + row) * size_t(image.width) + size_t(rect.x)) * 3));
 }
 
+void pasteTile(ByteImage& image, const TileRect& rect, const float* rgb) {
+    const size_t rowValues = size_t(rect.width) * 3;
+    for (int row = 0; row < rect.height; ++row) {
+        const float* from = rgb + size_t(row) * rowValues;
+        uint8_t* to = &image.rgb[(size_t(rect.y + row) * size_t(image.width) + size_t(rect.x)) * 3];
+        for (size_t i = 0; i < rowValues; ++i) to[i] = uint8_t(quantize8(from[i]));
+    }
+}
+
 }  // namespace ray

@@ -33,5 +33,7 @@ private:
 
 // Copies a tile's linear RGB (3 floats a pixel, row by row) into its place in the image.
 void pasteTile(Image& image, const TileRect& rect, const float* rgb);
+// The same into an 8-bit image, each channel quantize8 (image/image.h).
+void pasteTile(ByteImage& image, const TileRect& rect, const float* rgb);
 
 }  // namespace ray
