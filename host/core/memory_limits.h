@@ -10,8 +10,9 @@ namespace ray {
 
 // Host memory one flattened primitive instance costs from loading to rendering: the
 // PrimitiveInstance (~208 bytes), its packed copy, BVH nodes and the BVH build's
-// temporaries, and on a CPU OpenCL device the device's copy. Measured: recursiveSpheres10
-// (2.9 million instances) peaks at 1.8 GB on PoCL, 1.26 GB on the reference.
+// temporaries; another device's copy only on a GPU (a CPU OpenCL device reads the packed
+// tables in place). Measured: recursiveSpheres10 (2.9 million instances) peaks at 1.5 GB
+// on PoCL, 1.26 GB on the reference.
 constexpr uint64_t kHostBytesPerInstance = 640;
 
 // Host memory per image pixel: the float image (12) and the 8-bit copy written out (3).

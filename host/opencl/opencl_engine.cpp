@@ -52,19 +52,26 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
     if (total > device.globalMemory)
         throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
                           mebibytes(device.globalMemory) + " of " + device.description() + advice);
-    // On the host: a tile's buffers read back, and on a CPU device the device's memory too.
-    uint64_t hostBytes = 2 * uint64_t(tileBytes) + (device.isCpu ? total : 0);
+    // On the host: a tile's buffers read back, and on a CPU device its tile outputs too (it
+    // reads the scene's tables where they are: uploadBuffer).
+    const uint64_t outputs = 2 * kTilesInFlight * uint64_t(tileBytes);
+    uint64_t hostBytes = 2 * uint64_t(tileBytes) + (device.isCpu ? outputs : 0);
     if (auto shortfall = hostMemoryShortfall(hostBytes))
         throw DeviceError("rendering on " + device.description() + " " + *shortfall + " on the host" + advice);
 }
 
+// A table of the packed scene as a device buffer. A CPU device reads the host's table in
+// place (CL_MEM_USE_HOST_PTR: PoCL then neither copies nor allocates; recursiveSpheres10's
+// 0.35 s and 400 MB of copies are gone), so the table must stay unchanged and alive while
+// the buffer lives (DeviceSlot::releaseScene). Other devices get a copy in their memory.
 // OpenCL refuses zero-sized buffers; an empty table gets one unused element.
 template <typename T>
-cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data) {
+cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data, bool inPlace) {
     static const T placeholder{};
     const void* source = data.empty() ? static_cast<const void*>(&placeholder) : data.data();
     size_t bytes = std::max<size_t>(1, data.size()) * sizeof(T);
-    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(source));
+    const cl_mem_flags flags = CL_MEM_READ_ONLY | (inPlace ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR);
+    return cl::Buffer(context, flags, bytes, const_cast<void*>(source));
 }
 
 std::string buildOptions(int maxDepth) {
@@ -122,6 +129,11 @@ struct DeviceSlot {
     int uploadedVersion = -1;  // the engine's packVersion these buffers hold
     size_t checkedTilePixels = 0;  // the tile size checkDeviceLimits last passed with them
     cl::Buffer nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions;
+    // Lets go of the scene's buffers: before the packed tables they may use in place change.
+    void releaseScene() {
+        nodes = primitives = materials = lights = textures = texels = triangles = triangleShading = motions = {};
+        uploadedVersion = -1;
+    }
     // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
     // frame costs the device (and, on a CPU device, the host) a few tiles, not two
     // full-frame copies of the image (32 bytes a pixel: 25 MB at 1024x768, 265 MB at 4K).
@@ -418,15 +430,16 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packV
     }
     auto start = Clock::now();
     if (slot.uploadedVersion != packVersion) {
-        slot.nodes = uploadBuffer(slot.context, packed.nodes);
-        slot.primitives = uploadBuffer(slot.context, packed.primitives);
-        slot.materials = uploadBuffer(slot.context, packed.materials);
-        slot.lights = uploadBuffer(slot.context, packed.lights);
-        slot.textures = uploadBuffer(slot.context, packed.textures);
-        slot.texels = uploadBuffer(slot.context, packed.texels);
-        slot.triangles = uploadBuffer(slot.context, packed.triangles);
-        slot.triangleShading = uploadBuffer(slot.context, packed.triangleShading);
-        slot.motions = uploadBuffer(slot.context, packed.motions);  // one placeholder when nothing moves
+        const bool inPlace = slot.device.isCpu;
+        slot.nodes = uploadBuffer(slot.context, packed.nodes, inPlace);
+        slot.primitives = uploadBuffer(slot.context, packed.primitives, inPlace);
+        slot.materials = uploadBuffer(slot.context, packed.materials, inPlace);
+        slot.lights = uploadBuffer(slot.context, packed.lights, inPlace);
+        slot.textures = uploadBuffer(slot.context, packed.textures, inPlace);
+        slot.texels = uploadBuffer(slot.context, packed.texels, inPlace);
+        slot.triangles = uploadBuffer(slot.context, packed.triangles, inPlace);
+        slot.triangleShading = uploadBuffer(slot.context, packed.triangleShading, inPlace);
+        slot.motions = uploadBuffer(slot.context, packed.motions, inPlace);  // one placeholder when nothing moves
         slot.uploadedVersion = packVersion;
         uploadSeconds = secondsSince(start);
     }
@@ -458,6 +471,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     const int gridSide = areaLightGridSide(settings);
     const bool trilinear = settings.textureFilter == TextureFilter::Trilinear;
     if (!e.packed_ || gridSide != e.packedGridSide || trilinear != e.packedTrilinear) {
+        for (const auto& slot : e.slots) slot->releaseScene();  // they may read the old tables in place
         auto start = Clock::now();
         e.packed = packScene(e.scene, settings);
         stats.packSeconds = secondsSince(start);
