@@ -39,6 +39,7 @@ int run(const CliOptions& options) {
     installInterruptHandlers();
     const std::filesystem::path output = checkOutputs(options);
 
+    const std::jthread deviceStart = startDeviceEarly(options.device);  // overlaps the load
     auto loadStart = Clock::now();
     Scene scene = loadSceneFor(options);
     double loadSeconds = secondsSince(loadStart);

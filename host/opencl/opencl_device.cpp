@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <ostream>
 #include <optional>
+#include <mutex>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -204,6 +205,10 @@ namespace {
 // Every device of every platform; `failure` says why when a platform or the loader failed.
 std::vector<OpenClDevice> enumerateDevices(std::string& failure) {
     preparePoclCacheFolder();
+    // One thread at a time: PoCL 3.1 lists no device to a second thread that asks while a
+    // first one is starting it (startOpenClInBackground made that happen).
+    static std::mutex oneAtATime;
+    std::lock_guard lock(oneAtATime);
     std::vector<cl::Platform> platforms;
     try {
         cl::Platform::get(&platforms);
@@ -292,6 +297,18 @@ std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
     }
     if (chosen.empty()) throw DeviceError("--device " + selector + " names no device; see ray --list-devices");
     return chosen;
+}
+
+std::jthread startOpenClInBackground() {
+    preparePoclCacheFolder();  // here: it may set an environment variable, which no thread may do
+    return std::jthread([] {
+        try {
+            std::string ignored;
+            enumerateDevices(ignored);
+        } catch (...) {
+            // The same calls fail again where the render makes them, and say so there.
+        }
+    });
 }
 
 void printOpenClDevices(std::ostream& out) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace ray {
@@ -31,6 +32,12 @@ std::vector<OpenClDevice> enumerateOpenClDevices();
 std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector);
 
 void printOpenClDevices(std::ostream& out);
+
+// Starts OpenCL on a thread of its own: the ICD loader loads the drivers (PoCL, and the LLVM
+// it links: about 0.03 s) and they list their devices, so that this overlaps other work such
+// as loading the scene; the later calls find it done. Errors are left for those calls to
+// report. The thread is joined when the returned object is destroyed.
+std::jthread startOpenClInBackground();
 
 // Gives this process a PoCL kernel cache folder of its own, `leaf` inside the usual one
 // ($POCL_CACHE_DIR, else ray's cache folder): PoCL's cache is known to break when several

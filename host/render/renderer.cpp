@@ -96,6 +96,10 @@ RenderOutput render(const RenderJob& job) {
     return out;
 }
 
+std::jthread startDeviceEarly(const std::string& device) {
+    return isReferenceDevice(device) ? std::jthread() : startOpenClInBackground();
+}
+
 void printDeviceList(std::ostream& out) { printOpenClDevices(out); }
 
 bool isReferenceDevice(const std::string& device) { return device == "ref" || device == "reference"; }

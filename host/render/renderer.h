@@ -6,6 +6,7 @@
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "image/image.h"
 #include "render/render_settings.h"
@@ -63,6 +64,11 @@ RenderOutput render(const RenderJob& job);
 // it is cancelled finish within about a second on PoCL, given the samples per pixel and
 // the shadow rays of the scene's area lights.
 int cancellableTileSize(const RenderSettings& settings, const Scene& scene);
+
+// Starts what a render on `device` will need on a thread of its own (the OpenCL drivers;
+// nothing for the reference), so that it overlaps the scene's load. The thread is joined
+// when the returned object is destroyed.
+std::jthread startDeviceEarly(const std::string& device);
 
 // Prints every OpenCL platform and device with its index (--list-devices).
 void printDeviceList(std::ostream& out);
