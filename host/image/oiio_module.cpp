@@ -1,12 +1,9 @@
 #include "image/oiio_module.h"
 
-#include <dlfcn.h>
-
-#include <cstdlib>
 #include <mutex>
 #include <string>
-#include <vector>
 
+#include "core/module_loader.h"
 #include "image/decode_limits.h"
 #include "image/oiio_plugin_abi.h"
 
@@ -15,7 +12,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kModuleName = "libray_oiio.so";
+constexpr ModuleSpec kOiioModule{"libray_oiio.so", "RAY_OIIO_MODULE", "ray's OpenImageIO module"};
 
 struct OiioModule {
     RayOiioOpen open = nullptr;
@@ -26,56 +23,15 @@ struct OiioModule {
     std::string failure;  // why it could not be loaded; empty once loaded
 };
 
-// The folder of the binary or shared library this function was linked into.
-fs::path folderOfThisCode() {
-    Dl_info info{};
-    if (dladdr(reinterpret_cast<void*>(&folderOfThisCode), &info) == 0 || !info.dli_fname) return {};
-    std::error_code ec;
-    fs::path object = fs::canonical(info.dli_fname, ec);
-    return ec ? fs::path() : object.parent_path();
-}
-
-std::vector<fs::path> moduleCandidates() {
-    std::vector<fs::path> candidates;
-    if (const char* explicitPath = std::getenv("RAY_OIIO_MODULE"); explicitPath && *explicitPath) {
-        candidates.emplace_back(explicitPath);
-        return candidates;  // a path set on purpose is the only one tried
-    }
-    if (fs::path here = folderOfThisCode(); !here.empty()) candidates.push_back(here / kModuleName);
-    candidates.push_back(fs::path(RAY_MODULE_INSTALL_DIR) / kModuleName);
-    candidates.push_back(fs::path(RAY_MODULE_BUILD_DIR) / kModuleName);
-    return candidates;
-}
-
-template <typename Function>
-bool resolve(void* library, const char* name, Function& function) {
-    function = reinterpret_cast<Function>(dlsym(library, name));
-    return function != nullptr;
-}
-
-OiioModule loadModule() {
+OiioModule loadOiioModule() {
     OiioModule module;
-    std::string tried;
-    for (const fs::path& candidate : moduleCandidates()) {
-        std::error_code ec;
-        if (!fs::exists(candidate, ec)) {
-            tried += (tried.empty() ? "" : ", ") + candidate.string();
-            continue;
-        }
-        void* library = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
-        if (!library) {
-            module.failure = "cannot load " + candidate.string() + ": " + dlerror();
-            return module;
-        }
-        if (resolve(library, RAY_OIIO_OPEN, module.open) && resolve(library, RAY_OIIO_READ_RGB, module.readRgb) &&
-            resolve(library, RAY_OIIO_CLOSE, module.close) && resolve(library, RAY_OIIO_CAN_WRITE, module.canWrite) &&
-            resolve(library, RAY_OIIO_WRITE, module.write))
-            return module;
-        module.failure = candidate.string() + " is not ray's OpenImageIO module (a symbol is missing)";
-        return module;
-    }
-    module.failure = std::string("ray's OpenImageIO module ") + kModuleName + " was not found (looked for " + tried +
-                     "); reinstall ray, or set RAY_OIIO_MODULE to its path";
+    LoadedModule loaded = loadModule(kOiioModule);
+    const bool complete = resolveEntryPoint(loaded, RAY_OIIO_OPEN, module.open) &&
+                          resolveEntryPoint(loaded, RAY_OIIO_READ_RGB, module.readRgb) &&
+                          resolveEntryPoint(loaded, RAY_OIIO_CLOSE, module.close) &&
+                          resolveEntryPoint(loaded, RAY_OIIO_CAN_WRITE, module.canWrite) &&
+                          resolveEntryPoint(loaded, RAY_OIIO_WRITE, module.write);
+    if (!complete) module.failure = loaded.failure;  // what was missing, where ray looked
     return module;
 }
 
@@ -83,7 +39,7 @@ OiioModule loadModule() {
 const OiioModule& oiioModule() {
     static std::once_flag once;
     static OiioModule module;
-    std::call_once(once, [] { module = loadModule(); });
+    std::call_once(once, [] { module = loadOiioModule(); });
     return module;
 }
 

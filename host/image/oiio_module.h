@@ -1,8 +1,7 @@
 // OpenImageIO, loaded on first use: the formats that are neither PNG nor JPEG go through
 // libray_oiio.so (oiio_plugin_abi.h), which ray opens with dlopen the first time it meets
-// one. Where the module is looked for: $RAY_OIIO_MODULE (a full path) when set; beside the
-// binary or library that holds this code (the build folder, or the install's library
-// folder); then the install's and the build's library folders compiled in.
+// one. It is looked for as every module of ray is (core/module_loader.h); $RAY_OIIO_MODULE,
+// a full path, replaces the search.
 #pragma once
 
 #include <filesystem>
