@@ -5,14 +5,12 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/command_modules.h"
 #include "app/progress.h"
 #include "app/render_command.h"
+#include "distributed/mpi_launch.h"
 #include "explain/explain_command.h"
 #include "render/renderer.h"
-#include "viewer/view_command.h"
-#ifdef RAY_HAVE_MPI
-#include "distributed/mpi_render.h"
-#endif
 
 namespace {
 
@@ -68,7 +66,7 @@ struct Subcommand {
 };
 const std::vector<Subcommand> kSubcommands = {
     {"explain", runExplainCommand},  // host/explain/
-    {"view", runViewCommand},        // host/viewer/
+    {"view", runViewModule},         // host/viewer/, in libray_viewer.so
 };
 
 int dispatch(const std::vector<std::string>& args) {
@@ -83,14 +81,13 @@ int dispatch(const std::vector<std::string>& args) {
 int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 1, argv + argc);
 #ifdef RAY_HAVE_MPI
-    // Started by mpirun: the render command across every rank (distributed/mpi_render.h).
-    if (launchedByMpirun()) return runDistributedCommand(argc, argv, args);
+    // Started by mpirun: the render command across every rank (distributed/mpi_render.h),
+    // in libray_mpi.so.
+    if (launchedByMpirun()) return runMpiModule(argc, argv);
 #endif
     try {
         return dispatch(args);
     } catch (...) {
-        Failure failure = describeFailure(std::current_exception());
-        std::cerr << failure.message << "\n";
-        return failure.exitCode;
+        return reportFailure(std::current_exception());
     }
 }

@@ -45,6 +45,12 @@ Failure describeFailure(std::exception_ptr error) {
     }
 }
 
+int reportFailure(std::exception_ptr error) {
+    const Failure failure = describeFailure(error);
+    std::cerr << failure.message << "\n";
+    return failure.exitCode;
+}
+
 void installInterruptHandlers() {
     struct sigaction action {};
     action.sa_handler = onInterruptSignal;

@@ -22,6 +22,8 @@ struct Failure {
     std::string message;  // several lines at most, without the final newline
 };
 Failure describeFailure(std::exception_ptr error);
+// Prints describeFailure's message to stderr; returns its exit code.
+int reportFailure(std::exception_ptr error);
 
 // Ctrl-C (SIGINT) and SIGTERM: ray exits with 128 + the signal's number, the shell's
 // convention (130 for Ctrl-C). Before beginRendering() nothing has been written, so the

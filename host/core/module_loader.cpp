@@ -70,7 +70,7 @@ LoadedModule loadModule(const ModuleSpec& spec) {
         module.path = candidate;
         // RTLD_NOW: a symbol missing from ray or from the module's libraries is reported
         // here, in a message, rather than ending the process when it is first called.
-        module.library = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+        module.library = dlopen(candidate.c_str(), RTLD_NOW | (spec.global ? RTLD_GLOBAL : RTLD_LOCAL));
         if (!module.library)
             module.failure = std::string("cannot load ") + spec.description + " " + candidate.string() + " (" +
                              dlerror() + ")" + advice(spec);

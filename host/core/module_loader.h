@@ -1,6 +1,7 @@
 // ray's modules: shared libraries holding what only some runs need, opened with dlopen
 // when first needed, so that their libraries cost the other runs nothing at start-up:
-// libray_oiio.so (OpenImageIO, for images neither PNG nor JPEG).
+// libray_oiio.so (OpenImageIO, for images neither PNG nor JPEG), libray_viewer.so (ray view:
+// cpp-httplib, OpenSSL) and libray_mpi.so (mpirun -n N ray: Open MPI).
 //
 // Where a module is looked for, in order: the path in its environment variable when that is
 // set (then nowhere else); beside the binary or library holding this code (the build folder,
@@ -18,6 +19,7 @@ struct ModuleSpec {
     const char* fileName;     // "libray_oiio.so"
     const char* environment;  // "RAY_OIIO_MODULE": a full path to the module, tried alone
     const char* description;  // "ray's OpenImageIO module": names it in the messages
+    bool global = false;      // RTLD_GLOBAL: its libraries' symbols visible to what they load
 };
 
 // A module opened (never closed), or why not.

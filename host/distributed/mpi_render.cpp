@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "app/cli.h"
+#include "app/command_module_abi.h"
 #include "app/progress.h"
 #include "app/render_command.h"
 #include "distributed/tile_dispatcher.h"
@@ -497,9 +498,7 @@ public:
             try {
                 code = finishRender(result, p_.output, p_.options);
             } catch (...) {
-                Failure failure = describeFailure(std::current_exception());
-                std::cerr << failure.message << "\n";
-                code = failure.exitCode;
+                code = reportFailure(std::current_exception());
             }
         }
         if (result.interrupted) leaveInterrupted();
@@ -632,12 +631,6 @@ private:
 
 }  // namespace
 
-bool launchedByMpirun() {
-    for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
-        if (const char* value = std::getenv(variable); value && *value) return true;
-    return false;
-}
-
 int runDistributedCommand(int argc, char** argv, const std::vector<std::string>& args) {
     MpiSession mpi(argc, argv);
     Prepared prepared;
@@ -662,3 +655,12 @@ int runDistributedCommand(int argc, char** argv, const std::vector<std::string>&
 }
 
 }  // namespace ray
+
+// The module's entry point (app/command_module_abi.h).
+extern "C" int ray_mpi_main(int argc, char** argv) {
+    try {
+        return ray::runDistributedCommand(argc, argv, std::vector<std::string>(argv + 1, argv + argc));
+    } catch (...) {  // none crosses the C interface
+        return ray::reportFailure(std::current_exception());
+    }
+}

@@ -18,15 +18,16 @@
 //
 // Threads: only each rank's main thread calls MPI (MPI_THREAD_FUNNELED): it runs the
 // message loop while the engine renders on other threads.
+//
+// All of it is the module libray_mpi.so, the only code of ray linked with Open MPI: main()
+// opens it only when launchedByMpirun() (mpi_launch.h) and calls its entry point,
+// ray_mpi_main (app/command_module_abi.h), which runs runDistributedCommand.
 #pragma once
 
 #include <string>
 #include <vector>
 
 namespace ray {
-
-// Whether this process was started by mpirun (Open MPI's or a PMI launcher's variables).
-bool launchedByMpirun();
 
 // The render command across the ranks of MPI_COMM_WORLD; the exit code of this rank.
 int runDistributedCommand(int argc, char** argv, const std::vector<std::string>& args);

@@ -4,6 +4,8 @@
 #include <iostream>
 
 #include "app/cli.h"
+#include "app/command_module_abi.h"
+#include "app/render_command.h"
 #include "scene/file_search.h"
 #include "opencl/opencl_device.h"
 #include "render/renderer.h"
@@ -67,3 +69,12 @@ int runViewCommand(const std::vector<std::string>& args) {
 }
 
 }  // namespace ray
+
+// The module's entry point (app/command_module_abi.h).
+extern "C" int ray_view_main(int argc, const char* const* argv) {
+    try {
+        return ray::runViewCommand(std::vector<std::string>(argv, argv + argc));
+    } catch (...) {  // none crosses the C interface
+        return ray::reportFailure(std::current_exception());
+    }
+}
