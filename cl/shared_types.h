@@ -25,9 +25,16 @@ struct alignas(16) int4 {
     int32_t x = 0, y = 0, z = 0, w = 0;
 };
 #define RAY_STRUCT(name) struct name
+/* The tables a ray walks (BVH nodes, primitives, materials) start on a cache line on the host
+ * too: a CPU device reads them where they are (CL_MEM_USE_HOST_PTR), and at malloc's 16-byte
+ * alignment a 128-byte node would straddle three cache lines instead of two, as it never
+ * does in a buffer the driver allocates (PoCL: 128-byte aligned). Their sizes are multiples
+ * of 64, so the layout is unchanged. */
+#define RAY_TABLE_STRUCT(name) struct alignas(64) name
 #define RAY_END_STRUCT(name)
 #else
 #define RAY_STRUCT(name) typedef struct name
+#define RAY_TABLE_STRUCT(name) typedef struct name
 #define RAY_END_STRUCT(name) name
 #endif
 
@@ -122,7 +129,7 @@ RAY_STRUCT(RayBvhNode) {
  * box). Node 0 is the root. A node has at most 3 children more than its parent's one, and
  * no root-to-leaf path is longer than the binary tree's (kBvhMaxDepth), so a stack of
  * 3 · kBvhMaxDepth entries never overflows (RAY_WIDE_BVH_STACK). */
-RAY_STRUCT(RayWideBvhNode) {
+RAY_TABLE_STRUCT(RayWideBvhNode) {
     float4 minX, maxX;
     float4 minY, maxY;
     float4 minZ, maxZ;
@@ -139,7 +146,7 @@ RAY_STRUCT(RayWideBvhNode) {
  * of (the first instance of) its csg object. Hits at exactly the same distance (coplanar
  * faces) go to the lower order, as in the reference renderer, so that the image does not
  * depend on the order in which a BVH visits them. */
-RAY_STRUCT(RayPrimitive) {
+RAY_TABLE_STRUCT(RayPrimitive) {
     float4 worldToObject[3];
     int4 info;
 } RAY_END_STRUCT(RayPrimitive);
@@ -168,7 +175,7 @@ RAY_STRUCT(RayTriangleShading) {
 } RAY_END_STRUCT(RayTriangleShading);
 
 /* A material: 128 bytes. Colors in .xyz; scalars ride in the spare .w lanes. */
-RAY_STRUCT(RayMaterial) {
+RAY_TABLE_STRUCT(RayMaterial) {
     float4 diffuse;      /* w: blend */
     float4 ambient;      /* w: shininess */
     float4 specular;     /* w: index of refraction */

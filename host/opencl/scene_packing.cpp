@@ -19,12 +19,12 @@ static_assert(sizeof(gpu::float4) == 16 && alignof(gpu::float4) == 16);
 static_assert(sizeof(gpu::int4) == 16 && alignof(gpu::int4) == 16);
 static_assert(sizeof(gpu::RayBvhNode) == 64);
 static_assert(offsetof(gpu::RayBvhNode, links) == 48);
-static_assert(sizeof(gpu::RayWideBvhNode) == 128);
+static_assert(sizeof(gpu::RayWideBvhNode) == 128 && alignof(gpu::RayWideBvhNode) == 64);
 static_assert(offsetof(gpu::RayWideBvhNode, minY) == 32 && offsetof(gpu::RayWideBvhNode, index) == 96 &&
               offsetof(gpu::RayWideBvhNode, count) == 112);
-static_assert(sizeof(gpu::RayPrimitive) == 64);
+static_assert(sizeof(gpu::RayPrimitive) == 64 && alignof(gpu::RayPrimitive) == 64);
 static_assert(offsetof(gpu::RayPrimitive, info) == 48);
-static_assert(sizeof(gpu::RayMaterial) == 128);
+static_assert(sizeof(gpu::RayMaterial) == 128 && alignof(gpu::RayMaterial) == 64);
 static_assert(offsetof(gpu::RayMaterial, maps) == 112);
 static_assert(sizeof(gpu::RayLight) == 112);
 static_assert(offsetof(gpu::RayLight, area) == 96);
