@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "scene/scene_loader.h"  // the loader's nesting limit (header only)
 #include "scene/xml_tree.h"
 
 namespace bench {
@@ -80,9 +81,6 @@ private:
     std::set<std::string> counting_;
 };
 
-// The loader's own limit on element nesting (scene_loader.cpp): deeper files are refused.
-constexpr int kMaxElementDepth = 2008;
-
 }  // namespace
 
 std::optional<uint64_t> countPrimitives(const std::filesystem::path& scene) {
@@ -94,7 +92,7 @@ std::optional<uint64_t> countPrimitives(const std::filesystem::path& scene) {
                 in.read(buffer, std::streamsize(capacity));
                 return size_t(in.gcount());
             },
-            kMaxElementDepth);
+            ray::kMaxElementDepth);
         return PrimitiveCounter(document.root()).countTree("root");
     } catch (const std::exception&) {  // ray::XmlError, or the counter's
         return std::nullopt;

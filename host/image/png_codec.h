@@ -22,9 +22,9 @@ bool hasPngSignature(const std::filesystem::path& file);
 // Throws ImageError naming the file.
 Image readPng(const std::filesystem::path& file);
 
-// 8-bit RGB PNG bytes of the image. Compressed for speed
-// (zlib level 1, the Sub filter): a render's output should not take longer to compress than
-// to render, and these files are read back by tools, not shipped.
+// 8-bit RGB PNG bytes of the image. Compressed for speed (zlib level 1, the Sub filter): a
+// render's output should not take longer to compress than to render, and these files are
+// read back by tools, not shipped.
 std::vector<uint8_t> encodePng(const ByteImage& image);
 
 }  // namespace ray

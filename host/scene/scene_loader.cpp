@@ -819,15 +819,6 @@ private:
 // ---------------------------------------------------------------------------------------
 // Pass 2: counting instances, resolving masters, finding cycles
 
-// How deep inline trees and masters may nest. Counting and flattening recurse once per
-// level; a chain of 100000 masters overflowed the stack (tests/data/limits/).
-constexpr int kMaxNestingLevels = 1000;
-
-// How deep XML elements may nest (XmlTree refuses deeper ones). The parse pass recurses
-// per element; one level of inline tree is two elements (<object>, <transblock>), so
-// inline trees can reach kMaxNestingLevels, whose message speaks of trees, before this.
-constexpr int kMaxElementDepth = 2 * kMaxNestingLevels + 8;
-
 uint64_t saturatingAdd(uint64_t a, uint64_t b) {
     return a > std::numeric_limits<uint64_t>::max() - b ? std::numeric_limits<uint64_t>::max() : a + b;
 }

@@ -10,6 +10,15 @@
 
 namespace ray {
 
+// How deep inline trees and masters may nest. Counting and flattening recurse once per
+// level; a chain of 100000 masters overflowed the stack (tests/data/limits/).
+constexpr int kMaxNestingLevels = 1000;
+
+// How deep XML elements may nest (XmlTree refuses deeper ones). The parse pass recurses
+// per element; one level of inline tree is two elements (<object>, <transblock>), so
+// inline trees can reach kMaxNestingLevels, whose message speaks of trees, before this.
+constexpr int kMaxElementDepth = 2 * kMaxNestingLevels + 8;
+
 struct LoadOptions {
     // Extra roots for file references, searched first (--search-path, then RAY_SEARCH_PATH).
     std::vector<std::filesystem::path> searchPaths;
