@@ -8,19 +8,19 @@
  * operands or a deeper stack), with no recursion. The combined solid's surface is where its
  * spans begin and end: the first such boundary in (0, hit->t) is the hit.
  *
- * A boundary is kept as its t and a code, operand record index · 2 + (1 where the ray
- * leaves that operand): the normal and the part are recomputed for the one boundary that
- * is hit, which keeps the stack small (8 bytes a boundary). */
+ * A boundary is kept as its t and a code, the operand's record index in the object's
+ * program · 2 + (1 where the ray leaves that operand): the normal and the part are
+ * recomputed for the one boundary that is hit, which keeps the stack small. */
 
 #define RAY_CSG_BOUNDARIES (2 * RAY_CSG_MAX_OPERANDS)
 #define RAY_CSG_SLIVER 1e-5f /* host/scene/csg.h kCsgSliver: thinner spans and gaps are rounding */
 
-inline bool csgSliver(float t0, float t1) {
+static inline bool csgSliver(float t0, float t1) {
     return t1 - t0 <= RAY_CSG_SLIVER * fmax(fabs(t0), fabs(t1));
 }
 
 /* The nearest surface point of a unit convex primitive from o along d (t > 0). */
-inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
+static inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
     float best = RAY_INFINITY;
     *part = 0;
     *normal = (float3)(0.0f);
@@ -41,7 +41,7 @@ inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part,
  * point before the operand's unit box (after it, looking back, for the exit) they find the
  * entry (the exit) of the whole line. The start lies a quarter of the box outside it, far
  * more than the rounding of moving the origin there. */
-inline bool csgCrossing(__global const RayPrimitive* operand, float3 origin, float3 direction, int leaving, float* t,
+static inline bool csgCrossing(__global const RayPrimitive* operand, float3 origin, float3 direction, int leaving, float* t,
                         int* part, float3* normal) {
     float3 o = transformPoint(operand->worldToObject, origin);
     float3 d = transformVector(operand->worldToObject, direction);
@@ -58,9 +58,11 @@ inline bool csgCrossing(__global const RayPrimitive* operand, float3 origin, flo
     return true;
 }
 
-/* The span list of one operand: two boundaries, or none where the line misses or grazes it. */
-inline int csgOperandBoundaries(__global const RayPrimitive* prims, int index, float3 origin, float3 direction,
-                                float* times, int* codes) {
+/* The span list of one operand: two boundaries, or none where the line misses or grazes
+ * it. Codes are relative to the object's program, whose records number fewer than 128
+ * (RAY_CSG_MAX_OPERANDS operands and one operator fewer), so a code fits a byte. */
+static inline int csgOperandBoundaries(__global const RayPrimitive* prims, int index, int program, float3 origin,
+                                       float3 direction, float* times, uchar* codes) {
     float enter, leave;
     int part;
     float3 normal;
@@ -68,23 +70,27 @@ inline int csgOperandBoundaries(__global const RayPrimitive* prims, int index, f
     if (!csgCrossing(&prims[index], origin, direction, 1, &leave, &part, &normal)) return 0;
     if (!(leave > enter) || !isfinite(enter) || !isfinite(leave)) return 0; /* as the reference */
     times[0] = enter;
-    codes[0] = index * 2;
+    codes[0] = (uchar)((index - program) * 2);
     times[1] = leave;
-    codes[1] = index * 2 + 1;
+    codes[1] = (uchar)((index - program) * 2 + 1);
     return 2;
 }
 
-inline bool csgInside(int operation, bool a, bool b) {
+static inline bool csgInside(int operation, bool a, bool b) {
     if (operation == RAY_CSG_UNION) return a || b;
     if (operation == RAY_CSG_INTERSECTION) return a && b;
     return a && !b; /* RAY_CSG_DIFFERENCE */
 }
 
-/* Combines lists a (countA boundaries) and b into out; returns out's count. Boundaries at
- * the same t are taken together, and a result boundary on both surfaces is a's, as
- * host/reference/csg.cpp combineCsgSpans does. */
-inline int csgCombine(int operation, const float* timesA, const int* codesA, int countA, const float* timesB,
-                      const int* codesB, int countB, float* times, int* codes) {
+/* Combines list a (countA boundaries, a copy of it) and list b, which starts at times[countA],
+ * into times[0..], in place; returns the result's count. Boundaries at the same t are taken
+ * together, and a result boundary on both surfaces is a's, as host/reference/csg.cpp
+ * combineCsgSpans does. In place is safe: a step reads before it writes, and writes at
+ * most one boundary for each it reads, so the result never overtakes b's unread part. */
+static inline int csgCombine(int operation, const float* timesA, const uchar* codesA, int countA, int countB,
+                             float* times, uchar* codes) {
+    const float* timesB = times + countA;
+    const uchar* codesB = codes + countA;
     int i = 0, j = 0, count = 0;
     bool inside = false;
     while (i < countA || j < countB) {
@@ -106,44 +112,49 @@ inline int csgCombine(int operation, const float* timesA, const int* codesA, int
             continue;
         }
         times[count] = t;
-        codes[count] = code;
+        codes[count] = (uchar)code;
         ++count;
     }
     return count;
 }
 
+/* The object's postfix program runs on one array of boundaries holding the stack's lists
+ * end to end: an operand's list (at most two boundaries) is added at the end; an operator
+ * combines the last two lists into the first of them. Every operand adds at most two
+ * boundaries and a combination never adds any, so RAY_CSG_BOUNDARIES hold the whole stack;
+ * a combination reads a copy of its first list (lists: 5 bytes a boundary, 640 in all). */
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit) {
-    /* One level more than the stack: the scratch list a combination is written to. */
-    float times[RAY_CSG_MAX_STACK + 1][RAY_CSG_BOUNDARIES];
-    int codes[RAY_CSG_MAX_STACK + 1][RAY_CSG_BOUNDARIES];
-    int counts[RAY_CSG_MAX_STACK + 1];
+    float times[RAY_CSG_BOUNDARIES], copiedTimes[RAY_CSG_BOUNDARIES];
+    uchar codes[RAY_CSG_BOUNDARIES], copiedCodes[RAY_CSG_BOUNDARIES];
+    int start[RAY_CSG_MAX_STACK + 1]; /* list k is times[start[k] .. start[k + 1]) */
     int top = 0;
+    start[0] = 0;
     int first = csg->info.z, end = csg->info.z + csg->info.w;
     for (int step = first; step < end; ++step) {
         int kind = prims[step].info.x;
         if (kind < RAY_CSG_UNION) {
             if (top >= RAY_CSG_MAX_STACK) return; /* the host never packs such a program */
-            counts[top] = csgOperandBoundaries(prims, step, origin, direction, times[top], codes[top]);
+            int at = start[top];
+            start[top + 1] = at + csgOperandBoundaries(prims, step, first, origin, direction, times + at, codes + at);
             ++top;
             continue;
         }
         if (top < 2) return;
-        int a = top - 2, b = top - 1;
-        int n = csgCombine(kind, times[a], codes[a], counts[a], times[b], codes[b], counts[b], times[top], codes[top]);
-        for (int k = 0; k < n; ++k) {
-            times[a][k] = times[top][k];
-            codes[a][k] = codes[top][k];
+        int a = start[top - 2], countA = start[top - 1] - a, countB = start[top] - start[top - 1];
+        for (int k = 0; k < countA; ++k) {
+            copiedTimes[k] = times[a + k];
+            copiedCodes[k] = codes[a + k];
         }
-        counts[a] = n;
-        top = b;
+        start[top - 1] = a + csgCombine(kind, copiedTimes, copiedCodes, countA, countB, times + a, codes + a);
+        --top;
     }
     if (top != 1) return;
-    for (int k = 0; k < counts[0]; ++k) {
-        float t = times[0][k];
+    for (int k = 0; k < start[1]; ++k) {
+        float t = times[k];
         if (!(t < hit->t)) return;
         if (!(t > 0.0f)) continue;
-        int operand = codes[0][k] >> 1, leaving = codes[0][k] & 1;
+        int operand = first + (codes[k] >> 1), leaving = codes[k] & 1;
         float tAgain;
         int part;
         float3 normal;

@@ -10,9 +10,11 @@
 #ifndef RAY_RANDOM_H
 #define RAY_RANDOM_H
 
-#ifdef __OPENCL_VERSION__
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #define RAY_U32 uint
-#define RAY_FN inline
+/* static: in OpenCL C (C99) a plain inline function has no definition of its own to call
+ * where a compiler chooses not to inline it. */
+#define RAY_FN static inline
 #else
 #include <cmath>
 #include <cstdint>
@@ -45,7 +47,7 @@ RAY_FN float rayTentOffset(float u) {
     return 0.5f + t;
 }
 
-#ifndef __OPENCL_VERSION__
+#if !defined(__OPENCL_VERSION__) && !defined(__OPENCL_C_VERSION__)
 }  /* namespace ray */
 #endif
 

@@ -6,71 +6,83 @@
 #define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
 #endif
 
+/* A ray a hit spawns: its weight in its parent's color and the media it travels through
+ * (cl/optics.cl). Its time is the camera sample's, set as it is traced. */
+typedef struct {
+    Ray ray;
+    float3 weight; /* ks·Or or kt·Ot (times R or 1 − R with --fresnel) */
+    MediumStack media;
+} ChildRay;
+
 /* One ray of the tree awaiting its children. Its color is folded into its parent, clamped
  * to [0, 1] and weighted, once all of its children are folded into it (SPEC §4: I_r is
- * clamped before it is weighted). */
+ * clamped before it is weighted). Its first child is traced as soon as it is spawned, so a
+ * frame keeps only the second: private memory is what a GPU has least of. */
 typedef struct {
     float3 color;          /* local shading plus the children folded in so far */
     float3 pathWeight;     /* product of the weights from the camera ray to this one */
     float3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
-    Ray children[2];
-    float3 childWeights[2];
-    MediumStack media;          /* the media this frame's ray travels through */
-    MediumStack childMedia[2];  /* and those of its children (cl/optics.cl) */
+    ChildRay second;       /* the second child, traced once the first's tree is folded in */
+    MediumStack media;     /* the media this frame's ray travels through */
     int childCount, nextChild, depth;
 } Frame;
 
-inline bool anyAbove(float3 v, float threshold) {
+/* Where a frame's next spawned child goes: the first to `first`, which traceCameraRay
+ * pushes at once, the second into the frame. */
+static inline ChildRay* spawnedChild(Frame* frame, ChildRay* first) {
+    return frame->childCount++ == 0 ? first : &frame->second;
+}
+
+static inline bool anyAbove(float3 v, float threshold) {
     return v.x >= threshold || v.y >= threshold || v.z >= threshold;
 }
 
 /* The kt·Ot branch (SPEC §4): the ray refracted by Snell's law into the medium beyond the
  * surface, or, under total internal reflection, the mirrored ray, which stays in the
  * medium it came from. normal faces the incoming direction d. */
-void addRefractedChild(Frame* frame, float3 d, float3 p, float3 normal, bool entering, float materialIor,
-                       float3 weight, float epsilon) {
+void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, bool entering,
+                       float materialIor, float3 weight, float epsilon) {
     MediumStack beyond;
     float n1 = iorBefore(&frame->media, entering, materialIor);
     float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
     float3 transmitted;
-    Ray child;
+    ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child.origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
-        child.direction = transmitted;
-        frame->childMedia[frame->childCount] = beyond;
+        child->ray.origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
+        child->ray.direction = transmitted;
+        child->media = beyond;
     } else {
-        child.origin = offsetFromSurface(p, normal, epsilon);
-        child.direction = d - 2.0f * dot(d, normal) * normal;
-        frame->childMedia[frame->childCount] = frame->media;
+        child->ray.origin = offsetFromSurface(p, normal, epsilon);
+        child->ray.direction = d - 2.0f * dot(d, normal) * normal;
+        child->media = frame->media;
     }
-    frame->children[frame->childCount] = child;
-    frame->childWeights[frame->childCount] = weight;
-    frame->childCount++;
+    child->weight = weight;
 }
 
 /* The mirrored ray (I_r), which stays in the medium it came from (traceCameraRay sets its time). */
-void addReflectedChild(Frame* frame, float3 d, float3 p, float3 normal, float3 weight, float epsilon) {
-    Ray reflected = {offsetFromSurface(p, normal, epsilon), d - 2.0f * dot(d, normal) * normal, 0.0f};
-    frame->children[frame->childCount] = reflected;
-    frame->childWeights[frame->childCount] = weight;
-    frame->childMedia[frame->childCount] = frame->media;
-    frame->childCount++;
+void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 weight,
+                       float epsilon) {
+    ChildRay* child = spawnedChild(frame, first);
+    child->ray.origin = offsetFromSurface(p, normal, epsilon);
+    child->ray.direction = d - 2.0f * dot(d, normal) * normal;
+    child->weight = weight;
+    child->media = frame->media;
 }
 
 /* Whether a branch of weight `weight` below this frame is traced: --threshold cuts it when
  * its path weight is below the threshold in every channel, and a zero weight is no branch. */
-inline bool branchTraced(const RayRenderParams* params, const Frame* frame, float3 weight) {
+static inline bool branchTraced(const RayRenderParams* params, const Frame* frame, float3 weight) {
     return anyAbove(frame->pathWeight * weight, params->limits.x) && anyAbove(weight, 1e-30f);
 }
 
 /* The surfaces refraction applies to (SPEC §4): those of transparent objects (Ot != 0). */
-inline bool refracts(int features, float3 transparent) {
+static inline bool refracts(int features, float3 transparent) {
     return (features & RAY_FEATURE_REFRACTION) && anyAbove(fabs(transparent), 1e-30f);
 }
 
 /* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the frame's ray meets a
  * transparent surface, from the medium it is in into the one beyond (cl/optics.cl). */
-inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
+static inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
     MediumStack beyond;
     float n1 = iorBefore(&frame->media, entering, materialIor);
     float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
@@ -84,27 +96,28 @@ inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, boo
  * inside (R = 1 under total internal reflection: the mirrored ray alone, as without
  * --fresnel). Both branches belong to refraction (--no-reflections keeps them) and
  * --threshold cuts each by its own weight, R or 1 − R times the path weight. */
-inline bool leavesTransparentObject(int features, bool entering, float3 transparent) {
+static inline bool leavesTransparentObject(int features, bool entering, float3 transparent) {
     return !entering && refracts(features, transparent);
 }
 
-void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 d, float3 p, float3 normal,
-                        float materialIor) {
+void transmitFromInside(const RayRenderParams* params, Frame* frame, ChildRay* first, float3 d, float3 p,
+                        float3 normal, float materialIor) {
     if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
     if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
-        addRefractedChild(frame, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
+        addRefractedChild(frame, first, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
         return;
     }
     float r = surfaceReflectance(frame, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
     if (branchTraced(params, frame, reflectWeight))
-        addReflectedChild(frame, d, p, normal, reflectWeight, params->limits.y);
+        addReflectedChild(frame, first, d, p, normal, reflectWeight, params->limits.y);
     if (branchTraced(params, frame, transmitWeight))
-        addRefractedChild(frame, d, p, normal, false, materialIor, transmitWeight, params->limits.y);
+        addRefractedChild(frame, first, d, p, normal, false, materialIor, transmitWeight, params->limits.y);
 }
 
-/* Traces frame's ray, shades the hit and records the rays it spawns. */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, PixelTrace* counter) {
+/* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first). */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, ChildRay* first,
+                PixelTrace* counter) {
     frame->color = (float3)(0.0f);
     frame->childCount = 0;
     frame->nextChild = 0;
@@ -136,7 +149,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, frame, ray.direction, p, normal, m.specular.w);
+        transmitFromInside(params, frame, first, ray.direction, p, normal, m.specular.w);
         return;
     }
 
@@ -166,12 +179,15 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
         transmitWeight *= 1.0f - r;
     }
     if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, frame, reflectWeight))
-        addReflectedChild(frame, ray.direction, p, normal, reflectWeight, params->limits.y);
+        addReflectedChild(frame, first, ray.direction, p, normal, reflectWeight, params->limits.y);
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, frame, transmitWeight))
-        addRefractedChild(frame, ray.direction, p, normal, entering, m.specular.w, transmitWeight, params->limits.y);
+        addRefractedChild(frame, first, ray.direction, p, normal, entering, m.specular.w, transmitWeight,
+                          params->limits.y);
 }
 
-/* The color of one camera ray: the tree of reflected rays below it, depth first. */
+/* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
+ * of the tree is shaded at the one shadeFrame call below, the loop's first step whenever a
+ * frame has just been pushed (a GPU compiler inlines every call site). */
 float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
     Frame stack[RAY_MAX_FRAMES];
     int top = 0;
@@ -180,21 +196,27 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
     stack[0].weightInParent = (float3)(1.0f);
     stack[0].media.count = 0; /* the camera is in air */
     counter->primary++;
-    shadeFrame(scene, params, &stack[0], ray, counter);
+    bool pushed = true; /* stack[top] awaits shading along `ray` */
+    ChildRay first;     /* the first child of the frame shaded last */
+    const float time = ray.time; /* every ray of the tree sees the scene at its camera sample's time */
     while (true) {
         Frame* frame = &stack[top];
+        if (pushed) {
+            shadeFrame(scene, params, frame, ray, &first, counter);
+            pushed = false;
+        }
         if (frame->nextChild < frame->childCount && top + 1 < RAY_MAX_FRAMES) {
-            int c = frame->nextChild++;
+            const ChildRay* spawned = frame->nextChild++ == 0 ? &first : &frame->second;
             Frame* child = &stack[top + 1];
             child->depth = frame->depth + 1;
-            child->weightInParent = frame->childWeights[c];
-            child->pathWeight = frame->pathWeight * frame->childWeights[c];
-            child->media = frame->childMedia[c];
+            child->weightInParent = spawned->weight;
+            child->pathWeight = frame->pathWeight * spawned->weight;
+            child->media = spawned->media;
             counter->secondary++;
-            Ray childRay = frame->children[c];
-            childRay.time = ray.time; /* every ray of the tree sees the scene at its camera sample's time */
-            shadeFrame(scene, params, child, childRay, counter);
+            ray = spawned->ray;
+            ray.time = time;
             ++top;
+            pushed = true;
             continue;
         }
         if (top == 0) return frame->color;
@@ -207,7 +229,7 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
 /* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). With depth of field
  * the eye moves to a point of the lens disk (in the plane of U and V) picked by lens ∈
  * [0, 1)², and the ray aims at the point the pinhole ray reaches at the focal distance. */
-inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
+static inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
     float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
     float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
     Ray ray = {params->eye.xyz, normalize(u * params->right.xyz + v * params->up.xyz + params->forward.xyz), time};
@@ -224,7 +246,7 @@ inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, 
 /* One sample of the pixel, unclamped; draws the lens position from random dimensions 2
  * and 3 of the sample's number (0 and 1 are the stratified jitter), and its shutter time
  * from dimension 4: shutter (params->lens.z, 0 when nothing moves) times that number. */
-inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
+static inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
                           PixelTrace* counter) {
     uint k = counter->nextSample++;
     counter->sample = k;
@@ -238,40 +260,15 @@ inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* para
     return traceCameraRay(scene, params, cameraRay(params, (float)i, (float)j, sx, sy, lens, counter->time), counter);
 }
 
-inline float3 samplePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
-                          PixelTrace* counter) {
-    return clamp(traceSample(scene, params, i, j, sx, sy, counter), 0.0f, 1.0f);
-}
-
-inline float contrast(float3 a, float3 b, float3 c, float3 d) {
-    float3 spread = fmax(fmax(a, b), fmax(c, d)) - fmin(fmin(a, b), fmin(c, d));
-    return fmax(spread.x, fmax(spread.y, spread.z));
-}
+static inline float largestChannel(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 /* Whether two samples differ by more than RAY_COURSE_AA_CONTRAST in some channel. */
-inline bool courseDiffers(float3 a, float3 b) {
-    float3 d = fabs(a - b);
-    return fmax(d.x, fmax(d.y, d.z)) > RAY_COURSE_AA_CONTRAST;
-}
-
-/* The course's adaptive antialiasing (README, Conventions, "Antialiasing";
- * host/reference/course_sampling.cpp): value(square, level) samples the centres of the
- * square's four quadrants a (top left), b (top right), c (bottom left), d (bottom right);
- * where level < 3, a quadrant whose sample differs from a horizontal or vertical neighbour's
- * (a–b, c–d, a–c, b–d; not the diagonals) by more than RAY_COURSE_AA_CONTRAST in some channel
- * is replaced by value(quadrant, level + 1). The result is the mean of the four. Written as
- * three nested levels because OpenCL C has no recursion. */
-float3 courseSquare3(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
-                     float size, PixelTrace* counter) {
-    float q = size * 0.25f;
-    return 0.25f * (samplePixel(scene, params, i, j, x0 + q, y0 + q, counter) +
-                    samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter) +
-                    samplePixel(scene, params, i, j, x0 + q, y0 + 3.0f * q, counter) +
-                    samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter));
+static inline bool courseDiffers(float3 a, float3 b) {
+    return largestChannel(fabs(a - b)) > RAY_COURSE_AA_CONTRAST;
 }
 
 /* Which quadrants of a, b, c, d the course subdivides: bit 0 a, 1 b, 2 c, 3 d. */
-inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
+static inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
     int bits = 0;
     if (courseDiffers(a, b)) bits |= 1 | 2;
     if (courseDiffers(c, d)) bits |= 4 | 8;
@@ -280,78 +277,152 @@ inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
     return bits;
 }
 
-float3 courseSquare2(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float x0, float y0,
-                     float size, PixelTrace* counter) {
-    float q = size * 0.25f, h = size * 0.5f;
-    float3 a = samplePixel(scene, params, i, j, x0 + q, y0 + q, counter);
-    float3 b = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + q, counter);
-    float3 c = samplePixel(scene, params, i, j, x0 + q, y0 + 3.0f * q, counter);
-    float3 d = samplePixel(scene, params, i, j, x0 + 3.0f * q, y0 + 3.0f * q, counter);
-    int bits = courseSubdivided(a, b, c, d);
-    if (bits & 1) a = courseSquare3(scene, params, i, j, x0, y0, h, counter);
-    if (bits & 2) b = courseSquare3(scene, params, i, j, x0 + h, y0, h, counter);
-    if (bits & 4) c = courseSquare3(scene, params, i, j, x0, y0 + h, h, counter);
-    if (bits & 8) d = courseSquare3(scene, params, i, j, x0 + h, y0 + h, h, counter);
-    return 0.25f * (a + b + c + d);
-}
+/* Every antialiasing mode as a state machine that hands out one sample position at a time
+ * and takes that sample's color back, so that the whole pixel is one loop around one
+ * traceSample call (renderTile). A GPU compiler inlines every call: written as recursion-
+ * free nested functions, the course's three levels alone held 84 copies of the trace.
+ *
+ * The course's adaptive antialiasing (README, Conventions, "Antialiasing";
+ * host/reference/course_sampling.cpp): value(square, level) samples the centres of the
+ * square's four quadrants a (top left), b (top right), c (bottom left), d (bottom right);
+ * where level < 3, a quadrant whose sample differs from a horizontal or vertical
+ * neighbour's (a–b, c–d, a–c, b–d; not the diagonals) by more than RAY_COURSE_AA_CONTRAST
+ * in some channel is replaced by value(quadrant, level + 1). The result is the mean of the
+ * four. The machine walks that recursion depth first with an explicit stack of levels, so
+ * samples are taken (and numbered) in the order the recursive form takes them.
+ *
+ * --aa stratified: an n×n grid (n = floor(sqrt(samples))), one jittered sample per cell
+ * warped through the tent reconstruction filter (rayTentOffset), averaged.
+ * --aa adaptive (host/reference/course_sampling.h sampleAdaptive): 2×2 jittered samples
+ * (numbers 0..3); where they spread by more than RAY_ADAPTIVE_CONTRAST, a k×k jittered grid
+ * more (numbers 4..); the mean of every sample taken. With samples <= 4, stratified.
+ * --aa off: one unclamped sample at the pixel's centre (for float outputs). */
+#define RAY_COURSE_LEVELS 3
 
-float3 coursePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
-    float3 a = samplePixel(scene, params, i, j, 0.25f, 0.25f, counter);
-    float3 b = samplePixel(scene, params, i, j, 0.75f, 0.25f, counter);
-    float3 c = samplePixel(scene, params, i, j, 0.25f, 0.75f, counter);
-    float3 d = samplePixel(scene, params, i, j, 0.75f, 0.75f, counter);
-    int bits = courseSubdivided(a, b, c, d);
-    if (bits & 1) a = courseSquare2(scene, params, i, j, 0.0f, 0.0f, 0.5f, counter);
-    if (bits & 2) b = courseSquare2(scene, params, i, j, 0.5f, 0.0f, 0.5f, counter);
-    if (bits & 4) c = courseSquare2(scene, params, i, j, 0.0f, 0.5f, 0.5f, counter);
-    if (bits & 8) d = courseSquare2(scene, params, i, j, 0.5f, 0.5f, 0.5f, counter);
-    return 0.25f * (a + b + c + d);
-}
+typedef struct {
+    /* the course's machine, one entry per level of its recursion */
+    float3 quadrant[RAY_COURSE_LEVELS][4]; /* the (clamped) values of a, b, c, d */
+    float2 corner[RAY_COURSE_LEVELS];      /* the top left corner of the level's square */
+    int taken[RAY_COURSE_LEVELS];          /* samples taken at the level: 0..4, then 5 once judged */
+    int toRefine[RAY_COURSE_LEVELS];       /* quadrants still to replace by the next level */
+    int refining[RAY_COURSE_LEVELS];       /* the quadrant the next level replaces */
+    int level;                             /* the level being sampled; -1 when the pixel is done */
+    /* the jittered modes */
+    float3 sum, low, high; /* of the samples taken; low and high of the first four (adaptive) */
+    int count, side;       /* samples taken; the side of the grid being sampled */
+    int extra;             /* adaptive: whether the k×k grid is being taken */
+    float3 result;
+} PixelSampler;
 
-/* Stratified jittered samples: an n×n grid (n = floor(sqrt(samples))), one jittered sample
- * per cell warped through the tent reconstruction filter (rayTentOffset), averaged. */
-float3 stratifiedPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
-    int n = max(1, (int)floor(sqrt((float)params->mode.w)));
-    uint pixel = counter->pixel;
-    uint seed = (uint)params->counts.w;
-    float3 sum = (float3)(0.0f);
-    for (int s = 0; s < n * n; ++s) {
-        float sx = rayTentOffset(((float)(s % n) + rayRandom(pixel, (uint)s, 0u, seed)) / (float)n);
-        float sy = rayTentOffset(((float)(s / n) + rayRandom(pixel, (uint)s, 1u, seed)) / (float)n);
-        sum += samplePixel(scene, params, i, j, sx, sy, counter);
-    }
-    return sum / (float)(n * n);
-}
-
-/* The sample of cell `cell` of a side×side grid, jittered by the random numbers of sample
- * number `number` (host/reference/course_sampling.cpp jitteredCell). */
-inline float3 jitteredSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, int cell, int side,
-                             uint number, PixelTrace* counter) {
-    uint seed = (uint)params->counts.w;
-    float sx = rayTentOffset(((float)(cell % side) + rayRandom(counter->pixel, number, 0u, seed)) / (float)side);
-    float sy = rayTentOffset(((float)(cell / side) + rayRandom(counter->pixel, number, 1u, seed)) / (float)side);
-    return samplePixel(scene, params, i, j, sx, sy, counter);
-}
-
-/* --aa adaptive (host/reference/course_sampling.h sampleAdaptive): 2×2 jittered samples; where they
- * spread by more than RAY_ADAPTIVE_CONTRAST, a k×k jittered grid more (sample numbers 4..);
- * the mean of every sample taken. */
-float3 adaptivePixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, PixelTrace* counter) {
+static inline void startSampler(PixelSampler* s, const RayRenderParams* params) {
+    s->level = 0;
+    s->corner[0] = (float2)(0.0f);
+    s->taken[0] = 0;
+    s->sum = (float3)(0.0f);
+    s->low = (float3)(INFINITY);
+    s->high = (float3)(-INFINITY);
+    s->count = 0;
+    s->extra = 0;
     int samples = params->mode.w;
-    if (samples <= 4) return stratifiedPixel(scene, params, i, j, counter);
-    float3 a = jitteredSample(scene, params, i, j, 0, 2, 0u, counter);
-    float3 b = jitteredSample(scene, params, i, j, 1, 2, 1u, counter);
-    float3 c = jitteredSample(scene, params, i, j, 2, 2, 2u, counter);
-    float3 d = jitteredSample(scene, params, i, j, 3, 2, 3u, counter);
-    float3 sum = a + b + c + d;
-    int count = 4;
-    if (contrast(a, b, c, d) > RAY_ADAPTIVE_CONTRAST) {
-        int side = max(1, (int)floor(sqrt((float)samples)));
-        for (int cell = 0; cell < side * side; ++cell)
-            sum += jitteredSample(scene, params, i, j, cell, side, (uint)(4 + cell), counter);
-        count += side * side;
+    bool stratified = params->mode.x == RAY_AA_STRATIFIED || samples <= 4;
+    s->side = stratified ? max(1, (int)floor(sqrt((float)samples))) : 2;
+    s->result = (float3)(0.0f);
+}
+
+/* The course's machine: the next sample position, or false when the pixel's value is
+ * known (s->result). A level whose four samples are in is judged once; its quadrants to
+ * refine are then entered one by one, and a finished level hands its mean to its parent. */
+static inline bool nextCoursePosition(PixelSampler* s, float2* position) {
+    while (s->level >= 0) {
+        int l = s->level;
+        float size = 1.0f / (float)(1 << l);
+        if (s->taken[l] < 4) {
+            int q = s->taken[l];
+            float quarter = size * 0.25f;
+            *position = s->corner[l] + (float2)((q & 1) ? 3.0f * quarter : quarter, (q & 2) ? 3.0f * quarter : quarter);
+            return true;
+        }
+        if (s->taken[l] == 4) { /* judged once, before any quadrant is replaced */
+            s->toRefine[l] = l + 1 < RAY_COURSE_LEVELS ? courseSubdivided(s->quadrant[l][0], s->quadrant[l][1],
+                                                                          s->quadrant[l][2], s->quadrant[l][3])
+                                                       : 0;
+            s->taken[l] = 5;
+        }
+        if (s->toRefine[l] != 0) {
+            int q = 0;
+            while (!(s->toRefine[l] & (1 << q))) ++q; /* a, b, c, d in turn */
+            s->toRefine[l] &= ~(1 << q);
+            s->refining[l] = q;
+            float halfSize = size * 0.5f;
+            s->corner[l + 1] = s->corner[l] + (float2)((q & 1) ? halfSize : 0.0f, (q & 2) ? halfSize : 0.0f);
+            s->taken[l + 1] = 0;
+            s->level = l + 1;
+            continue;
+        }
+        float3 mean = 0.25f * (s->quadrant[l][0] + s->quadrant[l][1] + s->quadrant[l][2] + s->quadrant[l][3]);
+        s->level = l - 1;
+        if (l == 0) s->result = mean;
+        else s->quadrant[l - 1][s->refining[l - 1]] = mean;
     }
-    return sum / (float)count;
+    return false;
+}
+
+/* The jittered modes: sample number s->count (its random numbers pick the jitter) in cell
+ * `cell` of the side×side grid being sampled. */
+static inline bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+    int cell = s->extra ? s->count - 4 : s->count;
+    if (cell >= s->side * s->side) {
+        bool refine = params->mode.x == RAY_AA_ADAPTIVE && params->mode.w > 4 && !s->extra &&
+                      largestChannel(s->high - s->low) > RAY_ADAPTIVE_CONTRAST;
+        if (!refine) {
+            s->result = s->sum / (float)s->count;
+            return false;
+        }
+        s->extra = 1;
+        s->side = max(1, (int)floor(sqrt((float)params->mode.w)));
+        cell = 0;
+    }
+    uint seed = (uint)params->counts.w, number = (uint)s->count;
+    float side = (float)s->side;
+    *position = (float2)(rayTentOffset(((float)(cell % s->side) + rayRandom(pixel, number, 0u, seed)) / side),
+                         rayTentOffset(((float)(cell / s->side) + rayRandom(pixel, number, 1u, seed)) / side));
+    return true;
+}
+
+/* The position of the pixel's next sample, in [0, 1)², or false when the pixel is done
+ * and its color is in s->result. */
+static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+    switch (params->mode.x) {
+        case RAY_AA_COURSE: return nextCoursePosition(s, position);
+        case RAY_AA_STRATIFIED:
+        case RAY_AA_ADAPTIVE: return nextJitteredPosition(s, params, pixel, position);
+        default:
+            if (s->count > 0) return false;
+            *position = (float2)(0.5f);
+            return true;
+    }
+}
+
+/* Takes the color of the sample at the position nextSamplePosition gave: clamped, except
+ * with --aa off, whose one sample is the pixel's unclamped color. */
+static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color) {
+    if (params->mode.x == RAY_AA_OFF) {
+        s->result = color;
+        s->count++;
+        return;
+    }
+    color = clamp(color, 0.0f, 1.0f);
+    if (params->mode.x == RAY_AA_COURSE) {
+        int l = s->level;
+        s->quadrant[l][s->taken[l]++] = color;
+        return;
+    }
+    s->sum += color;
+    if (s->count < 4) {
+        s->low = fmin(s->low, color);
+        s->high = fmax(s->high, color);
+    }
+    s->count++;
 }
 
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
@@ -369,14 +440,14 @@ __kernel void renderTile(RayRenderParams params, __global const RayWideBvhNode* 
 
     SceneBuffers scene = {nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions};
     PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u, 0u, 0.0f};
-    float3 color;
-    switch (params.mode.x) {
-        case RAY_AA_COURSE: color = coursePixel(&scene, &params, i, j, &counter); break;
-        case RAY_AA_STRATIFIED: color = stratifiedPixel(&scene, &params, i, j, &counter); break;
-        case RAY_AA_ADAPTIVE: color = adaptivePixel(&scene, &params, i, j, &counter); break;
-        default: /* unclamped, for float outputs */
-            color = traceSample(&scene, &params, i, j, 0.5f, 0.5f, &counter);
+    PixelSampler sampler;
+    startSampler(&sampler, &params);
+    float2 position;
+    while (nextSamplePosition(&sampler, &params, counter.pixel, &position)) {
+        float3 color = traceSample(&scene, &params, i, j, position.x, position.y, &counter); /* the one trace site */
+        addSample(&sampler, &params, color);
     }
+    float3 color = sampler.result;
     int pixel = y * params.tile.x + x; /* the outputs hold this tile alone, row by row */
     tileColors[pixel] = (float4)(color, 1.0f);
     tileRayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);

@@ -23,16 +23,16 @@ typedef struct {
     float time;  /* its shutter time in [0, 1] (motion blur) */
 } PixelTrace;
 
-inline float fractional(float x) { return x - floor(x); }
+static inline float fractional(float x) { return x - floor(x); }
 
 /* u of the sphere, and of the sides of the cylinder and cone: grows left to right seen
  * from outside, seam on the +x side. */
-inline float aroundY(float3 p) {
+static inline float aroundY(float3 p) {
     return fractional(atan2(-p.z, p.x) / (2.0f * M_PI_F));
 }
 
 /* The cube's face mapping; the cylinder and cone caps use its ±y faces. */
-inline float2 cubeFaceUv(int face, float3 p) {
+static inline float2 cubeFaceUv(int face, float3 p) {
     switch (face) {
         case 0: return (float2)(0.5f - p.z, p.y + 0.5f); /* +x */
         case 1: return (float2)(p.z + 0.5f, p.y + 0.5f); /* -x */
@@ -43,7 +43,7 @@ inline float2 cubeFaceUv(int face, float3 p) {
     }
 }
 
-inline float2 surfaceUv(int type, int part, float3 p) {
+static inline float2 surfaceUv(int type, int part, float3 p) {
     switch (type) {
         case RAY_PRIM_CUBE: return cubeFaceUv(part, p);
         case RAY_PRIM_SPHERE:
@@ -58,7 +58,7 @@ inline float2 surfaceUv(int type, int part, float3 p) {
     }
 }
 
-inline float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
+static inline float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
     uchar4 c = scene->texels[info.x + row * info.y + column];
     return (float3)(c.x, c.y, c.z) * (1.0f / 255.0f);
 }
@@ -107,13 +107,13 @@ float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, flo
 /* Where a secondary or shadow ray starts: off the surface along the normal (facing the
  * side the ray leaves from), by an amount that grows with the coordinates' magnitude so
  * that float rounding of the hit point cannot put it back behind the surface. */
-inline float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
+static inline float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
     float scale = 1.0f + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
     return p + normal * (epsilon * scale);
 }
 
 /* Spot light falloff: 1 inside the inner cone, 0 outside the outer, smooth between. */
-inline float spotFactor(const RayLight* light, float3 towardLight) {
+static inline float spotFactor(const RayLight* light, float3 towardLight) {
     float cosTheta = dot(-towardLight, light->direction.xyz);
     float theta = acos(clamp(cosTheta, -1.0f, 1.0f));
     float outer = light->spot.z, inner = light->spot.w;
@@ -123,7 +123,7 @@ inline float spotFactor(const RayLight* light, float3 towardLight) {
     return 1.0f - (3.0f * x * x - 2.0f * x * x * x);
 }
 
-inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
+static inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
                      PixelTrace* counter) {
     counter->shadow++;
     Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
@@ -169,7 +169,8 @@ float3 lightContribution(const SceneBuffers* scene, const RayRenderParams* param
 
 /* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4); an
  * area light is the sum over its n² jittered point samples (cl/optics.cl), each with 1/n²
- * of its intensity and a shadow ray of its own. */
+ * of its intensity and a shadow ray of its own. One loop over every light sample, around
+ * one lightContribution call (a GPU compiler inlines each call site, shadow ray and all). */
 float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, float3 p, float3 normal,
                       float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
     float3 sum = (float3)(0.0f);
@@ -177,15 +178,12 @@ float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, 
     uint seed = (uint)params->counts.w;
     for (int i = 0; i < params->counts.x; ++i) {
         RayLight light = scene->lights[i];
-        if (light.info.x != RAY_LIGHT_AREA) {
-            sum += lightContribution(scene, params, &light, light.position.xyz, light.color.xyz, p, shadowOrigin, normal,
-                                     towardEye, diffuse, specular, shininess, counter);
-            continue;
-        }
-        int cells = max(1, light.info.y) * max(1, light.info.y);
-        float3 intensity = light.color.xyz / (float)cells;
+        bool area = light.info.x == RAY_LIGHT_AREA;
+        int cells = area ? max(1, light.info.y) * max(1, light.info.y) : 1;
+        float3 intensity = area ? light.color.xyz / (float)cells : light.color.xyz;
         for (int c = 0; c < cells; ++c) {
-            float3 position = areaLightPoint(&light, i, c, counter->pixel, counter->sample, seed);
+            float3 position =
+                area ? areaLightPoint(&light, i, c, counter->pixel, counter->sample, seed) : light.position.xyz;
             sum += lightContribution(scene, params, &light, position, intensity, p, shadowOrigin, normal, towardEye,
                                      diffuse, specular, shininess, counter);
         }

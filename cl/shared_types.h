@@ -15,7 +15,13 @@
 #ifndef RAY_SHARED_TYPES_H
 #define RAY_SHARED_TYPES_H
 
-#ifndef __OPENCL_VERSION__
+/* OpenCL C, as opposed to the host's C++. Not every OpenCL C compiler defines
+ * __OPENCL_VERSION__ (clang for AMD GCN and NVPTX defines only __OPENCL_C_VERSION__). */
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define RAY_OPENCL_C 1
+#endif
+
+#ifndef RAY_OPENCL_C
 #include <cstdint>
 namespace ray::gpu {
 struct alignas(16) float4 {
@@ -220,7 +226,7 @@ RAY_STRUCT(RayRenderParams) {
     int4 tile;           /* tile width, tile height, unused, unused */
 } RAY_END_STRUCT(RayRenderParams);
 
-#ifndef __OPENCL_VERSION__
+#ifndef RAY_OPENCL_C
 }  /* namespace ray::gpu */
 #endif
 

@@ -9,6 +9,8 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "core/memory_limits.h"
@@ -74,10 +76,24 @@ cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data, 
     return cl::Buffer(context, flags, bytes, const_cast<void*>(source));
 }
 
+// A test hook: RAY_TEST_BVH_SHORT_STACK=N builds the kernel with an N-entry traversal
+// stack (cl/intersect.cl BvhStack), so that tests can make every walk overflow and show
+// that the fallback finds the same hits. Empty unless set to a number from 1 to 64.
+std::string shortStackOption() {
+    const char* value = std::getenv("RAY_TEST_BVH_SHORT_STACK");
+    if (!value) return "";
+    char* end = nullptr;
+    long entries = std::strtol(value, &end, 10);
+    if (end == value || *end != '\0' || entries < 1 || entries > 64)
+        throw std::invalid_argument("RAY_TEST_BVH_SHORT_STACK must be a number from 1 to 64, not '" +
+                                    std::string(value) + "'");
+    return " -DRAY_BVH_SHORT_STACK=" + std::to_string(entries);
+}
+
 std::string buildOptions(int maxDepth) {
     // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
     // the intersection code relies on IEEE infinities.
-    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1);
+    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption();
 }
 
 DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
