@@ -306,8 +306,8 @@ static inline float3 safeInverse(float3 d) {
  * A short stack: a wide node pushes up to 3 of its children, so a walk may need
  * 3 · RAY_BVH_STACK entries (1.5 KB) where a GPU gives a work-item a few hundred bytes of
  * fast memory. RAY_BVH_SHORT_STACK entries hold every walk of the bundled and course
- * scenes; a walk that would push more stops (overflowed) and its caller tests every
- * primitive under the walk's root instead (bruteForceRange), which finds the same hit:
+ * scenes; a walk that would push more stops (overflowed) and then tests every primitive
+ * under its root instead (everyPrimitiveUnder), which finds the same hit:
  * hits are ranked by distance and then by order (Hit.order), whatever the order in which
  * they are found. Exact, and slow only for the rare ray that overflows. The host may set
  * it with -DRAY_BVH_SHORT_STACK (tests force overflows with a tiny one). */
@@ -339,6 +339,17 @@ static inline int2 leafRange(__global const RayWideBvhNode* nodes, int root) {
         if (laneCount > 0) return (int2)(first, laneIndex + laneCount);
         node = laneIndex;
     }
+}
+
+/* A walk's fallback step: one leaf, entered at 0, holding every primitive under `root`
+ * (BvhStack). Put in place of a node's children, it sends them through the walk's own leaf
+ * loop, so that a GPU compiler, which inlines every call site, makes no second copy of it. */
+static inline NodeChildren everyPrimitiveUnder(__global const RayWideBvhNode* nodes, int root) {
+    int2 range = leafRange(nodes, root);
+    NodeChildren all = {{range.y > range.x ? 0.0f : RAY_INFINITY, RAY_INFINITY, RAY_INFINITY, RAY_INFINITY},
+                        {range.x, -1, -1, -1},
+                        {range.y - range.x, 0, 0, 0}};
+    return all;
 }
 
 /* The inner children of one node that the ray enters; with `ordered`, farthest first. */
@@ -401,14 +412,17 @@ bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive*
               bool courseMeshes, Hit* hit) {
     hit->t = tMax;
     hit->primitive = -1;
+    hit->order = 0; /* read (as a select) before any hit is recorded */
     float3 inverseDirection = safeInverse(ray.direction);
     BvhStack stack;
     stack.top = 0;
     stack.overflowed = false;
+    bool fallback = false; /* the stack overflowed: one more step, over every primitive */
     int nodeIndex = 0;
     do {
         NodeChildren children =
-            testChildren(&nodes[nodeIndex], ray.origin, inverseDirection, pruneDistance(hit, courseMeshes));
+            fallback ? everyPrimitiveUnder(nodes, 0)
+                     : testChildren(&nodes[nodeIndex], ray.origin, inverseDirection, pruneDistance(hit, courseMeshes));
         InnerChildren inner;
         inner.count = 0;
         for (int c = 0; c < 4; ++c) {
@@ -422,14 +436,11 @@ bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive*
                 addInnerChild(&inner, first, children.entry[c], !anyHit);
             }
         }
-        nodeIndex = nextNode(&inner, &stack, pruneDistance(hit, courseMeshes));
-    } while (nodeIndex >= 0);
-    if (stack.overflowed) {
-        int2 range = leafRange(nodes, 0);
-        for (int i = range.x; i < range.y; ++i) {
-            intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, hit);
-            if (anyHit && hit->primitive >= 0) return true;
+        nodeIndex = fallback ? -1 : nextNode(&inner, &stack, pruneDistance(hit, courseMeshes));
+        if (stack.overflowed && !fallback) {
+            fallback = true;
+            nodeIndex = 0;
         }
-    }
+    } while (nodeIndex >= 0);
     return hit->primitive >= 0;
 }

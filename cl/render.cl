@@ -7,9 +7,9 @@
 #endif
 
 /* A ray a hit spawns: its weight in its parent's color and the media it travels through
- * (cl/optics.cl). Its time is the camera sample's, set as it is traced. */
+ * (cl/optics.cl). Its time is the camera sample's, given as it is traced. */
 typedef struct {
-    Ray ray;
+    float3 origin, direction;
     float3 weight; /* ks·Or or kt·Ot (times R or 1 − R with --fresnel) */
     MediumStack media;
 } ChildRay;
@@ -48,12 +48,12 @@ void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3
     float3 transmitted;
     ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child->ray.origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
-        child->ray.direction = transmitted;
+        child->origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
+        child->direction = transmitted;
         child->media = beyond;
     } else {
-        child->ray.origin = offsetFromSurface(p, normal, epsilon);
-        child->ray.direction = d - 2.0f * dot(d, normal) * normal;
+        child->origin = offsetFromSurface(p, normal, epsilon);
+        child->direction = d - 2.0f * dot(d, normal) * normal;
         child->media = frame->media;
     }
     child->weight = weight;
@@ -63,8 +63,8 @@ void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3
 void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 weight,
                        float epsilon) {
     ChildRay* child = spawnedChild(frame, first);
-    child->ray.origin = offsetFromSurface(p, normal, epsilon);
-    child->ray.direction = d - 2.0f * dot(d, normal) * normal;
+    child->origin = offsetFromSurface(p, normal, epsilon);
+    child->direction = d - 2.0f * dot(d, normal) * normal;
     child->weight = weight;
     child->media = frame->media;
 }
@@ -198,7 +198,6 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
     counter->primary++;
     bool pushed = true; /* stack[top] awaits shading along `ray` */
     ChildRay first;     /* the first child of the frame shaded last */
-    const float time = ray.time; /* every ray of the tree sees the scene at its camera sample's time */
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
@@ -213,8 +212,8 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
             child->pathWeight = frame->pathWeight * spawned->weight;
             child->media = spawned->media;
             counter->secondary++;
-            ray = spawned->ray;
-            ray.time = time;
+            ray.origin = spawned->origin; /* ray.time stays: every ray of the tree sees the */
+            ray.direction = spawned->direction; /* scene at its camera sample's time */
             ++top;
             pushed = true;
             continue;
@@ -425,9 +424,18 @@ static inline void addSample(PixelSampler* s, const RayRenderParams* params, flo
     s->count++;
 }
 
+/* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
+ * work-items in flight to hide memory latency. What does not fit spills to scratch, which
+ * scripts/kernel_resources.py counts in the kernel's private memory. */
+#if defined(__AMDGCN__)
+#define RAY_KERNEL_OCCUPANCY __attribute__((amdgpu_waves_per_eu(4)))
+#else
+#define RAY_KERNEL_OCCUPANCY
+#endif
+
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
  * element y * tile width + x of the tile outputs. */
-__kernel void renderTile(RayRenderParams params, __global const RayWideBvhNode* nodes,
+__kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, __global const RayWideBvhNode* nodes,
                          __global const RayPrimitive* primitives, __global const RayMaterial* materials,
                          __global const RayLight* lights, __global const RayTexture* textures,
                          __global const uchar4* texels, __global float4* tileColors, __global uint4* tileRayCounts,

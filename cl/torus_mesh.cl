@@ -155,9 +155,11 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
     BvhStack stack;
     stack.top = 0;
     stack.overflowed = false;
+    bool fallback = false; /* the stack overflowed: one more step, over every triangle */
     int nodeIndex = root;
     do {
-        NodeChildren children = testChildren(&nodes[nodeIndex], o, inverseDirection, *best);
+        NodeChildren children =
+            fallback ? everyPrimitiveUnder(nodes, root) : testChildren(&nodes[nodeIndex], o, inverseDirection, *best);
         InnerChildren inner;
         inner.count = 0;
         for (int c = 0; c < 4; ++c) {
@@ -170,12 +172,12 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
                 addInnerChild(&inner, first, children.entry[c], true);
             }
         }
-        nodeIndex = nextNode(&inner, &stack, *best);
+        nodeIndex = fallback ? -1 : nextNode(&inner, &stack, *best);
+        if (stack.overflowed && !fallback) { /* every triangle instead (cl/intersect.cl BvhStack) */
+            fallback = true;
+            nodeIndex = root;
+        }
     } while (nodeIndex >= 0);
-    if (stack.overflowed) { /* every triangle instead (cl/intersect.cl BvhStack) */
-        int2 range = leafRange(nodes, root);
-        for (int i = range.x; i < range.y; ++i) intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
-    }
 }
 
 /* The shading normal of a mesh hit (object space): the corners' normals (the file's vn, or
