@@ -12,7 +12,10 @@ packages=(cmake make g++ pkg-config
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-pil
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
           libcpp-httplib-dev chromium chromium-driver python3-selenium
-          libopenmpi-dev openmpi-bin)  # mpirun -n N ray: tests/mpi.sh
+          libopenmpi-dev openmpi-bin   # mpirun -n N ray: tests/mpi.sh
+          # the kernel as GPU drivers build it: scripts/kernel_resources.py (clang-15 and
+          # libclc for AMD and NVIDIA), tests/rusticl.sh (Mesa's OpenCL), tests/oclgrind.sh
+          clang-15 llvm-15 libclc-15 mesa-opencl-icd oclgrind)
 if [ "${1:-}" = "--bench" ]; then
     packages+=(povray python3-matplotlib)  # bench/povray_side_by_side.py
 elif [ $# -gt 0 ]; then

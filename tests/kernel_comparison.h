@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -18,10 +19,13 @@
 
 namespace ray::test {
 
-// The first OpenCL CPU device (PoCL here), or nullopt: callers then skip().
+// The first OpenCL CPU device (PoCL here), or nullopt: callers then skip(). RAY_TEST_DEVICE
+// (a --device value: gpu, an index) runs the kernel-versus-host tests on another device
+// instead (scripts/gpu_check.sh).
 inline std::optional<OpenClDevice> cpuDevice() {
+    const char* chosen = std::getenv("RAY_TEST_DEVICE");
     try {
-        return selectOpenClDevices("cpu").front();
+        return selectOpenClDevices(chosen && *chosen ? chosen : "cpu").front();
     } catch (const DeviceError&) {
         return std::nullopt;
     }
