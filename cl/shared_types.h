@@ -132,9 +132,9 @@ RAY_STRUCT(RayBvhNode) {
  * a count > 0 a leaf holding primitives [index, index + count) of the primitive buffer
  * (stored in BVH order, as the binary tree's leaves order them). An absent child has index
  * -1 (its bounds are empty, but the walk tests the index: a slab test can "hit" an empty
- * box). Node 0 is the root. A node has at most 3 children more than its parent's one, and
- * no root-to-leaf path is longer than the binary tree's (kBvhMaxDepth), so a stack of
- * 3 · kBvhMaxDepth entries never overflows (RAY_WIDE_BVH_STACK). */
+ * box). Node 0 is the root. Leaves and children are in the binary tree's order, absent
+ * children last: the primitives under a node are one range, from its leftmost leaf to its
+ * rightmost (cl/intersect.cl leafRange, which a walk whose short stack overflows uses). */
 RAY_TABLE_STRUCT(RayWideBvhNode) {
     float4 minX, maxX;
     float4 minY, maxY;
