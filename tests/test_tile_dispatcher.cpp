@@ -176,6 +176,23 @@ TEST_CASE("a late rank's result, if first, is kept", "[distributed]") {
     CHECK(dispatcher.takeImage().rgb[0] == 1.0f);
 }
 
+TEST_CASE("a dropped rank's late tile does not stretch the deadlines", "[distributed]") {
+    using D = ray::TileDispatcher;
+    ManualClock clock;
+    D dispatcher(64, 16, 16, clock.function());  // 4 tiles
+    std::vector<ray::TileRect> first = dispatcher.handOut(1, 1);
+    REQUIRE(dispatcher.deliver(1, first[0], filled(first[0], 1).data(), first[0].pixels() * 3));
+    std::vector<ray::TileRect> hung = dispatcher.handOut(1, 1);
+    clock.now += 100;  // it stopped
+    REQUIRE(dispatcher.lateRanks().size() == 1);
+    dispatcher.drop(1);
+    REQUIRE(dispatcher.deliver(1, hung[0], filled(hung[0], 1).data(), hung[0].pixels() * 3));  // resumed
+    CHECK(dispatcher.deadline(2) == D::kFirstTileSeconds);
+    std::vector<ray::TileRect> next = dispatcher.handOut(2, 1);
+    REQUIRE(dispatcher.deliver(2, next[0], filled(next[0], 2).data(), next[0].pixels() * 3));
+    CHECK(dispatcher.deadline(2) == D::kDeadlineFloorSeconds);
+}
+
 TEST_CASE("--rank-timeout replaces the deadline, first tiles included", "[distributed]") {
     ManualClock clock;
     ray::TileDispatcher dispatcher(32, 16, 16, clock.function());

@@ -89,9 +89,11 @@ bool TileDispatcher::deliver(int rank, const TileRect& rect, const float* rgb, s
     const double now = clock_();
     RankRecord& from = record(rank);
     // The tile time, from which the deadlines follow (a rank's first delivery only starts
-    // its clock: before it, the rank was starting up).
+    // its clock: before it, the rank was starting up; a dropped rank's late tile would
+    // stretch every deadline by its hang).
     for (const Claim& c : claims_[size_t(index)])
-        if (c.rank == rank && from.firstDelivery) slowestTile_ = std::max(slowestTile_, heldSeconds(c, now));
+        if (c.rank == rank && from.firstDelivery && !from.dropped)
+            slowestTile_ = std::max(slowestTile_, heldSeconds(c, now));
     if (!from.firstDelivery) from.firstDelivery = now;
     if (state_[size_t(index)] == State::Done) return false;
     // A tile given back by a failed or dropped rank and then delivered late by it anyway:
