@@ -59,8 +59,8 @@ def resources(pid):
 
 def viewer_flags():
     """--no-token when this ray's viewer has it (an open viewer; issue 26 item 3)."""
-    help_text = subprocess.run([RAY, "view", "--help"], capture_output=True, text=True).stdout
-    return ["--no-token"] if "--no-token" in help_text else []
+    help_run = subprocess.run([RAY, "view", "--help"], capture_output=True, text=True)
+    return ["--no-token"] if "--no-token" in help_run.stdout + help_run.stderr else []
 
 
 class Frames:
