@@ -6,6 +6,8 @@
 #   - a bad scene: exit 2, one message, no hang; a rank that cannot start: the same, its
 #     message from rank 0; a rank whose scene file differs from rank 0's: refused;
 #   - a rank whose every device fails: its tiles go to the others, the same image, a warning;
+#   - a rank that hangs mid-frame (SIGSTOP): the same image within 30 s, the rank named,
+#     the job ended without it (exit 4);
 #   - a rank killed mid-frame: non-zero within seconds, the output untouched;
 #   - Ctrl-C to mpirun: the output untouched, or written with --partial.
 # Every mpirun runs under `timeout`: a hang is a failure, not a stuck CI job.
@@ -87,6 +89,85 @@ mpi -n 2 "$ray" "$base" 320 240 --tile-size 8 -o "$out/hook.mpi.png" : \
 cmp -s "$out/hook.plain.png" "$out/hook.mpi.png" || fail "a failing rank: the image differs"
 grep -q "warning: rank 2 dropped" "$out/hook.err" || { fail "a failing rank: no warning naming it"; cat "$out/hook.err"; }
 
+# A rank that hangs mid-frame (SIGSTOP: a wedged host, alive but silent): rank 0 gives its
+# tiles to the others, writes the whole image, names the rank and ends the job without it
+# (exit 4), within 30 s of the stop. RAY_TEST_STOP_AFTER_TILES=20 makes rank 2 stop itself
+# after sending 20 tiles, a known point mid-frame, and says when; the clock starts there.
+# The ranks of a job, by a word of their command line (its output file).
+ranks_of() { for p in $(pgrep -x ray); do grep -qa "$1" "/proc/$p/cmdline" 2>/dev/null && echo "$p"; done; }
+"$ray" --rank-timeout 0 "$base" 2> /dev/null
+[ $? -eq 2 ] || fail "--rank-timeout 0: not refused with exit 2"
+if [ -f "$chess" ]; then hung=("$chess" 1200 900); else hung=("$showpiece" 1200 900); fi
+hung_victim=
+state_of() { awk '{print $3}' "/proc/$1/stat" 2>/dev/null; }
+release_victim() { [ -n "$hung_victim" ] && kill -CONT "$hung_victim" 2>/dev/null && kill -9 "$hung_victim" 2>/dev/null; true; }
+trap release_victim EXIT
+"$ray" "${hung[@]}" --quiet -o "$out/hung.plain.png" || fail "hung rank: plain ray exited $?"
+# On busy cores rank 2 may start so late that the others finish the frame before its 20th
+# tile (it then ends normally): one more try, on the caches the first one filled.
+for attempt in 1 2; do
+    rm -f "$out/hung.png"
+    hung_victim=
+    "$mpirun" -q --oversubscribe -n 2 "$ray" "${hung[@]}" -o "$out/hung.png" : \
+        -n 1 -x RAY_TEST_STOP_AFTER_TILES=20 "$ray" "${hung[@]}" -o "$out/hung.png" 2> "$out/hung.err" &
+    job=$!
+    for _ in $(seq 1200); do  # at most 120 s for rank 2 to start and stop itself
+        for p in $(ranks_of hung.png); do grep -qz "^OMPI_COMM_WORLD_RANK=2$" "/proc/$p/environ" 2>/dev/null && hung_victim=$p; done
+        [ -n "$hung_victim" ] && [ "$(state_of "$hung_victim")" = T ] && break
+        kill -0 $job 2>/dev/null || break
+        sleep 0.1
+    done
+    [ "$(state_of "$hung_victim")" = T ] && break
+    wait $job
+    echo "note: attempt $attempt: rank 2 did not reach its 20th tile before the frame ended"
+done
+if [ "$(state_of "$hung_victim")" != T ]; then
+    fail "hung rank: rank 2 never stopped (found: '$hung_victim')"; kill -9 $job 2>/dev/null
+else
+    code=hung
+    for _ in $(seq 900); do  # at most 90 s
+        kill -0 $job 2>/dev/null || { wait $job; code=$?; ended_at=$(date +%s.%N); break; }
+        sleep 0.1
+    done
+    [ "$code" = hung ] && { kill -9 $job; fail "hung rank: the job did not end within 90 s of the stop"; }
+    [ "$code" = 4 ] || fail "hung rank: exit $code, not 4"
+    # The rank says when it stopped itself (polling /proc here lags seconds on busy cores).
+    stopped_at=$(sed -n 's/.*this rank stops itself (SIGSTOP) at \([0-9.]*\)$/\1/p' "$out/hung.err")
+    cmp -s "$out/hung.plain.png" "$out/hung.png" || fail "hung rank: the image differs from a plain render"
+    python3 - "$out/hung.png" "$stopped_at" "${ended_at:-0}" <<'PY' || fail "hung rank: not written and ended within 30 s of the stop"
+import os, sys
+stopped, ended = float(sys.argv[2]), float(sys.argv[3])
+written = os.path.getmtime(sys.argv[1]) - stopped
+print(f"hung rank: image written {written:.1f} s after the stop, job ended {ended - stopped:.1f} s after it")
+sys.exit(not (0 < written <= 30 and ended - stopped <= 30))
+PY
+    grep -q "warning: rank 2 (host .*) does not answer" "$out/hung.err" && grep -q "ending the job without rank 2" "$out/hung.err" \
+        || { fail "hung rank: no warning naming rank 2"; cat "$out/hung.err"; }
+    sleep 1  # mpirun's kill reaches the stopped rank (SIGCONT, SIGTERM, SIGKILL)
+    [ "$(state_of "$hung_victim")" != T ] || fail "hung rank: the stopped rank was left behind"
+    [ -z "$(ranks_of hung.png)" ] || fail "hung rank: ranks left running"
+fi
+release_victim
+
+# The same with --rank-timeout 2, rank 2 stopping after 3 tiles: rank 0 names it after 2 s
+# (its tile late while the frame goes on, or, when the others have finished the frame by
+# then, its silence; which one depends on how soon rank 2 started: test_tile_dispatcher.cpp
+# covers the late tile given to another rank).
+"$mpirun" -q --oversubscribe -n 2 "$ray" "${hung[@]}" --rank-timeout 2 -o "$out/late.png" : \
+    -n 1 -x RAY_TEST_STOP_AFTER_TILES=3 "$ray" "${hung[@]}" --rank-timeout 2 -o "$out/late.png" 2> "$out/late.err" &
+job=$!
+code=hung
+for _ in $(seq 1200); do  # at most 120 s
+    kill -0 $job 2>/dev/null || { wait $job; code=$?; break; }
+    sleep 0.1
+done
+[ "$code" = hung ] && kill -9 $job
+for p in $(ranks_of late.png); do kill -CONT "$p"; kill -9 "$p"; done 2>/dev/null
+[ "$code" = 4 ] || fail "late rank (--rank-timeout 2): exit '$code', not 4"
+cmp -s "$out/hung.plain.png" "$out/late.png" || fail "late rank: the image differs"
+grep -Eq "warning: rank 2 \(host .*\) does not answer: it (held its tile .* past its deadline of 2.0 s|sent nothing for .* \(its deadline: 2.0 s\))" \
+    "$out/late.err" || { fail "late rank: no warning with its 2 s deadline"; cat "$out/late.err"; }
+
 # A long frame (80 s on 2 busy cores), stopped after 5 s, when the ranks are surely
 # rendering: mpirun in the background, watched.
 long=("$showpiece" 2400 1800 --aa stratified --samples 64 --quiet)
@@ -99,7 +180,6 @@ wait_briefly() {
     done
     kill -9 "$pid"; echo hung
 }
-ranks_of() { for p in $(pgrep -x ray); do grep -qa "$1" "/proc/$p/cmdline" 2>/dev/null && echo "$p"; done; }
 
 # A rank killed mid-frame: mpirun ends every rank, non-zero, the old file untouched.
 echo old > "$out/killed.png"

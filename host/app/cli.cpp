@@ -67,7 +67,11 @@ exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure,
 
 across processes and machines (a build with MPI): mpirun [-q] -n N [--hostfile F] ray
 <scene.xml> ... renders one frame on N ranks, each on its own --device; rank 0 hands out
-the tiles, renders too and alone writes the image and the statistics (see README.md)
+the tiles, renders too and alone writes the image and the statistics (see README.md).
+  --rank-timeout S         under mpirun: a rank that holds a tile S seconds is taken for
+                           hung (default: from the tile times seen, at least 10 s); its
+                           tiles go to the others. Exit 4: the image was written whole, but
+                           a rank stopped answering and the job was ended without it
 )";
 
 namespace {
@@ -178,6 +182,8 @@ void addOptions(CLI::App& app, CliOptions& options) {
     text("--device", [&](const std::string& v) { validateDevice(v); options.device = v; });
     flag("--list-devices", options.listDevices, true);
     text("--tile-size", [&](const std::string& v) { options.tileSize = parseInt(v, "--tile-size", 8, 4096); });
+    text("--rank-timeout",
+         [&](const std::string& v) { options.rankTimeout = parseDoubleBetween(v, "--rank-timeout", 0.1, 1e6); });
     flag("--no-bvh", options.referenceBruteForce, true);
     app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
         for (const std::string& dir : dirs) options.searchPaths.emplace_back(dir);

@@ -16,6 +16,7 @@ struct CliOptions {
     RenderSettings settings;
     std::string device = "auto";  // auto | cpu | gpu | all | ref | <index> | <index>,<index>...
     int tileSize = 0;             // --tile-size; 0: automatic
+    double rankTimeout = 0;       // --rank-timeout (mpirun): seconds; 0: from the tile times
     std::vector<std::filesystem::path> searchPaths;
     bool strict = false;
     bool quiet = false;

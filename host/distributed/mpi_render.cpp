@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -308,7 +309,30 @@ std::vector<TileRect> receiveTiles(int& count) {
     return tiles;
 }
 
+// Test hook: RAY_TEST_STOP_AFTER_TILES=n makes a worker stop itself (SIGSTOP, as a wedged
+// host would stop answering, not die) once it has sent n tiles: a rank hung mid-frame at a
+// known point (tests/mpi.sh), saying when on stderr. 0 or unset: never.
+class StopHook {
+public:
+    StopHook() {
+        if (const char* n = std::getenv("RAY_TEST_STOP_AFTER_TILES")) after_ = std::atoi(n);
+    }
+    void tileSent() {
+        if (after_ > 0 && ++sent_ == after_) {
+            // The moment, for the test to time rank 0 from (Unix time, seconds).
+            const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+            std::fprintf(stderr, "ray: test hook: this rank stops itself (SIGSTOP) at %.3f\n", now);
+            std::fflush(stderr);
+            raise(SIGSTOP);
+        }
+    }
+
+private:
+    int after_ = 0, sent_ = 0;
+};
+
 int runWorker(Prepared& p) {
+    StopHook stopHook;
     RemoteTiles tiles;
     Outbox outbox;
     std::atomic<bool> rendered{false};
@@ -340,6 +364,7 @@ int runWorker(Prepared& p) {
         }
         while (auto message = outbox.pop()) {
             MPI_Send(message->data(), int(message->size()), MPI_BYTE, 0, kResult, MPI_COMM_WORLD);
+            stopHook.tileSent();
             active = true;
         }
         int flag = 0;
@@ -398,7 +423,9 @@ private:
 };
 
 // Rank 0's own share, on its own thread: rounds of the engine until the frame is complete
-// (a second round only when a failed rank gave tiles back after the first ended).
+// (a second round only when a failed or dropped rank's tiles came back after the first
+// ended). Rank 0's tiles have no deadline: its devices are in this process, and a hung
+// one is the engine's to handle.
 struct LocalShare {
     std::atomic<bool> done{false};
     std::atomic<int> tilesKept{0};
@@ -412,7 +439,7 @@ void renderLocalShare(Prepared& p, TileDispatcher& dispatcher, LocalShare& share
     try {
         OpenClEngine engine(*p.scene, p.devices);
         while (!share.stop && !interrupted() && !dispatcher.complete()) {
-            if (!dispatcher.anyToHandOut()) {
+            if (!dispatcher.anyToHandOut(0)) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
                 continue;
             }
@@ -458,11 +485,20 @@ FrameStats sumRounds(const std::vector<FrameStats>& rounds) {
     return total;
 }
 
+// A job whose image was written whole, but that rank 0 ended (MPI_Abort) because a rank
+// stopped answering: mpirun would otherwise wait for it in MPI_Finalize forever.
+constexpr int kExitRankAbandoned = 4;
+// How often rank 0 looks for tiles past their deadline.
+constexpr double kDeadlineCheckSeconds = 0.1;
+
 class Coordinator {
 public:
-    Coordinator(Prepared& p, const MpiSession& mpi, int tileSide)
+    Coordinator(Prepared& p, const MpiSession& mpi, int tileSide, std::vector<std::string> hosts)
         : p_(p), mpi_(mpi), dispatcher_(p.options.settings.width, p.options.settings.height, tileSide),
-          rankStats_(size_t(mpi.size)), tilesPerRank_(size_t(mpi.size), 0) {}
+          rankStats_(size_t(mpi.size)), tilesPerRank_(size_t(mpi.size), 0), abandoned_(size_t(mpi.size), false),
+          hosts_(std::move(hosts)), lastHeard_(size_t(mpi.size), Clock::now()) {
+        if (p.options.rankTimeout > 0) dispatcher_.setDeadline(p.options.rankTimeout);
+    }
 
     int run() {
         ProgressBar progress(!p_.options.quiet);
@@ -470,13 +506,17 @@ public:
         const auto start = Clock::now();
         LocalShare share;
         std::thread local([&] { renderLocalShare(p_, dispatcher_, share); });
+        auto lastCheck = Clock::now();
         while (!interrupted()) {
-            if (handleOneMessage()) continue;
+            const bool handled = handleOneMessage();
+            if (secondsSince(lastCheck) >= kDeadlineCheckSeconds) {
+                abandonUnresponsiveRanks();
+                lastCheck = Clock::now();
+            }
+            if (handled) continue;
             progress.update(dispatcher_.fractionDone());
-            const bool workersDone = std::all_of(rankStats_.begin() + 1, rankStats_.end(),
-                                                 [](const std::optional<Json>& stats) { return stats.has_value(); });
             // Rank 0's share ends when the frame is complete or its devices all failed.
-            if (workersDone && share.done) break;
+            if (share.done && everyWorkerAccountedFor()) break;
             idle();
         }
         share.stop = true;
@@ -490,7 +530,8 @@ public:
         result.image = dispatcher_.takeImage();
         int code = 0;
         if (!result.interrupted && !complete) {
-            std::cerr << "ray: every rank's OpenCL devices failed; rank 0: " << share.failure << "\n";
+            std::cerr << "ray: every rank's OpenCL devices failed or stopped answering; rank 0: " << share.failure
+                      << "\n";
             code = kExitRuntime;
         } else {
             result.stats = collectStats(share);
@@ -502,8 +543,73 @@ public:
             }
         }
         if (result.interrupted) leaveInterrupted();
-        for (int r = 1; r < mpi_.size; ++r) MPI_Send(&code, 1, MPI_INT, r, kEnd, MPI_COMM_WORLD);
+        std::vector<int> silent;
+        for (int r = 1; r < mpi_.size; ++r) {
+            if (rankStats_[size_t(r)]) MPI_Send(&code, 1, MPI_INT, r, kEnd, MPI_COMM_WORLD);
+            else silent.push_back(r);
+        }
+        if (!silent.empty()) endWithout(silent, code);
         return code;
+    }
+
+private:
+    std::string nameOf(int rank) const {
+        return "rank " + std::to_string(rank) +
+               (size_t(rank) < hosts_.size() ? " (host " + hosts_[size_t(rank)] + ")" : std::string());
+    }
+
+    bool everyWorkerAccountedFor() const {
+        for (int r = 1; r < mpi_.size; ++r)
+            if (!rankStats_[size_t(r)] && !abandoned_[size_t(r)]) return false;
+        return true;
+    }
+
+    // A worker holding a tile past its deadline, or silent for as long after the frame
+    // was complete, is taken for hung: named, given no more tiles, its tiles to the others.
+    void abandonUnresponsiveRanks() {
+        for (const TileDispatcher::Late& late : dispatcher_.lateRanks()) {
+            if (late.rank == 0 || rankStats_[size_t(late.rank)]) continue;
+            abandon(late.rank, "held its tile at (" + std::to_string(late.tile.x) + ", " + std::to_string(late.tile.y) +
+                                   ") for " + formatSeconds(late.heldSeconds) + ", past its deadline of " +
+                                   formatSeconds(late.deadlineSeconds));
+        }
+        // Once the image is complete, a worker holds no tile that counts, but its statistics
+        // are due: it is silent too long when nothing came from it for a tile's deadline.
+        if (!dispatcher_.complete()) return;
+        for (int r = 1; r < mpi_.size; ++r) {
+            const double limit = dispatcher_.deadline(r), silence = secondsSince(lastHeard_[size_t(r)]);
+            if (!rankStats_[size_t(r)] && !abandoned_[size_t(r)] && silence > limit)
+                abandon(r, "sent nothing for " + formatSeconds(silence) + " (its deadline: " + formatSeconds(limit) +
+                               "), and the image is complete without it");
+        }
+    }
+
+    void abandon(int rank, const std::string& why) {
+        abandoned_[size_t(rank)] = true;
+        const int moved = dispatcher_.drop(rank);
+        std::cerr << "ray: warning: " << nameOf(rank) << " does not answer: it " << why << "; it gets no more tiles ("
+                  << moved << " of its tiles went to the other ranks; --rank-timeout sets the deadline)\n"
+                  << std::flush;
+    }
+
+    static std::string formatSeconds(double seconds) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.1f s", seconds);
+        return text;
+    }
+
+    // The image is written (or failed for its own reason): end the ranks that never
+    // answered. MPI_Finalize and mpirun would wait for them for ever; MPI_Abort makes
+    // mpirun end every rank, and exits with the code given here.
+    [[noreturn]] void endWithout(const std::vector<int>& silent, int code) {
+        std::string names;
+        for (int r : silent) names += (names.empty() ? "" : ", ") + nameOf(r);
+        const int exitCode = code == 0 ? kExitRankAbandoned : code;
+        std::cerr << "ray: ending the job without " << names << ", which did not answer"
+                  << (code == 0 ? " (the image is written and whole)" : "") << "; exit " << exitCode << "\n"
+                  << std::flush;
+        MPI_Abort(MPI_COMM_WORLD, exitCode);
+        std::_Exit(exitCode);
     }
 
 private:
@@ -515,6 +621,7 @@ private:
         if (!flag) return false;
         const auto start = Clock::now();
         const int from = status.MPI_SOURCE;
+        lastHeard_[size_t(from)] = start;
         int bytes = 0;
         MPI_Get_count(&status, MPI_BYTE, &bytes);
         messages_ += 1;
@@ -621,6 +728,9 @@ private:
     std::vector<std::optional<Json>> rankStats_;  // each worker's, once it finished; rank 0's at the end
     std::vector<int> tilesPerRank_;
     std::vector<std::string> dropWarnings_;  // workers whose devices all failed
+    std::vector<bool> abandoned_;            // workers taken for hung (abandonUnresponsiveRanks)
+    std::vector<std::string> hosts_;         // each rank's host, for the messages
+    std::vector<Clock::time_point> lastHeard_;  // each worker's latest message
     struct {
         uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
     } workerRays_;  // the rays of the workers' tiles kept
@@ -628,6 +738,22 @@ private:
     uint64_t messages_ = 0, bytes_ = 0;
     double dispatchSeconds_ = 0;
 };
+
+// Each rank's host name, on rank 0 (the others get an empty list).
+std::vector<std::string> hostsOfRanks(const MpiSession& mpi) {
+    char mine[MPI_MAX_PROCESSOR_NAME] = {};
+    int length = 0;
+    MPI_Get_processor_name(mine, &length);
+    std::vector<char> all(size_t(mpi.size) * MPI_MAX_PROCESSOR_NAME);
+    MPI_Gather(mine, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR, 0, MPI_COMM_WORLD);
+    std::vector<std::string> hosts;
+    if (mpi.rank == 0)
+        for (int r = 0; r < mpi.size; ++r) {
+            const char* name = all.data() + size_t(r) * MPI_MAX_PROCESSOR_NAME;
+            hosts.emplace_back(name, strnlen(name, MPI_MAX_PROCESSOR_NAME));
+        }
+    return hosts;
+}
 
 }  // namespace
 
@@ -643,12 +769,13 @@ int runDistributedCommand(int argc, char** argv, const std::vector<std::string>&
                                       "at the same path on every host, e.g. a shared folder)"};
     if (int code = agreeOnStart(started, mpi); code != 0) return code;
     if (prepared.nothingToRender) return 0;
+    std::vector<std::string> hosts = hostsOfRanks(mpi);
     try {
         if (mpi.rank != 0) return runWorker(prepared);
         const int side = prepared.options.tileSize > 0
                              ? prepared.options.tileSize
                              : cancellableTileSize(prepared.options.settings, *prepared.scene);
-        return Coordinator(prepared, mpi, side).run();
+        return Coordinator(prepared, mpi, side, std::move(hosts)).run();
     } catch (...) {
         abortAll(mpi.rank, describeFailure(std::current_exception()).message);
     }

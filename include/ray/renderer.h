@@ -76,8 +76,23 @@ using TileCallback = std::function<void(const Tile& tile)>;
 // copy of the scene. On OpenCL devices the scene is packed and uploaded on the first frame
 // and kept: later frames with another camera or settings cost only their rendering
 // (FrameStats::packSeconds and uploadSeconds are 0), except when the area-light samples or
-// the trilinear filter change, which reshape the packed tables. Not safe to use from two
-// threads at once.
+// the trilinear filter change, which reshape the packed tables.
+//
+// Threads and processes:
+// - One Renderer is used by one thread at a time: its member functions must not run on two
+//   threads at once (guard it with a mutex if it is shared). Only `cancel`, which any
+//   thread may set, and the callbacks, which run on a worker thread while render() runs,
+//   cross threads.
+// - Different Renderers may render on different threads at the same time, on the same or
+//   different devices and scenes: each has its own copy of the scene, its own OpenCL
+//   contexts, queues and buffers, and renders exactly what it renders alone (tested:
+//   tests/test_api_concurrency.cpp). They share a device's cores, so each is slower.
+// - A Scene is a plain value: several threads may read one (e.g. each constructing a
+//   Renderer from it) as long as none modifies it meanwhile.
+// - listDevices() and saveImage() may be called from any thread.
+// - Processes may share one kernel cache folder ($RAY_CACHE_DIR), even an empty one they
+//   fill at once: each cache file is written whole under a temporary name and renamed
+//   (tested with four processes: tests/concurrency.sh).
 class Renderer {
 public:
     // Throws DeviceError when the selection names no device, InputError for a bad name.
