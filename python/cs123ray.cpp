@@ -128,11 +128,6 @@ std::vector<uint32_t> vertexIndices(const py::object& triangles) {
 // Render options: each value's type checked as Python's own functions check theirs (a
 // TypeError naming the option and what it takes), its range by the C++ API (a ValueError).
 
-const char* const kOptionNames[] = {"width",   "height",   "depth",   "aa",          "samples",
-                                    "seed",    "area_samples", "shutter", "threshold", "shadows",
-                                    "reflections", "refraction", "textures", "dof", "fresnel",
-                                    "course_meshes", "texture_filter"};
-
 bool isBool(const py::handle& value) {
     return PyBool_Check(value.ptr()) || py::isinstance(value, py::module_::import("numpy").attr("bool_"));
 }
@@ -186,46 +181,67 @@ uint32_t seedOption(const py::handle& value) {
     return uint32_t(seed);
 }
 
+api::Antialias antialias(const std::string& name, const py::handle& value) {
+    return enumFromName<api::Antialias>(textOption(name, value),
+                                        {{"off", api::Antialias::Off},
+                                         {"course", api::Antialias::Course},
+                                         {"stratified", api::Antialias::Stratified},
+                                         {"adaptive", api::Antialias::Adaptive}},
+                                        "aa");
+}
+
+api::TextureFilter textureFilter(const std::string& name, const py::handle& value) {
+    return enumFromName<api::TextureFilter>(textOption(name, value),
+                                            {{"nearest", api::TextureFilter::Nearest},
+                                             {"bilinear", api::TextureFilter::Bilinear},
+                                             {"trilinear", api::TextureFilter::Trilinear}},
+                                            "texture_filter");
+}
+
+// Each option: its keyword and how it sets Settings (the command line's switches, named
+// as Python names keywords).
+using OptionSetter = void (*)(api::Settings&, const std::string& name, const py::handle& value);
+using S = api::Settings;
+using V = const py::handle&;
+using N = const std::string&;
+const std::pair<const char*, OptionSetter> kOptions[] = {
+    {"width", [](S& s, N n, V v) { s.width = intOption(n, v); }},
+    {"height", [](S& s, N n, V v) { s.height = intOption(n, v); }},
+    {"depth", [](S& s, N n, V v) { s.depth = intOption(n, v); }},
+    {"aa", [](S& s, N n, V v) { s.antialias = antialias(n, v); }},
+    {"samples", [](S& s, N n, V v) { s.samples = intOption(n, v); }},
+    {"seed", [](S& s, N, V v) { s.seed = seedOption(v); }},
+    {"area_samples", [](S& s, N n, V v) { s.areaSamples = intOption(n, v); }},
+    {"shutter", [](S& s, N n, V v) { s.shutter = realOption(n, v); }},
+    {"threshold", [](S& s, N n, V v) { s.threshold = realOption(n, v); }},
+    {"shadows", [](S& s, N n, V v) { s.shadows = boolOption(n, v); }},
+    {"reflections", [](S& s, N n, V v) { s.reflections = boolOption(n, v); }},
+    {"refraction", [](S& s, N n, V v) { s.refraction = boolOption(n, v); }},
+    {"textures", [](S& s, N n, V v) { s.textures = boolOption(n, v); }},
+    {"dof", [](S& s, N n, V v) { s.depthOfField = boolOption(n, v); }},
+    {"fresnel", [](S& s, N n, V v) { s.fresnel = boolOption(n, v); }},
+    {"course_meshes", [](S& s, N n, V v) { s.courseMeshes = boolOption(n, v); }},
+    {"texture_filter", [](S& s, N n, V v) { s.textureFilter = textureFilter(n, v); }},
+};
+
+std::string optionNames() {
+    std::string names;
+    for (const auto& [option, set] : kOptions) names += (names.empty() ? "" : ", ") + std::string(option);
+    return names;
+}
+
 [[noreturn]] void unknownOption(const std::string& name) {
     py::list known;
-    for (const char* option : kOptionNames) known.append(option);
+    for (const auto& [option, set] : kOptions) known.append(option);
     py::list close = py::module_::import("difflib").attr("get_close_matches")(name, known, 1);
     std::string hint = close.empty() ? "" : "; did you mean '" + std::string(py::str(close[0])) + "'?";
-    std::string names;
-    for (const char* option : kOptionNames) names += (names.empty() ? "" : ", ") + std::string(option);
-    throw py::type_error("unknown render option '" + name + "'" + hint + " (the options are " + names + ")");
+    throw py::type_error("unknown render option '" + name + "'" + hint + " (the options are " + optionNames() + ")");
 }
 
 void setOption(api::Settings& s, const std::string& name, const py::handle& value) {
-    if (name == "width") s.width = intOption(name, value);
-    else if (name == "height") s.height = intOption(name, value);
-    else if (name == "depth") s.depth = intOption(name, value);
-    else if (name == "aa")
-        s.antialias = enumFromName<api::Antialias>(textOption(name, value),
-                                                   {{"off", api::Antialias::Off},
-                                                    {"course", api::Antialias::Course},
-                                                    {"stratified", api::Antialias::Stratified},
-                                                    {"adaptive", api::Antialias::Adaptive}},
-                                                   "aa");
-    else if (name == "samples") s.samples = intOption(name, value);
-    else if (name == "seed") s.seed = seedOption(value);
-    else if (name == "area_samples") s.areaSamples = intOption(name, value);
-    else if (name == "shutter") s.shutter = realOption(name, value);
-    else if (name == "threshold") s.threshold = realOption(name, value);
-    else if (name == "shadows") s.shadows = boolOption(name, value);
-    else if (name == "reflections") s.reflections = boolOption(name, value);
-    else if (name == "refraction") s.refraction = boolOption(name, value);
-    else if (name == "textures") s.textures = boolOption(name, value);
-    else if (name == "dof") s.depthOfField = boolOption(name, value);
-    else if (name == "fresnel") s.fresnel = boolOption(name, value);
-    else if (name == "course_meshes") s.courseMeshes = boolOption(name, value);
-    else if (name == "texture_filter")
-        s.textureFilter = enumFromName<api::TextureFilter>(textOption(name, value),
-                                                           {{"nearest", api::TextureFilter::Nearest},
-                                                            {"bilinear", api::TextureFilter::Bilinear},
-                                                            {"trilinear", api::TextureFilter::Trilinear}},
-                                                           "texture_filter");
-    else unknownOption(name);
+    for (const auto& [option, set] : kOptions)
+        if (name == option) return set(s, name, value);
+    unknownOption(name);
 }
 
 // The options over `s`. Width and height come together: one alone would keep the other
@@ -595,10 +611,9 @@ void bindRendering(py::module_& m) {
            "Moves the camera for the next frames (the lens stays as the scene set it).")
         .def("set_options", [](api::Renderer& r, const py::kwargs& options) {
             r.setSettings(settingsFrom(options, r.settings()));
-        }, "Changes render options for the next frames, as keywords: width and height (together), depth, aa, "
-           "samples, seed, area_samples, shutter, threshold, shadows, reflections, refraction, textures, dof, "
-           "fresnel, course_meshes, texture_filter. A wrong type raises TypeError, a value out of range "
-           "InputError (a ValueError).")
+        }, ("Changes render options for the next frames, as keywords: " + optionNames() +
+            " (width and height together). A wrong type raises TypeError, a value out of range InputError (a "
+            "ValueError).").c_str())
         .def("render", [](api::Renderer& r, const py::object& dtype, const py::object& progress) {
             return renderArray(r, dtype, progress);
         }, py::arg("dtype") = "float32", py::arg("progress") = py::none(),
