@@ -10,6 +10,10 @@ set_target_properties(libray PROPERTIES
 target_include_directories(libray PUBLIC
   $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 target_link_libraries(libray PRIVATE ${RAY_DEPENDENCIES})
+# Only ray::api is exported (cmake/libray.map); the ray command keeps exporting everything
+# for its modules (ENABLE_EXPORTS), from the same objects.
+target_link_options(libray PRIVATE "LINKER:--version-script=${CMAKE_SOURCE_DIR}/cmake/libray.map")
+set_property(TARGET libray APPEND PROPERTY LINK_DEPENDS ${CMAKE_SOURCE_DIR}/cmake/libray.map)
 target_compile_features(libray PUBLIC cxx_std_20)
 add_library(ray::ray ALIAS libray)
 

@@ -11,6 +11,8 @@
 #include <atomic>
 #include <chrono>
 #include <future>
+#include <limits>
+#include <sstream>
 #include <thread>
 
 #include "ray/ray.h"
@@ -86,48 +88,171 @@ py::array_t<double> matrixOf(const api::Transform& t) {
     return out;
 }
 
+// An N x columns array (or nested sequences) of numbers, row by row; None or empty: none.
 template <class T>
-std::vector<T> flat(const py::array_t<T, py::array::c_style | py::array::forcecast>& array, py::ssize_t columns,
-                    const char* what) {
+std::vector<T> flat(const py::object& values, py::ssize_t columns, const char* what) {
+    if (values.is_none()) return {};
+    auto array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(values);
+    if (!array) {
+        PyErr_Clear();
+        throw py::type_error(std::string(what) + " must be an N x " + std::to_string(columns) +
+                             " array of numbers, not " + std::string(py::str(values.get_type().attr("__name__"))));
+    }
     if (array.size() == 0) return {};
     if (array.ndim() != 2 || array.shape(1) != columns)
-        throw py::value_error(std::string(what) + " must be an N x " + std::to_string(columns) + " array");
+        throw py::value_error(std::string(what) + " must be an N x " + std::to_string(columns) +
+                              " array, not one of shape " + std::string(py::str(array.attr("shape"))));
     return std::vector<T>(array.data(), array.data() + array.size());
 }
 
-api::Settings settingsFrom(const py::kwargs& options, api::Settings s) {
-    for (const auto& [key, value] : options) {
-        const std::string name = py::str(key);
-        if (name == "width") s.width = value.cast<int>();
-        else if (name == "height") s.height = value.cast<int>();
-        else if (name == "depth") s.depth = value.cast<int>();
-        else if (name == "aa")
-            s.antialias = enumFromName<api::Antialias>(value.cast<std::string>(),
-                                                       {{"off", api::Antialias::Off},
-                                                        {"course", api::Antialias::Course},
-                                                        {"stratified", api::Antialias::Stratified},
-                                                        {"adaptive", api::Antialias::Adaptive}},
-                                                       "aa");
-        else if (name == "samples") s.samples = value.cast<int>();
-        else if (name == "seed") s.seed = value.cast<uint32_t>();
-        else if (name == "area_samples") s.areaSamples = value.cast<int>();
-        else if (name == "shutter") s.shutter = value.cast<double>();
-        else if (name == "threshold") s.threshold = value.cast<double>();
-        else if (name == "shadows") s.shadows = value.cast<bool>();
-        else if (name == "reflections") s.reflections = value.cast<bool>();
-        else if (name == "refraction") s.refraction = value.cast<bool>();
-        else if (name == "textures") s.textures = value.cast<bool>();
-        else if (name == "dof") s.depthOfField = value.cast<bool>();
-        else if (name == "fresnel") s.fresnel = value.cast<bool>();
-        else if (name == "course_meshes") s.courseMeshes = value.cast<bool>();
-        else if (name == "texture_filter")
-            s.textureFilter = enumFromName<api::TextureFilter>(value.cast<std::string>(),
-                                                               {{"nearest", api::TextureFilter::Nearest},
-                                                                {"bilinear", api::TextureFilter::Bilinear},
-                                                                {"trilinear", api::TextureFilter::Trilinear}},
-                                                               "texture_filter");
-        else throw py::type_error("unknown render option '" + name + "'");
+// M x 3 vertex indices: integers (a float index is a mistake, not something to round),
+// none negative.
+std::vector<uint32_t> vertexIndices(const py::object& triangles) {
+    auto array = py::array::ensure(triangles);
+    if (!array) {
+        PyErr_Clear();
+        throw py::type_error("triangles must be an M x 3 array of vertex indices");
     }
+    const char kind = array.dtype().kind();
+    if (array.size() > 0 && kind != 'i' && kind != 'u')
+        throw py::type_error("triangles must hold integer vertex indices, not " + std::string(py::str(array.dtype())));
+    std::vector<int64_t> indices = flat<int64_t>(array, 3, "triangles");
+    for (int64_t index : indices)
+        if (index < 0 || index > int64_t(std::numeric_limits<uint32_t>::max()))
+            throw py::value_error("triangles hold vertex index " + std::to_string(index) +
+                                  "; indices count vertices from 0");
+    return std::vector<uint32_t>(indices.begin(), indices.end());
+}
+
+// ---------------------------------------------------------------------------------------
+// Render options: each value's type checked as Python's own functions check theirs (a
+// TypeError naming the option and what it takes), its range by the C++ API (a ValueError).
+
+bool isBool(const py::handle& value) {
+    return PyBool_Check(value.ptr()) || py::isinstance(value, py::module_::import("numpy").attr("bool_"));
+}
+
+[[noreturn]] void wrongType(const std::string& name, const char* expected, const py::handle& value) {
+    throw py::type_error(name + " must be " + expected + ", not " + std::string(py::str(value.get_type().attr("__name__"))) +
+                         " (" + std::string(py::repr(value)) + ")");
+}
+
+// An int, a NumPy integer, anything with __index__; not a bool, not a float (3.5 pixels).
+long long integerOption(const std::string& name, const py::handle& value) {
+    if (isBool(value) || !PyIndex_Check(value.ptr())) wrongType(name, "an integer", value);
+    py::int_ integer = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+    if (!integer) throw py::error_already_set();
+    int overflow = 0;
+    const long long result = PyLong_AsLongLongAndOverflow(integer.ptr(), &overflow);
+    if (overflow != 0) throw py::value_error(name + " " + std::string(py::repr(value)) + " is out of range");
+    return result;
+}
+
+// Narrowed to int; a value beyond int is out of every range the API takes.
+int intOption(const std::string& name, const py::handle& value) {
+    const long long result = integerOption(name, value);
+    if (result < std::numeric_limits<int>::min() || result > std::numeric_limits<int>::max())
+        throw py::value_error(name + " " + std::to_string(result) + " is out of range");
+    return int(result);
+}
+
+double realOption(const std::string& name, const py::handle& value) {
+    const bool number = PyFloat_Check(value.ptr()) || PyIndex_Check(value.ptr()) || py::hasattr(value, "__float__");
+    if (isBool(value) || PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr()) || !number)
+        wrongType(name, "a number", value);
+    return py::float_(py::reinterpret_borrow<py::object>(value));
+}
+
+bool boolOption(const std::string& name, const py::handle& value) {
+    if (!isBool(value)) wrongType(name, "True or False", value);
+    return PyObject_IsTrue(value.ptr()) == 1;
+}
+
+std::string textOption(const std::string& name, const py::handle& value) {
+    if (!PyUnicode_Check(value.ptr())) wrongType(name, "a string", value);
+    return py::str(value);
+}
+
+uint32_t seedOption(const py::handle& value) {
+    const long long seed = integerOption("seed", value);
+    if (seed < 0 || seed > std::numeric_limits<uint32_t>::max())
+        throw py::value_error("seed must be between 0 and " + std::to_string(std::numeric_limits<uint32_t>::max()) +
+                              ", not " + std::to_string(seed));
+    return uint32_t(seed);
+}
+
+api::Antialias antialias(const std::string& name, const py::handle& value) {
+    return enumFromName<api::Antialias>(textOption(name, value),
+                                        {{"off", api::Antialias::Off},
+                                         {"course", api::Antialias::Course},
+                                         {"stratified", api::Antialias::Stratified},
+                                         {"adaptive", api::Antialias::Adaptive}},
+                                        "aa");
+}
+
+api::TextureFilter textureFilter(const std::string& name, const py::handle& value) {
+    return enumFromName<api::TextureFilter>(textOption(name, value),
+                                            {{"nearest", api::TextureFilter::Nearest},
+                                             {"bilinear", api::TextureFilter::Bilinear},
+                                             {"trilinear", api::TextureFilter::Trilinear}},
+                                            "texture_filter");
+}
+
+// Each option: its keyword and how it sets Settings (the command line's switches, named
+// as Python names keywords).
+using OptionSetter = void (*)(api::Settings&, const std::string& name, const py::handle& value);
+using S = api::Settings;
+using V = const py::handle&;
+using N = const std::string&;
+const std::pair<const char*, OptionSetter> kOptions[] = {
+    {"width", [](S& s, N n, V v) { s.width = intOption(n, v); }},
+    {"height", [](S& s, N n, V v) { s.height = intOption(n, v); }},
+    {"depth", [](S& s, N n, V v) { s.depth = intOption(n, v); }},
+    {"aa", [](S& s, N n, V v) { s.antialias = antialias(n, v); }},
+    {"samples", [](S& s, N n, V v) { s.samples = intOption(n, v); }},
+    {"seed", [](S& s, N, V v) { s.seed = seedOption(v); }},
+    {"area_samples", [](S& s, N n, V v) { s.areaSamples = intOption(n, v); }},
+    {"shutter", [](S& s, N n, V v) { s.shutter = realOption(n, v); }},
+    {"threshold", [](S& s, N n, V v) { s.threshold = realOption(n, v); }},
+    {"shadows", [](S& s, N n, V v) { s.shadows = boolOption(n, v); }},
+    {"reflections", [](S& s, N n, V v) { s.reflections = boolOption(n, v); }},
+    {"refraction", [](S& s, N n, V v) { s.refraction = boolOption(n, v); }},
+    {"textures", [](S& s, N n, V v) { s.textures = boolOption(n, v); }},
+    {"dof", [](S& s, N n, V v) { s.depthOfField = boolOption(n, v); }},
+    {"fresnel", [](S& s, N n, V v) { s.fresnel = boolOption(n, v); }},
+    {"course_meshes", [](S& s, N n, V v) { s.courseMeshes = boolOption(n, v); }},
+    {"texture_filter", [](S& s, N n, V v) { s.textureFilter = textureFilter(n, v); }},
+};
+
+std::string optionNames() {
+    std::string names;
+    for (const auto& [option, set] : kOptions) names += (names.empty() ? "" : ", ") + std::string(option);
+    return names;
+}
+
+[[noreturn]] void unknownOption(const std::string& name) {
+    py::list known;
+    for (const auto& [option, set] : kOptions) known.append(option);
+    py::list close = py::module_::import("difflib").attr("get_close_matches")(name, known, 1);
+    std::string hint = close.empty() ? "" : "; did you mean '" + std::string(py::str(close[0])) + "'?";
+    throw py::type_error("unknown render option '" + name + "'" + hint + " (the options are " + optionNames() + ")");
+}
+
+void setOption(api::Settings& s, const std::string& name, const py::handle& value) {
+    for (const auto& [option, set] : kOptions)
+        if (name == option) return set(s, name, value);
+    unknownOption(name);
+}
+
+// The options over `s`. Width and height come together: one alone would keep the other
+// (1024 x 768 by default), a stretched image nobody asked for.
+api::Settings settingsFrom(const py::kwargs& options, api::Settings s) {
+    if (options.contains("width") != options.contains("height"))
+        throw py::value_error(std::string(options.contains("width") ? "width" : "height") +
+                              " without " + (options.contains("width") ? "height" : "width") +
+                              ": give both (the image is " + std::to_string(s.width) + " x " +
+                              std::to_string(s.height) + " otherwise)");
+    for (const auto& [key, value] : options) setOption(s, py::str(key), value);
     return s;
 }
 
@@ -175,29 +300,89 @@ api::FrameStats renderWatched(api::Renderer& renderer, float* rgb, size_t floats
     return stats;
 }
 
+// The dtype asked for, as NumPy users write it ("uint8", np.uint8, np.dtype("float32")).
+std::string dtypeName(const py::object& dtype) {
+    const std::string name = py::str(py::dtype::from_args(dtype).attr("name"));
+    if (name != "float32" && name != "uint8") throw py::value_error("dtype must be float32 or uint8, not " + name);
+    return name;
+}
+
 // Renders a frame as an H x W x 3 array: float32 (linear, unclamped) or uint8 (the bytes
 // ray's 8-bit images hold).
-py::array renderArray(api::Renderer& renderer, const std::string& dtype, const py::object& progress) {
-    if (dtype != "float32" && dtype != "uint8") throw py::value_error("dtype must be 'float32' or 'uint8'");
+py::array renderArray(api::Renderer& renderer, const py::object& dtype, const py::object& progress) {
+    const std::string name = dtypeName(dtype);
     const api::Settings& s = renderer.settings();
     py::array_t<float> rgb({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
     renderWatched(renderer, rgb.mutable_data(), size_t(rgb.size()), progress);
-    if (dtype == "float32") return rgb;
+    if (name == "float32") return rgb;
     py::array_t<uint8_t> bytes({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
     std::transform(rgb.data(), rgb.data() + rgb.size(), bytes.mutable_data(), api::toByte);
     return bytes;
 }
 
+// ---------------------------------------------------------------------------------------
+// Images and textures from NumPy: floats are linear (1.0 is full), uint8 are ray's bytes
+// (255 is full), as render(dtype=...) makes them; other dtypes have no agreed scale.
+
+bool isBytes(const py::array& image) { return image.dtype().kind() == 'u' && image.dtype().itemsize() == 1; }
+bool isFloats(const py::array& image) { return image.dtype().kind() == 'f'; }
+
+// An H x W x 3 array of floats or bytes; `what` names it in messages.
+void checkImageArray(const py::array& image, const char* what) {
+    if (!isBytes(image) && !isFloats(image))
+        throw py::type_error(std::string(what) + " must hold floats (1.0 is full) or uint8 (255 is full), not " +
+                             std::string(py::str(image.dtype())) + "; convert it with .astype(numpy.uint8) (values 0 to 255) or .astype(numpy.float32) / 255");
+    if (image.ndim() != 3 || image.shape(2) != 3)
+        throw py::value_error(std::string(what) + " must be an H x W x 3 array (RGB), not one of shape " +
+                              std::string(py::str(image.attr("shape"))));
+}
+
+template <class T>
+std::vector<T> valuesOf(const py::array& image) {
+    auto contiguous = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(image);
+    if (!contiguous) throw py::error_already_set();
+    return std::vector<T>(contiguous.data(), contiguous.data() + contiguous.size());
+}
+
+// Linear floats: as they are, or 8-bit v as v / 255 (how the loader reads 8-bit textures).
+std::vector<float> linearPixels(const py::array& image) {
+    if (isFloats(image)) return valuesOf<float>(image);
+    std::vector<uint8_t> bytes = valuesOf<uint8_t>(image);
+    std::vector<float> rgb(bytes.size());
+    std::transform(bytes.begin(), bytes.end(), rgb.begin(), [](uint8_t v) { return float(v) / 255.0f; });
+    return rgb;
+}
+
+void saveArray(const py::array& image, const std::filesystem::path& file) {
+    checkImageArray(image, "an image");
+    const int width = int(image.shape(1)), height = int(image.shape(0));
+    if (isBytes(image)) api::saveImage(valuesOf<uint8_t>(image), width, height, file);
+    else api::saveImage(valuesOf<float>(image), width, height, file);
+}
+
+// The message without the C++ API's "error: " where it names no file: Python prints the
+// exception's type before it ("InputError: width must be ...").
+std::string plainMessage(const api::InputError& e) {
+    const std::string message = e.what();
+    const std::string prefix = "error: ";
+    return e.file().empty() && message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+}
+
+// cs123ray.Error (a RuntimeError); InputError, also a ValueError, since a bad value is what
+// it reports (a scene's, an argument's), with .file and .line; DeviceError.
 void registerErrors(py::module_& m) {
     static py::exception<api::Error> error(m, "Error", PyExc_RuntimeError);
-    static py::exception<api::InputError> inputError(m, "InputError", error.ptr());
+    static py::exception<api::InputError> inputError(m, "InputError", py::make_tuple(error, py::handle(PyExc_ValueError)));
     static py::exception<api::DeviceError> deviceError(m, "DeviceError", error.ptr());
+    error.doc() = "The base of cs123ray's errors.";
+    inputError.doc() = "Bad input: a scene that does not parse, a value out of range. .file and .line give the "
+                       "place ('' and 0 where there is none).";
+    deviceError.doc() = "The device failed: no OpenCL platform, a kernel that does not build, an unwritable file.";
     py::register_exception_translator([](std::exception_ptr thrown) {
         try {
             if (thrown) std::rethrow_exception(thrown);
         } catch (const api::InputError& e) {
-            // InputError carries .file and .line (0 where the problem has no line).
-            py::object instance = py::reinterpret_borrow<py::object>(inputError.ptr())(e.what());
+            py::object instance = py::reinterpret_borrow<py::object>(inputError.ptr())(plainMessage(e));
             instance.attr("file") = e.file();
             instance.attr("line") = e.line();
             PyErr_SetObject(inputError.ptr(), instance.ptr());
@@ -209,31 +394,85 @@ void registerErrors(py::module_& m) {
     });
 }
 
-}  // namespace
+// Without NumPy every array argument fails, and pybind11 would say only "initialization
+// failed": say what is missing and how to get it instead.
+void requireNumpy() {
+    try {
+        py::module_::import("numpy");
+    } catch (py::error_already_set& e) {
+        const std::string python = py::str(py::module_::import("sys").attr("executable"));
+        throw py::import_error("cs123ray needs NumPy, which " + python + " cannot import (" + e.what() +
+                               "); install it: apt-get install python3-numpy (Debian's /usr/bin/python3), "
+                               "or python3 -m pip install numpy");
+    }
+}
 
-PYBIND11_MODULE(cs123ray, m) {
-    m.doc() = "ray, the CS123 scenefile ray tracer: load or build a scene, render it to a NumPy array.";
-    registerErrors(m);
+std::string vecText(const api::Vec3& v) {
+    std::ostringstream out;
+    out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+    return out.str();
+}
 
-    py::class_<api::Transform>(m, "Transform", "An object-to-world affine transform (compose with @).")
-        .def(py::init<>())
-        .def(py::init(&transformFrom), py::arg("matrix"))
-        .def_static("translate", [](double x, double y, double z) { return api::Transform::translate({x, y, z}); })
-        .def_static("scale", [](double x, double y, double z) { return api::Transform::scale({x, y, z}); })
-        .def_static("rotate", [](std::array<double, 3> axis, double degrees) {
-            return api::Transform::rotate(vec3(axis), degrees);
-        }, py::arg("axis"), py::arg("degrees"))
-        .def("__matmul__", [](const api::Transform& a, const api::Transform& b) { return a * b; })
-        .def("matrix", &matrixOf);
+std::string transformRepr(const api::Transform& t) {
+    std::ostringstream out;
+    out << "Transform([";
+    for (int r = 0; r < 3; ++r)
+        out << (r ? ", " : "") << "[" << t.m[r][0] << ", " << t.m[r][1] << ", " << t.m[r][2] << ", " << t.m[r][3]
+            << "]";
+    out << ", [0, 0, 0, 1]])";
+    return out.str();
+}
 
-    py::class_<PyScene>(m, "Scene", "A scene: Scene() builds one in code; load_scene() reads a scenefile.")
-        .def(py::init<>())
-        .def_readonly("warnings", &PyScene::warnings)
-        .def("set_camera", [](PyScene& s, std::array<double, 3> position, std::array<double, 3> look,
-                              std::array<double, 3> up, double heightAngle, double aperture, double focalLength) {
+std::string sceneRepr(const PyScene& s) {
+    const api::Camera camera = s.scene.camera();
+    return "<cs123ray.Scene: " + std::to_string(s.scene.primitiveCount()) +
+           (s.scene.primitiveCount() == 1 ? " primitive, " : " primitives, ") +
+           std::to_string(s.scene.lightCount()) + (s.scene.lightCount() == 1 ? " light" : " lights") + ", camera at " + vecText(camera.position) + " looking " +
+           vecText(camera.look) + ">";
+}
+
+std::string rendererRepr(const api::Renderer& r) {
+    const api::Settings& s = r.settings();
+    static const char* const kAntialias[] = {"off", "course", "stratified", "adaptive"};
+    return "<cs123ray.Renderer device='" + r.devices() + "', " + std::to_string(s.width) + " x " +
+           std::to_string(s.height) + ", depth " + std::to_string(s.depth) + ", aa='" + kAntialias[int(s.antialias)] +
+           "'>";
+}
+
+// ---------------------------------------------------------------------------------------
+// The module: every function takes keywords, named as the scenefile names what they set.
+
+using Triple = std::array<double, 3>;
+
+void bindTransform(py::module_& m) {
+    py::class_<api::Transform>(m, "Transform",
+                               "An object-to-world affine transform. a @ b applies b first, as nested transblocks do.")
+        .def(py::init<>(), "The identity.")
+        .def(py::init(&transformFrom), py::arg("matrix"),
+             "From a 3x4 or 4x4 row-major matrix (nested sequences or a NumPy array).")
+        .def_static("translate", [](double x, double y, double z) { return api::Transform::translate({x, y, z}); },
+                    py::arg("x"), py::arg("y"), py::arg("z"), "A translation by (x, y, z).")
+        .def_static("scale", [](double x, double y, double z) { return api::Transform::scale({x, y, z}); },
+                    py::arg("x"), py::arg("y"), py::arg("z"), "A scaling by x, y and z along the axes.")
+        .def_static("rotate", [](Triple axis, double degrees) { return api::Transform::rotate(vec3(axis), degrees); },
+                    py::arg("axis"), py::arg("degrees"),
+                    "A rotation by `degrees` about `axis` (x, y, z), counter-clockwise looking down the axis.")
+        .def("__matmul__", [](const api::Transform& a, const api::Transform& b) { return a * b; }, py::arg("other"),
+             "self @ other: other applies first.")
+        .def("matrix", &matrixOf, "The 4x4 row-major matrix, a NumPy array.")
+        .def("__repr__", &transformRepr);
+}
+
+void bindScene(py::class_<PyScene>& scene) {
+    scene.def(py::init<>(), "An empty scene: the default camera, no lights, no primitives.")
+        .def_readonly("warnings", &PyScene::warnings, "The loader's warnings, complete ('scene.xml:7: warning: ...').")
+        .def("set_camera", [](PyScene& s, Triple position, Triple look, Triple up, double heightAngle, double aperture,
+                              double focalLength) {
             s.scene.setCamera({vec3(position), vec3(look), vec3(up), heightAngle, aperture, focalLength});
-        }, py::arg("position"), py::arg("look"), py::arg("up") = std::array<double, 3>{0, 1, 0},
-           py::arg("height_angle") = 45.0, py::arg("aperture") = 0.0, py::arg("focal_length") = 0.0)
+        }, py::arg("position"), py::arg("look"), py::arg("up") = Triple{0, 1, 0}, py::arg("height_angle") = 45.0,
+           py::arg("aperture") = 0.0, py::arg("focal_length") = 0.0,
+           "The camera: its position, the direction it looks, its up vector, the full vertical field of view in "
+           "degrees, and a thin lens (aperture diameter and focal length; 0 is a pinhole).")
         .def_property_readonly("camera", [](const PyScene& s) {
             api::Camera c = s.scene.camera();
             py::dict d;
@@ -241,15 +480,16 @@ PYBIND11_MODULE(cs123ray, m) {
             d["look"] = tuple3(c.look);
             d["up"] = tuple3(c.up);
             d["height_angle"] = c.heightAngleDegrees;
+            d["aperture"] = c.aperture;
+            d["focal_length"] = c.focalLength;
             return d;
-        })
+        }, "The camera, as a dict of set_camera's arguments.")
         .def("set_globals", [](PyScene& s, double ka, double kd, double ks, double kt) {
             s.scene.setGlobals({ka, kd, ks, kt});
-        }, py::arg("ka") = 0.5, py::arg("kd") = 0.5, py::arg("ks") = 0.5, py::arg("kt") = 0.5)
-        .def("add_light", [](PyScene& s, const std::string& type, std::array<double, 3> color,
-                             std::array<double, 3> position, std::array<double, 3> direction,
-                             std::array<double, 3> attenuation, double angle, double penumbra, double width,
-                             double height) {
+        }, py::arg("ka") = 0.5, py::arg("kd") = 0.5, py::arg("ks") = 0.5, py::arg("kt") = 0.5,
+           "The global coefficients of <globaldata>: ambient, diffuse, specular (and reflection), transparency.")
+        .def("add_light", [](PyScene& s, const std::string& type, Triple color, Triple position, Triple direction,
+                             Triple attenuation, double angle, double penumbra, double width, double height) {
             api::Light light;
             light.type = lightType(type);
             light.color = vec3(color);
@@ -261,14 +501,15 @@ PYBIND11_MODULE(cs123ray, m) {
             light.width = width;
             light.height = height;
             s.scene.addLight(light);
-        }, py::arg("type") = "point", py::arg("color") = std::array<double, 3>{1, 1, 1},
-           py::arg("position") = std::array<double, 3>{3, 3, 3}, py::arg("direction") = std::array<double, 3>{0, 0, -1},
-           py::arg("attenuation") = std::array<double, 3>{1, 0, 0}, py::arg("angle") = 45.0,
-           py::arg("penumbra") = 0.0, py::arg("width") = 1.0, py::arg("height") = 1.0)
-        .def("add_material", [](PyScene& s, std::array<double, 3> diffuse, std::array<double, 3> ambient,
-                                std::array<double, 3> specular, std::array<double, 3> reflective,
-                                std::array<double, 3> transparent, std::array<double, 3> emissive, double shininess,
-                                double ior, int texture, double blend, std::array<double, 2> repeat, int bumpMap) {
+        }, py::arg("type") = "point", py::arg("color") = Triple{1, 1, 1}, py::arg("position") = Triple{3, 3, 3},
+           py::arg("direction") = Triple{0, 0, -1}, py::arg("attenuation") = Triple{1, 0, 0}, py::arg("angle") = 45.0,
+           py::arg("penumbra") = 0.0, py::arg("width") = 1.0, py::arg("height") = 1.0,
+           "A light: type 'point', 'directional', 'spot' or 'area'; attenuation (c1, c2, c3) of "
+           "1/(c1 + c2 d + c3 d^2); a spot's half-angle and penumbra in degrees; an area light's width and height. "
+           "Values the scenefile loader refuses raise InputError (a ValueError).")
+        .def("add_material", [](PyScene& s, Triple diffuse, Triple ambient, Triple specular, Triple reflective,
+                                Triple transparent, Triple emissive, double shininess, double ior, int texture,
+                                double blend, std::array<double, 2> repeat, int bumpMap) {
             api::Material mat;
             mat.diffuse = vec3(diffuse);
             mat.ambient = vec3(ambient);
@@ -282,47 +523,62 @@ PYBIND11_MODULE(cs123ray, m) {
             mat.texture = {texture, repeat[0], repeat[1]};
             mat.bumpMap = {bumpMap, repeat[0], repeat[1]};
             return s.scene.addMaterial(mat);
-        }, py::arg("diffuse") = std::array<double, 3>{1, 1, 1}, py::arg("ambient") = std::array<double, 3>{0, 0, 0},
-           py::arg("specular") = std::array<double, 3>{0, 0, 0}, py::arg("reflective") = std::array<double, 3>{0, 0, 0},
-           py::arg("transparent") = std::array<double, 3>{0, 0, 0}, py::arg("emissive") = std::array<double, 3>{0, 0, 0},
-           py::arg("shininess") = 0.0, py::arg("ior") = 1.0, py::arg("texture") = -1, py::arg("blend") = 0.0,
+        }, py::arg("diffuse") = Triple{1, 1, 1}, py::arg("ambient") = Triple{0, 0, 0},
+           py::arg("specular") = Triple{0, 0, 0}, py::arg("reflective") = Triple{0, 0, 0},
+           py::arg("transparent") = Triple{0, 0, 0}, py::arg("emissive") = Triple{0, 0, 0}, py::arg("shininess") = 0.0,
+           py::arg("ior") = 1.0, py::arg("texture") = -1, py::arg("blend") = 0.0,
            py::arg("repeat") = std::array<double, 2>{1, 1}, py::arg("bump_map") = -1,
-           "Returns the material's handle.")
+           "A material (SPEC section 1's fields); texture and bump_map are handles from add_texture, repeated "
+           "repeat = (u, v) times. Returns its handle, for add_primitive. Values the scenefile loader refuses "
+           "(a negative color or shininess, an ior of 0, a blend outside [0, 1]) raise InputError (a ValueError).")
         .def("add_texture", [](PyScene& s, const std::filesystem::path& file) {
             return s.scene.addTextureFromFile(file);
-        }, py::arg("file"), "A texture from an image file; returns its handle.")
-        .def("add_texture", [](PyScene& s, const py::array_t<float, py::array::c_style | py::array::forcecast>& rgb) {
-            if (rgb.ndim() != 3 || rgb.shape(2) != 3) throw py::value_error("a texture array is H x W x 3, in [0, 1]");
-            return s.scene.addTextureFromPixels(int(rgb.shape(1)), int(rgb.shape(0)),
-                                                std::vector<float>(rgb.data(), rgb.data() + rgb.size()));
-        }, py::arg("pixels"), "A texture from an H x W x 3 array in [0, 1], row 0 at the top; returns its handle.")
-        .def("add_mesh", [](PyScene& s, const py::array_t<float, py::array::c_style | py::array::forcecast>& positions,
-                            const py::array_t<uint32_t, py::array::c_style | py::array::forcecast>& triangles,
-                            const py::array_t<float, py::array::c_style | py::array::forcecast>& normals,
-                            const py::array_t<float, py::array::c_style | py::array::forcecast>& uvs) {
-            return s.scene.addMesh(flat(positions, 3, "positions"), flat(triangles, 3, "triangles"),
-                                   flat(normals, 3, "normals"), flat(uvs, 2, "uvs"));
-        }, py::arg("positions"), py::arg("triangles"),
-           py::arg("normals") = py::array_t<float>(), py::arg("uvs") = py::array_t<float>(),
-           "A triangle mesh from N x 3 positions and M x 3 vertex indices; returns its handle.")
+        }, py::arg("file"), "A texture from an image file (png, jpg, ...); returns its handle.")
+        .def("add_texture", [](PyScene& s, const py::array& pixels) {
+            checkImageArray(pixels, "a texture");
+            return s.scene.addTextureFromPixels(int(pixels.shape(1)), int(pixels.shape(0)), linearPixels(pixels));
+        }, py::arg("pixels"),
+           "A texture from an H x W x 3 array, row 0 at the top: floats (1.0 is full) or uint8 (255 is full). "
+           "Returns its handle.")
+        .def("add_mesh", [](PyScene& s, const py::object& positions, const py::object& triangles,
+                            const py::object& normals, const py::object& uvs) {
+            return s.scene.addMesh(flat<float>(positions, 3, "positions"), vertexIndices(triangles),
+                                   flat<float>(normals, 3, "normals"), flat<float>(uvs, 2, "uvs"));
+        }, py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+           "A triangle mesh from N x 3 positions and M x 3 vertex indices (counter-clockwise from the front), "
+           "optionally N x 3 normals and N x 2 uvs. Returns its handle.")
         .def("add_primitive", [](PyScene& s, const std::string& type, const api::Transform& transform, int material,
                                  int mesh) { s.scene.addPrimitive(shape(type), transform, material, mesh); },
-             py::arg("shape"), py::arg("transform") = api::Transform(), py::arg("material") = 0, py::arg("mesh") = -1)
-        .def_property_readonly("primitive_count", [](const PyScene& s) { return s.scene.primitiveCount(); });
+             py::arg("shape"), py::arg("transform") = api::Transform(), py::arg("material") = 0, py::arg("mesh") = -1,
+             "Places a unit shape ('cube', 'sphere', 'cylinder', 'cone', 'torus', or 'mesh' with a handle from "
+             "add_mesh) with a material handle from add_material.")
+        .def_property_readonly("primitive_count", [](const PyScene& s) { return s.scene.primitiveCount(); },
+                               "How many primitives the scene holds.")
+        .def_property_readonly("light_count", [](const PyScene& s) { return s.scene.lightCount(); },
+                               "How many lights the scene holds.")
+        .def("__repr__", &sceneRepr);
+}
 
+void bindLoading(py::module_& m) {
     m.def("load_scene", [](const std::filesystem::path& file, std::vector<std::filesystem::path> searchPaths,
                            bool strict, bool textures) {
         api::LoadResult loaded = api::Scene::load(file, loadOptions(searchPaths, strict, textures));
         return PyScene{std::move(loaded.scene), std::move(loaded.warnings)};
     }, py::arg("file"), py::arg("search_paths") = std::vector<std::filesystem::path>{}, py::arg("strict") = false,
-       py::arg("textures") = true, "Reads a scenefile; its warnings are in .warnings. Raises InputError.");
+       py::arg("textures") = true,
+       "Reads a scenefile (texture and mesh files also looked for under search_paths). Its warnings are in "
+       ".warnings; strict=True makes them errors; textures=False skips reading images. Raises InputError.");
     m.def("scene_from_string", [](const std::string& xml, const std::filesystem::path& name,
                                   std::vector<std::filesystem::path> searchPaths, bool strict) {
         api::LoadResult loaded = api::Scene::fromString(xml, name, loadOptions(searchPaths, strict, true));
         return PyScene{std::move(loaded.scene), std::move(loaded.warnings)};
     }, py::arg("xml"), py::arg("name") = "scene.xml", py::arg("search_paths") = std::vector<std::filesystem::path>{},
-       py::arg("strict") = false);
+       py::arg("strict") = false,
+       "Reads scenefile XML from a string; `name` stands for the file in messages, and relative texture and mesh "
+       "paths are found from its folder. Raises InputError.");
+}
 
+void bindRendering(py::module_& m) {
     m.def("list_devices", [] {
         py::list devices;
         for (const api::Device& d : api::listDevices()) {
@@ -335,44 +591,61 @@ PYBIND11_MODULE(cs123ray, m) {
             devices.append(entry);
         }
         return devices;
-    }, "The OpenCL devices, numbered as device=<index> takes them.");
+    }, "The OpenCL devices, as dicts (index, name, platform, gpu, cpu), numbered as device=<index> takes them.");
 
     py::class_<api::Renderer>(m, "Renderer", "Renders one scene on one device selection, frame after frame.")
         .def(py::init([](const PyScene& s, const std::string& device) {
             return std::make_unique<api::Renderer>(s.scene, device);
-        }), py::arg("scene"), py::arg("device") = "auto")
-        .def("set_camera", [](api::Renderer& r, std::array<double, 3> position, std::array<double, 3> look,
-                              std::array<double, 3> up, double heightAngle) {
+        }), py::arg("scene"), py::arg("device") = "auto",
+           "device: 'auto' (a GPU, else an OpenCL CPU), 'cpu', 'gpu', 'all', an index from list_devices(), a list "
+           "of indices ('0,2'), or 'ref' (the double-precision host renderer, no OpenCL). The scene is copied.")
+        .def_property_readonly("device", &api::Renderer::devices, "The device selection it was made with.")
+        .def("set_camera", [](api::Renderer& r, Triple position, Triple look, Triple up, double heightAngle) {
             api::Camera c = r.camera();
             c.position = vec3(position);
             c.look = vec3(look);
             c.up = vec3(up);
             c.heightAngleDegrees = heightAngle;
             r.setCamera(c);
-        }, py::arg("position"), py::arg("look"), py::arg("up") = std::array<double, 3>{0, 1, 0},
-           py::arg("height_angle") = 45.0)
+        }, py::arg("position"), py::arg("look"), py::arg("up") = Triple{0, 1, 0}, py::arg("height_angle") = 45.0,
+           "Moves the camera for the next frames (the lens stays as the scene set it).")
         .def("set_options", [](api::Renderer& r, const py::kwargs& options) {
             r.setSettings(settingsFrom(options, r.settings()));
-        }, "width, height, depth, aa, samples, seed, area_samples, shutter, threshold, shadows, reflections, "
-           "refraction, textures, dof, fresnel, course_meshes, texture_filter")
-        .def("render", [](api::Renderer& r, const std::string& dtype, const py::object& progress) {
+        }, ("Changes render options for the next frames, as keywords: " + optionNames() +
+            " (width and height together). A wrong type raises TypeError, a value out of range InputError (a "
+            "ValueError).").c_str())
+        .def("render", [](api::Renderer& r, const py::object& dtype, const py::object& progress) {
             return renderArray(r, dtype, progress);
         }, py::arg("dtype") = "float32", py::arg("progress") = py::none(),
-           "Renders a frame: an H x W x 3 array. progress(fraction) is called now and then.");
+           "Renders a frame: an H x W x 3 array, float32 (linear, unclamped) or uint8 (the bytes of ray's 8-bit "
+           "images). progress(fraction) is called now and then; Ctrl-C raises KeyboardInterrupt within a second.")
+        .def("__repr__", &rendererRepr);
 
-    m.def("render", [](const PyScene& s, const std::string& device, const std::string& dtype,
+    m.def("render", [](const PyScene& s, const std::string& device, const py::object& dtype,
                        const py::object& progress, const py::kwargs& options) {
         api::Renderer renderer(s.scene, device);
         renderer.setSettings(settingsFrom(options, renderer.settings()));
         return renderArray(renderer, dtype, progress);
     }, py::arg("scene"), py::arg("device") = "auto", py::arg("dtype") = "float32", py::arg("progress") = py::none(),
-       "Renders the scene once: an H x W x 3 array (float32 linear, or uint8 as ray's PNGs). Options as "
-       "Renderer.set_options.");
+       "Renders the scene once: an H x W x 3 array (float32 linear, or uint8 as ray's PNGs). device and the "
+       "options (keywords) as Renderer and Renderer.set_options take them.");
 
-    m.def("save_image", [](const py::array_t<float, py::array::c_style | py::array::forcecast>& rgb,
-                           const std::filesystem::path& file) {
-        if (rgb.ndim() != 3 || rgb.shape(2) != 3) throw py::value_error("an image is an H x W x 3 float array");
-        api::saveImage(std::vector<float>(rgb.data(), rgb.data() + rgb.size()), int(rgb.shape(1)),
-                       int(rgb.shape(0)), file);
-    }, py::arg("image"), py::arg("file"), "Writes a float H x W x 3 image; the extension picks the format.");
+    m.def("save_image", &saveArray, py::arg("image"), py::arg("file"),
+          "Writes an H x W x 3 array, floats (linear, 1.0 is full) or uint8 (as render(dtype='uint8') makes), in "
+          "the format the extension names (png, jpg, ppm, tif: 8-bit; exr, hdr: floats). The file is replaced "
+          "whole or not at all.");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(cs123ray, m) {
+    requireNumpy();
+    m.doc() = "ray, the CS123 scenefile ray tracer: load or build a scene, render it to a NumPy array.";
+    m.attr("__version__") = api::version();
+    registerErrors(m);
+    bindTransform(m);
+    py::class_<PyScene> scene(m, "Scene", "A scene: Scene() builds one in code; load_scene() reads a scenefile.");
+    bindScene(scene);
+    bindLoading(m);
+    bindRendering(m);
 }

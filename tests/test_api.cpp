@@ -13,6 +13,8 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace api = ray::api;
+using Catch::Matchers::Contains;
+using Catch::Matchers::Equals;
 
 api::Settings small(int width = 64, int height = 48) {
     api::Settings settings;
@@ -257,4 +259,52 @@ TEST_CASE("API: cancellation, progress, and refused settings and buffers", "[api
     const fs::path saved = ray::test::outputDir() / "api_saved.png";
     api::saveImage(rgb, 64, 48, saved);
     CHECK(ray::readImage(saved).width == 64);
+}
+
+TEST_CASE("API: materials, lights and cameras follow the scenefile loader's rules", "[api]") {
+    api::Scene scene = sphereSceneInCode();
+    api::Material material;
+    material.shininess = -5;
+    CHECK_THROWS_WITH(scene.addMaterial(material), Contains("shininess must be 0 or more, not -5"));
+    material = {};
+    material.ior = 0;
+    CHECK_THROWS_WITH(scene.addMaterial(material), Contains("ior must be more than 0, not 0"));
+    api::Light light;
+    light.attenuation = {1, -1, 0};
+    CHECK_THROWS_WITH(scene.addLight(light), Contains("attenuation must be 0 or more in each component"));
+    api::Camera camera = scene.camera();
+    camera.look = {0, 0, 0};
+    CHECK_THROWS_WITH(scene.setCamera(camera), Contains("the camera looks nowhere"));
+    camera = scene.camera();
+    camera.heightAngleDegrees = 180;
+    CHECK_THROWS_AS(scene.setCamera(camera), api::InputError);
+    api::Renderer renderer(scene, "ref");
+    CHECK_THROWS_AS(renderer.setCamera(camera), api::InputError);
+    CHECK(renderer.devices() == "ref");
+    CHECK(scene.lightCount() == 1);  // nothing refused was added
+}
+
+TEST_CASE("API: settings out of range are refused with plain numbers", "[api]") {
+    api::Renderer renderer(sphereSceneInCode(), "ref");
+    api::Settings bad = small();
+    bad.width = 0;
+    CHECK_THROWS_WITH(renderer.setSettings(bad), Equals("error: width must be between 1 and 16384, not 0"));
+    bad = small();
+    bad.threshold = 1.5;
+    CHECK_THROWS_WITH(renderer.setSettings(bad), Equals("error: threshold must be between 0 and 1, not 1.5"));
+}
+
+TEST_CASE("API: 8-bit pixels are saved as they are", "[api]") {
+    api::Renderer renderer(sphereSceneInCode(), "ref");
+    renderer.setSettings(small());
+    const std::vector<float> rgb = renderer.render();
+    std::vector<uint8_t> bytes(rgb.size());
+    std::transform(rgb.begin(), rgb.end(), bytes.begin(), api::toByte);
+    const fs::path fromBytes = ray::test::outputDir() / "api_bytes.png";
+    const fs::path fromFloats = ray::test::outputDir() / "api_floats.png";
+    api::saveImage(bytes, 64, 48, fromBytes);
+    api::saveImage(rgb, 64, 48, fromFloats);
+    CHECK(ray::readImage(fromBytes).rgb == ray::readImage(fromFloats).rgb);
+    CHECK_THROWS_AS(api::saveImage(bytes, 64, 47, fromBytes), api::InputError);
+    CHECK(std::string(api::version()) == RAY_VERSION);
 }

@@ -194,6 +194,36 @@ TEST_CASE("focus is a point: look = focus - pos, whatever their order", "[loader
     CHECK(s.camera.look == Vec3(0, 0, -3));
 }
 
+TEST_CASE("material and light values without a meaning are errors at their line", "[loader]") {
+    const std::pair<const char*, const char*> refused[] = {
+        {"<shininess v=\"-5\"/>", "shininess must be 0 or more, not -5"},
+        {"<ior v=\"0\"/>", "ior must be more than 0, not 0"},
+        {"<blend v=\"1.5\"/>", "blend must be between 0 and 1, not 1.5"},
+        {"<diffuse r=\"1\" g=\"-1\" b=\"0\"/>", "diffuse must be 0 or more in each component, not (1, -1, 0)"},
+    };
+    for (const auto& [element, message] : refused) {
+        const std::string xml =
+            rootScene(block(std::string("<object type=\"primitive\" name=\"sphere\">\n") + element + "\n</object>"));
+        CHECK_THAT(errorOf(xml), Contains(at(xml, element) + "error: " + message));
+    }
+    const std::pair<const char*, const char*> lights[] = {
+        {"<angle v=\"0\"/>", "angle must be more than 0 and at most 180, not 0"},
+        {"<penumbra v=\"-1\"/>", "penumbra must be 0 or more, not -1"},
+        {"<function v1=\"1\" v2=\"-0.5\" v3=\"0\"/>", "function must be 0 or more in each component"},
+        {"<width v=\"0\"/>", "width must be more than 0, not 0"},
+        {"<color r=\"-1\" g=\"1\" b=\"1\"/>", "color must be 0 or more in each component"},
+    };
+    for (const auto& [element, message] : lights) {
+        const std::string xml = rootScene("", std::string("<lightdata>\n<type v=\"spot\"/>\n") + element + "\n</lightdata>\n");
+        CHECK_THAT(errorOf(xml), Contains(at(xml, element) + "error: " + message));
+    }
+    // What the course's scenes hold stays valid: colors above 1, a penumbra wider than the cone.
+    CHECK_NOTHROW(ray::loadSceneFromText(
+        rootScene(block("<object type=\"primitive\" name=\"cube\"><diffuse r=\"80\" g=\"80\" b=\"80\"/></object>"),
+                  "<lightdata><type v=\"spot\"/><penumbra v=\"80\"/></lightdata>\n"),
+        "test.xml", {}));
+}
+
 TEST_CASE("look and focus together are an error", "[loader]") {
     std::string xml = rootScene("", R"(<cameradata>
   <look x="0" y="0" z="-1"/>

@@ -4,6 +4,8 @@
 #include "ray/scene.h"
 #include "scene/scene.h"
 
+// Not part of libray.so's interface (only ray::api is: cmake/libray.map).
+#pragma GCC visibility push(hidden)
 namespace ray::api::detail {
 
 inline ray::Vec3 toInternal(Vec3 v) { return {v.x, v.y, v.z}; }
@@ -25,3 +27,4 @@ inline Camera toPublic(const ray::Camera& c) {
 }
 
 }  // namespace ray::api::detail
+#pragma GCC visibility pop

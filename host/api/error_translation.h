@@ -5,6 +5,8 @@
 #include <exception>
 #include <utility>
 
+// Not part of libray.so's interface (only ray::api is: cmake/libray.map).
+#pragma GCC visibility push(hidden)
 namespace ray::api::detail {
 
 // Rethrows the exception being handled as its public type. Call inside a catch block.
@@ -21,3 +23,4 @@ auto translatingErrors(F&& f) -> decltype(f()) {
 }
 
 }  // namespace ray::api::detail
+#pragma GCC visibility pop

@@ -5,6 +5,7 @@
 
 #include "api/camera_conversion.h"
 #include "api/error_translation.h"
+#include "api/input_checks.h"
 #include "api/scene_impl.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
@@ -14,23 +15,6 @@
 namespace ray::api {
 
 namespace {
-
-void checkRange(const char* what, double value, double lo, double hi) {
-    if (!(value >= lo && value <= hi))
-        throw InputError("error: " + std::string(what) + " must be between " + std::to_string(lo) + " and " +
-                             std::to_string(hi) + ", not " + std::to_string(value),
-                         "", 0);
-}
-
-void validate(const Settings& s) {
-    checkRange("width", s.width, 1, kMaxImageSide);
-    checkRange("height", s.height, 1, kMaxImageSide);
-    checkRange("depth", s.depth, 0, kMaxDepth);
-    checkRange("samples", s.samples, 1, kMaxSamples);
-    checkRange("areaSamples", s.areaSamples, 1, kMaxAreaSamples);
-    checkRange("shutter", s.shutter, 0, 1);
-    checkRange("threshold", s.threshold, 0, 1);
-}
 
 ray::RenderSettings internal(const Settings& s) {
     ray::RenderSettings r;
@@ -85,7 +69,8 @@ std::vector<Device> listDevices() {
     });
 }
 
-struct Renderer::Impl {
+// Hidden: libray.so exports the public interface only (cmake/libray.map).
+struct __attribute__((visibility("hidden"))) Renderer::Impl {
     ray::Scene scene;  // the engine keeps a reference to it: Impl never moves (unique_ptr)
     std::string devices;
     Settings settings;
@@ -147,12 +132,18 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
-void Renderer::setCamera(const Camera& camera) { impl_->scene.camera = detail::toInternal(camera); }
+const std::string& Renderer::devices() const { return impl_->devices; }
+
+void Renderer::setCamera(const Camera& camera) {
+    ray::Camera internalCamera = detail::toInternal(camera);
+    detail::checkCamera(internalCamera);
+    impl_->scene.camera = internalCamera;
+}
 
 Camera Renderer::camera() const { return detail::toPublic(impl_->scene.camera); }
 
 void Renderer::setSettings(const Settings& settings) {
-    validate(settings);
+    detail::checkSettings(settings);
     impl_->settings = settings;
 }
 
@@ -180,20 +171,45 @@ std::vector<float> Renderer::render(FrameStats* stats) {
     return rgb;
 }
 
-void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file) {
-    if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
+namespace {
+
+// Refuses, before anything is written, pixels that do not make the image or a format
+// that cannot be written.
+void checkImageToSave(size_t values, int width, int height, const std::filesystem::path& file) {
+    if (width <= 0 || height <= 0 || values != size_t(width) * size_t(height) * 3)
         throw InputError("error: an image of " + std::to_string(width) + "x" + std::to_string(height) +
-                             " needs width*height*3 floats, not " + std::to_string(rgb.size()),
+                             " needs width*height*3 values, not " + std::to_string(values),
                          file.string(), 0);
     if (!ray::canWriteImageFormat(file))
         throw InputError("error: cannot write an image in the format of '" + file.string() + "'; " +
                              ray::kOutputFormatAdvice,
                          file.string(), 0);
+}
+
+}  // namespace
+
+void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file) {
+    checkImageToSave(rgb.size(), width, height, file);
     ray::Image image(width, height);
     image.rgb = rgb;
     detail::translatingErrors([&] { ray::writeImage(image, file); });
 }
 
+void saveImage(const std::vector<uint8_t>& rgb, int width, int height, const std::filesystem::path& file) {
+    checkImageToSave(rgb.size(), width, height, file);
+    if (ray::isFloatFormat(file)) {
+        std::vector<float> floats(rgb.size());
+        std::transform(rgb.begin(), rgb.end(), floats.begin(), [](uint8_t v) { return float(v) / 255.0f; });
+        saveImage(floats, width, height, file);
+        return;
+    }
+    ray::ByteImage image(width, height);
+    image.rgb = rgb;
+    detail::translatingErrors([&] { ray::writeImage(image, file); });
+}
+
 uint8_t toByte(float channel) { return uint8_t(ray::quantize8(channel)); }
+
+const char* version() { return RAY_VERSION; }
 
 }  // namespace ray::api

@@ -5,6 +5,7 @@
 
 #include "api/camera_conversion.h"
 #include "api/error_translation.h"
+#include "api/input_checks.h"
 #include "api/scene_impl.h"
 #include "core/math.h"
 #include "image/image.h"
@@ -86,7 +87,11 @@ LoadResult Scene::fromString(const std::string& xml, const std::filesystem::path
 
 Camera Scene::camera() const { return detail::toPublic(impl_->scene.camera); }
 
-void Scene::setCamera(const Camera& camera) { impl_->scene.camera = detail::toInternal(camera); }
+void Scene::setCamera(const Camera& camera) {
+    ray::Camera internalCamera = detail::toInternal(camera);
+    detail::checkCamera(internalCamera);
+    impl_->scene.camera = internalCamera;
+}
 
 Globals Scene::globals() const {
     const ray::GlobalCoefficients& g = impl_->scene.globals;
@@ -98,6 +103,7 @@ void Scene::setGlobals(const Globals& globals) {
 }
 
 void Scene::addLight(const Light& light) {
+    detail::checkLight(light);
     ray::Light l;
     l.type = ray::LightType(int(light.type));  // same order: Point, Directional, Spot, Area
     l.color = internal(light.color);
@@ -112,6 +118,7 @@ void Scene::addLight(const Light& light) {
 }
 
 int Scene::addMaterial(const Material& material) {
+    detail::checkMaterial(material);
     const size_t images = impl_->scene.images.size();
     if (material.texture.texture >= 0) checkIndex(material.texture.texture, images, "texture");
     if (material.bumpMap.texture >= 0) checkIndex(material.bumpMap.texture, images, "bump map texture");

@@ -31,6 +31,9 @@
 //  - Element names and keywords (object types, primitive names, light types) are matched
 //    ignoring case; tree names are matched exactly.
 //  - Inline subtrees may carry a name; it is ignored (masters name top-level trees only).
+//  - A material's or a light's number outside what SPEC §4's model gives a meaning to (a
+//    negative shininess or color, an ior of 0, a blend beyond 1) is an error at its line;
+//    the rules are scene/parameter_rules.h, which the public API applies too.
 //
 // Our extension, motion blur: <motion x="" y="" z=""/> in a <transblock> moves everything
 // in that block (primitives, subtrees, masters) by the translation (x, y, z) over the
@@ -61,6 +64,7 @@
 #include <variant>
 
 #include "scene/file_search.h"
+#include "scene/parameter_rules.h"
 #include "scene/xml_tree.h"
 #include "core/memory_limits.h"
 
@@ -399,8 +403,7 @@ private:
             } else if (sameName(name, "up")) {
                 camera.up = triple(child);
             } else if (sameName(name, "heightangle")) {
-                camera.heightAngleDegrees = single(child);
-                checkHeightAngle(child, camera.heightAngleDegrees);
+                camera.heightAngleDegrees = obeying(child, rules::kHeightAngle, single(child));
             } else if (sameName(name, "aspectratio")) {
                 single(child);  // validated, then ignored: the image's width/height rule
             } else if (sameName(name, "aperture")) {
@@ -418,20 +421,10 @@ private:
         checkCameraAxes(element, camera);
     }
 
-    void checkHeightAngle(XmlElement element, double degrees) const {
-        if (!(degrees > 0 && degrees < 180))
-            diagnostics_.error(element.line(),
-                               "heightangle " + std::to_string(degrees) + " is not a field of view",
-                               "give the full vertical field of view in degrees, between 0 and 180");
-    }
-
     void checkCameraAxes(XmlElement element, const Camera& camera) const {
-        if (length(camera.look) == 0)
-            diagnostics_.error(element.line(), "the camera looks nowhere (its look direction is zero)",
-                               "give a non-zero <look>, or a <focus> point away from <pos>");
-        if (length(cross(camera.look, camera.up)) <= 1e-12 * length(camera.look) * length(camera.up))
-            diagnostics_.error(element.line(), "the camera's up vector is zero or parallel to its look direction",
-                               "give an <up> that points away from the look direction");
+        if (std::optional<RuleBroken> broken =
+                brokenCameraAxes(camera, "<look>, or a <focus> point away from <pos>", "<up>"))
+            diagnostics_.error(element.line(), broken->problem, broken->remedy);
     }
 
     // <lightdata>: every field is read whatever the type; the renderer uses what applies.
@@ -445,23 +438,23 @@ private:
             } else if (sameName(name, "type")) {
                 light.type = lightType(child);
             } else if (sameName(name, "color")) {
-                light.color = color(child);
+                light.color = obeying(child, rules::kColorChannel, color(child));
             } else if (sameName(name, "function")) {
-                light.attenuation = triple(child);
+                light.attenuation = obeying(child, rules::kAttenuation, triple(child));
             } else if (sameName(name, "position")) {
                 light.position = triple(child);
             } else if (sameName(name, "direction")) {
                 light.direction = triple(child);
             } else if (sameName(name, "angle")) {
-                light.angleDegrees = single(child);
+                light.angleDegrees = obeying(child, rules::kSpotAngle, single(child));
             } else if (sameName(name, "penumbra")) {
-                light.penumbraDegrees = single(child);
+                light.penumbraDegrees = obeying(child, rules::kPenumbra, single(child));
             } else if (sameName(name, "radius")) {
-                light.radius = single(child);
+                light.radius = obeying(child, rules::kSpotRadius, single(child));
             } else if (sameName(name, "width")) {
-                light.width = single(child);
+                light.width = obeying(child, rules::kAreaSide, single(child));
             } else if (sameName(name, "height")) {
-                light.height = single(child);
+                light.height = obeying(child, rules::kAreaSide, single(child));
             } else {
                 warnUnknown(child, element);
             }
@@ -719,15 +712,15 @@ private:
     void parseMaterialElement(XmlElement element, XmlElement primitive, PrimitiveNode& node) {
         Material& m = node.material;
         const char* name = element.name();
-        if (sameName(name, "diffuse")) m.diffuse = color(element);
-        else if (sameName(name, "ambient")) m.ambient = color(element);
-        else if (sameName(name, "specular")) m.specular = color(element);
-        else if (sameName(name, "reflective")) m.reflective = color(element);
-        else if (sameName(name, "transparent")) m.transparent = color(element);
-        else if (sameName(name, "emissive")) m.emissive = color(element);
-        else if (sameName(name, "shininess")) m.shininess = single(element);
-        else if (sameName(name, "ior")) m.ior = single(element);
-        else if (sameName(name, "blend")) m.blend = single(element);
+        if (sameName(name, "diffuse")) m.diffuse = materialColor(element);
+        else if (sameName(name, "ambient")) m.ambient = materialColor(element);
+        else if (sameName(name, "specular")) m.specular = materialColor(element);
+        else if (sameName(name, "reflective")) m.reflective = materialColor(element);
+        else if (sameName(name, "transparent")) m.transparent = materialColor(element);
+        else if (sameName(name, "emissive")) m.emissive = materialColor(element);
+        else if (sameName(name, "shininess")) m.shininess = obeying(element, rules::kShininess, single(element));
+        else if (sameName(name, "ior")) m.ior = obeying(element, rules::kIor, single(element));
+        else if (sameName(name, "blend")) m.blend = obeying(element, rules::kBlend, single(element));
         else if (sameName(name, "texture")) node.filesToSet().texture = imageReference(element, m.texture, "texture");
         else if (sameName(name, "bumpmap")) node.filesToSet().bumpMap = imageReference(element, m.bumpMap, "bump map");
         else warnUnknown(element, primitive);
@@ -806,6 +799,17 @@ private:
         values.expect(3, 1, "r g b [a]");
         if (values.count() > 3) values.number(3);  // validated, then ignored
         return values.vec3();
+    }
+
+    Vec3 materialColor(XmlElement element) const { return obeying(element, rules::kColorChannel, color(element)); }
+
+    // The value, once it keeps its rule (parameter_rules.h, shared with the public API);
+    // an error at the element's line otherwise.
+    template <class Value>
+    Value obeying(XmlElement element, const NumberRule& rule, Value value) const {
+        if (std::optional<RuleBroken> broken = brokenRule(element.name(), value, rule))
+            diagnostics_.error(element.line(), broken->problem, broken->remedy);
+        return value;
     }
 
     const Diagnostics& diagnostics_;

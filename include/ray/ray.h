@@ -14,3 +14,10 @@
 #include "ray/errors.h"
 #include "ray/renderer.h"
 #include "ray/scene.h"
+
+namespace ray::api {
+
+// The library's version, "major.minor.patch" (the CMake project's; the soname's is the major).
+const char* version();
+
+}  // namespace ray::api

@@ -101,6 +101,10 @@ public:
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
 
+    // The device selection it was made with ("auto", "ref", "0,2", ...).
+    const std::string& devices() const;
+    // Throws InputError for a camera the scenefile loader would refuse (a zero look
+    // direction, an up vector parallel to it, a height angle outside (0, 180)).
     void setCamera(const Camera& camera);
     Camera camera() const;
     // Throws InputError for values out of range (sizes 1..16384, depth 0..64, ...).
@@ -124,6 +128,10 @@ private:
 // jpg, ppm, tif: 8-bit, clamped and truncated as the course does; exr, hdr: floats).
 // The file is replaced whole or not at all. Throws InputError, DeviceError.
 void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file);
+
+// The same from 8-bit values (what toByte gives; a frame's bytes): written unchanged to
+// 8-bit formats, as v / 255 to float ones.
+void saveImage(const std::vector<uint8_t>& rgb, int width, int height, const std::filesystem::path& file);
 
 // The 8-bit value ray writes for a channel: floor(255 · clamp(c, 0, 1)), as in its PNGs.
 uint8_t toByte(float channel);
