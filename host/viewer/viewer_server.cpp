@@ -321,6 +321,7 @@ private:
                 log(std::string("frame ") + std::to_string(frame_) + " failed: " + e.what());
                 std::lock_guard lock(mutex_);
                 sceneError_ = std::string("rendering failed: ") + e.what();
+                errorIsFrames_ = true;
                 refined = true;
                 changed_.notify_all();
                 continue;
@@ -328,6 +329,10 @@ private:
             double seconds = std::chrono::duration<double>(Clock::now() - start).count();
             std::lock_guard lock(mutex_);
             if (cancel_) continue;
+            if (errorIsFrames_) {  // a frame rendered again: the failure shown is over
+                sceneError_.clear();
+                errorIsFrames_ = false;
+            }
             frameDone_ = true;
             doneJson_ = {{"frame", frame_}, {"seconds", seconds}, {"rays", rays},
                          {"mrays", seconds > 0 ? double(rays) / seconds / 1e6 : 0.0},
@@ -358,12 +363,14 @@ private:
                 std::lock_guard lock(mutex_);
                 scene_ = scene;
                 sceneError_.clear();
+                errorIsFrames_ = false;
                 ++sceneVersion_;
                 newRequest();
             } catch (const std::exception& e) {
                 log(std::string(e.what()) + " (" + name + " not reloaded: the last good version stays)");
                 std::lock_guard lock(mutex_);
                 sceneError_ = e.what();
+                errorIsFrames_ = false;
                 changed_.notify_all();
             }
         }
@@ -375,7 +382,8 @@ private:
     std::condition_variable changed_;
     std::shared_ptr<const Scene> scene_;
     std::filesystem::file_time_type sceneTime_;
-    std::string sceneError_;
+    std::string sceneError_;     // shown in the page: a broken save, or a failed frame
+    bool errorIsFrames_ = false;  // sceneError_ is a failed frame's
     View view_;
     uint64_t requested_ = 0;     // view requests so far: the id of the latest view
     uint64_t sceneVersion_ = 0;  // successful reloads so far
