@@ -26,7 +26,7 @@ first_tile, complete = [], []
 try:
     viewer.wait_frame_done(timeout=600)
     connection = http.client.HTTPConnection("127.0.0.1", viewer.port, timeout=600)
-    connection.request("GET", "/events")
+    connection.request("GET", "/events", headers=viewer.auth_headers())
     events = connection.getresponse()
     while not events.fp.readline().startswith(b"event: done"):  # the frame already shown
         pass

@@ -224,3 +224,139 @@ TEST_CASE("the option --course-meshes parses and is off by default", "[cli][cour
     CHECK(parseCommandLine({"a.xml", "--course-meshes"}).settings.courseMeshes);
     CHECK(std::string(kUsageText).find("--course-meshes") != std::string::npos);
 }
+
+namespace {
+
+// What CLI11 says on its own; none of it may reach a user of any subcommand.
+const std::vector<std::string> kCli11Wording = {"FAILED", "Could not convert", "required", "TEXT", " INT",
+                                                "(0x)", "not in range", "Check ", "ArgumentMismatch",
+                                                "The following argument", "was not expected", "REQUIRED",
+                                                "Value ", "OR {", "->", "not a device selection"};
+
+// The options a subcommand's --help lists, with whether each takes a value ("--aa MODE").
+std::vector<std::pair<std::string, bool>> optionsInHelp(const std::string& help) {
+    std::vector<std::pair<std::string, bool>> options;
+    const size_t begin = help.find("\noptions:"), end = help.find("\nexit status");
+    REQUIRE(begin != std::string::npos);
+    REQUIRE(end != std::string::npos);
+    const std::string section = help.substr(begin, end - begin);
+    for (size_t at = section.find("--"); at != std::string::npos; at = section.find("--", at + 2)) {
+        if (at > 0 && section[at - 1] != ' ' && section[at - 1] != '\n') continue;
+        size_t stop = section.find_first_not_of("abcdefghijklmnopqrstuvwxyz-", at + 2);
+        const std::string name = section.substr(at, stop - at);
+        const bool takesValue = stop + 1 < section.size() && section[stop] == ' ' && std::isupper(section[stop + 1]);
+        // Only the option's own line, not a mention in another's description.
+        const size_t lineStart = section.rfind('\n', at) + 1;
+        const std::string before = section.substr(lineStart, at - lineStart);
+        if (before.find_first_not_of(" ,-abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ") != std::string::npos) continue;
+        if (before.size() > 0 && before.find_first_not_of(' ') != std::string::npos &&
+            before.find(", ") == std::string::npos)
+            continue;
+        if (std::none_of(options.begin(), options.end(), [&](auto& o) { return o.first == name; }))
+            options.emplace_back(name, takesValue);
+    }
+    return options;
+}
+
+}  // namespace
+
+TEST_CASE("every parse error of every subcommand is a plain sentence naming the option", "[cli][sweep]") {
+    // A scene that does not exist: a value that is (wrongly or rightly) accepted then stops
+    // at the load, so nothing renders or listens.
+    const std::string missing = (ray::test::outputDir() / "sweep_no_such_scene.xml").string();
+    const std::vector<std::pair<std::vector<std::string>, std::string>> commands = {
+        {{missing}, "ray"}, {{"view", missing, "--port", "0"}, "ray view"}, {{"explain", missing, "1", "1"}, "ray explain"}};
+    const std::vector<std::string> badValues = {"", "bogus", "-1", "1e999", "99999999999", "0.5x", "nan"};
+    int runs = 0;
+    for (const auto& [base, name] : commands) {
+        std::vector<std::string> helpArgs(base.begin(), base.begin() + (name == "ray" ? 0 : 1));
+        helpArgs.push_back("--help");
+        auto help = runRay(helpArgs);
+        REQUIRE(help.exitCode == 0);
+        const auto options = optionsInHelp(help.output);
+        INFO(name << " --help lists " << options.size() << " options");
+        REQUIRE(options.size() >= 8);
+
+        auto check = [&](std::vector<std::string> args, const std::string& option, const std::string& value) {
+            auto r = runRay(args, 60);
+            ++runs;
+            std::string shown;
+            for (const std::string& a : args) shown += " " + a;
+            INFO(name << ":" << shown << "\n-> exit " << r.exitCode << ": " << r.output);
+            // 2, or 3 where a device index that parses names no device (ray view selects
+            // its devices before it loads the scene).
+            const bool noSuchDevice = r.exitCode == 3 && r.output.find("no OpenCL device " + value) != std::string::npos;
+            CHECK((r.exitCode == 2 || noSuchDevice));
+            for (const std::string& words : kCli11Wording) CHECK_THAT(r.output, !Contains(words));
+            // A parse error names the option; a value taken stops at the missing scene.
+            const bool namesOption = r.output.find(option) != std::string::npos ||
+                                     (!value.empty() && r.output.find("'" + value + "'") != std::string::npos);
+            CHECK((namesOption || noSuchDevice || r.output.find("sweep_no_such_scene.xml") != std::string::npos));
+            if (r.output.find("(see " + name + " --help)") != std::string::npos) CHECK(namesOption);
+        };
+        for (const auto& [option, takesValue] : options) {
+            if (!takesValue) {
+                auto args = base;
+                args.push_back(option + "=bogus");
+                check(args, option, "");
+                continue;
+            }
+            auto args = base;
+            args.push_back(option);  // no value
+            check(args, option, "");
+            for (const std::string& value : badValues) {
+                auto withValue = base;
+                withValue.push_back(option);
+                withValue.push_back(value);
+                check(withValue, option, value);
+            }
+        }
+        // Unknown options, with and without a guess.
+        auto args = base;
+        args.push_back("--zzzzzz");
+        check(args, "--zzzzzz", "");
+        args = base;
+        args.push_back("--shadow");
+        if (name != "ray view") {
+            auto r = runRay(args);
+            CHECK(r.exitCode == 2);
+            CHECK_THAT(r.output, Contains("unknown option '--shadow'; did you mean --no-shadows?"));
+        }
+    }
+    INFO(runs << " runs");
+    CHECK(runs > 150);
+}
+
+TEST_CASE("the CLI points at what was meant", "[cli]") {
+    const std::string chess = scene("shadows.xml");
+    auto r = runRay({"--help"});
+    CHECK_THAT(r.output, Contains("ray view <scene.xml>"));
+    CHECK_THAT(r.output, Contains("ray explain <scene.xml> <x> <y>"));
+    r = runRay({"vie", chess});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("unknown subcommand 'vie'"));
+    CHECK_THAT(r.output, Contains("did you mean 'ray view'?"));
+    r = runRay({chess, "640"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("depth must be between 0 and 64, not 640"));
+    CHECK_THAT(r.output, Contains("a lone number after the scene is the recursion depth"));
+    r = runRay({chess, "--strict=yes"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("--strict is a switch: it takes no value"));
+    r = runRay({"view", chess, "--prot", "0"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("did you mean --port?"));
+    r = runRay({"explain", "--help"});
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(r.output, !Contains("size_and_depth"));
+    CHECK_THAT(r.output, Contains("--threshold"));
+    r = runRay({"explain", chess, "1", "1", "32", "24", "--threshold", "0.1", "--aa", "off"});
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(r.output, Contains("pixel (1, 1) of 32x24"));
+    r = runRay({"explain", chess, "1", "1", "--json"});
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("--json needs a value"));
+    CHECK(ray::closestMatch("--shadow", {"--stats", "--no-shadows"}) == "--no-shadows");
+    CHECK(ray::closestMatch("--sed", {"--seed", "--samples"}) == "--seed");
+    CHECK(ray::closestMatch("--zzzzzz", {"--seed", "--samples"}).empty());
+}

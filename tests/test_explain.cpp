@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <set>
+#include <sstream>
 
 #include "explain/explanation_report.h"
 #include "explain/pixel_explanation.h"
@@ -241,4 +243,59 @@ TEST_CASE("ray explain refuses bad arguments with exit status 2", "[explain]") {
     CHECK(test::runRay({"explain", scene, "1"}).exitCode == 2);                   // no y
     CHECK(test::runRay({"explain", scene, "1", "1", "--aa", "sideways"}).exitCode == 2);
     CHECK(test::runRay({"explain", (test::scenesDir() / "missing.xml").string(), "1", "1"}).exitCode == 2);
+}
+
+namespace {
+
+// Every factor name in a JSON tree of rays.
+void collectFactorNames(const nlohmann::json& ray, std::set<std::string>& names) {
+    if (!ray.contains("children")) return;
+    for (const auto& child : ray["children"]) {
+        names.insert(child["factor_name"].get<std::string>());
+        collectFactorNames(child, names);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("explain names each branch's factor by its term of the lighting equation", "[explain]") {
+    Scene scene = loadScene(test::scenesDir() / "refraction.xml");
+    for (bool fresnel : {false, true}) {
+        RenderSettings settings = smallSettings(32, 24, AntialiasMode::Off);
+        settings.fresnel = fresnel;
+        std::set<std::string> names;
+        for (int y = 0; y < 24; y += 2)
+            for (int x = 0; x < 32; x += 2) {
+                const nlohmann::json tree = explanationJson(explainPixel(scene, settings, x, y), scene);
+                for (const auto& sample : tree["samples"]) collectFactorNames(sample["ray"], names);
+            }
+        std::string all;
+        for (const std::string& name : names) all += name + "; ";
+        INFO("fresnel " << fresnel << ": " << all);
+        if (!fresnel) {
+            CHECK(names.count("ks·Or"));
+            CHECK(names.count("kt·Ot"));
+            CHECK(names.count("1 (kt·Ot was applied on entry)"));
+        } else {
+            CHECK(names.count("R·ks·Or"));
+            CHECK(names.count("(1−R)·kt·Ot"));
+        }
+    }
+    std::ostringstream text;
+    RenderSettings settings = smallSettings(32, 24, AntialiasMode::Off);
+    printExplanation(explainPixel(scene, settings, 16, 12), scene, text);
+    CHECK_THAT(text.str(), Catch::Matchers::Contains("ka·Oa") && Catch::Matchers::Contains("D·(N·L)"));
+}
+
+TEST_CASE("explain shows a sample's shutter time only in a scene that moves", "[explain]") {
+    RenderSettings settings = smallSettings(40, 30, AntialiasMode::Course);
+    for (auto [name, moves] : {std::pair{"shadows.xml", false}, std::pair{"motion_blur.xml", true}}) {
+        Scene scene = loadScene(test::scenesDir() / name);
+        PixelExplanation explanation = explainPixel(scene, settings, 20, 15);
+        std::ostringstream text;
+        printExplanation(explanation, scene, text);
+        INFO(name << ":\n" << text.str());
+        CHECK((text.str().find("shutter time") != std::string::npos) == moves);
+        CHECK(explanationJson(explanation, scene)["samples"][0].contains("time") == moves);
+    }
 }

@@ -3,6 +3,7 @@
 #include "render/renderer.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <functional>
@@ -74,18 +75,18 @@ the tiles, renders too and alone writes the image and the statistics (see README
                            a rank stopped answering and the job was ended without it
 )";
 
-namespace {
-
 int parseInt(const std::string& text, const std::string& what, int lo, int hi) {
     int value = 0;
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size())
+    if (ec == std::errc() && end == text.data() + text.size()) {
+        if (value >= lo && value <= hi) return value;
+    } else if (ec != std::errc::result_out_of_range || text.find_first_not_of("+-0123456789") != std::string::npos) {
         throw UsageError(what + " must be a whole number, not '" + text + "'");
-    if (value < lo || value > hi)
-        throw UsageError(what + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
-                         ", not " + text);
-    return value;
+    }
+    throw UsageError(what + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", not " + text);
 }
+
+namespace {
 
 std::string formatNumber(double value) {
     std::ostringstream out;
@@ -103,12 +104,16 @@ double parseDouble(const std::string& text, const std::string& what) {
     throw UsageError(what + " must be a number, not '" + text + "'");
 }
 
+}  // namespace
+
 double parseDoubleBetween(const std::string& text, const std::string& what, double lo, double hi) {
     const double value = parseDouble(text, what);
     if (!(value >= lo && value <= hi))
-        throw UsageError(what + " must be between " + formatNumber(lo) + " and " + formatNumber(hi));
+        throw UsageError(what + " must be between " + formatNumber(lo) + " and " + formatNumber(hi) + ", not " + text);
     return value;
 }
+
+namespace {
 
 AntialiasMode parseAntialias(const std::string& text) {
     if (text == "off") return AntialiasMode::Off;
@@ -132,95 +137,202 @@ void validateDevice(const std::string& text) {
                          text + "'");
 }
 
+// "a lone number after the scene is the depth": said whenever that number is refused, since
+// a width alone (ray scene.xml 640) is the usual slip.
+void applyLoneDepth(const std::string& value, RenderSettings& s) {
+    try {
+        s.maxDepth = parseInt(value, "depth", 0, kMaxDepth);
+    } catch (const UsageError& e) {
+        throw UsageError(std::string(e.what()) +
+                         " (a lone number after the scene is the recursion depth, as in the course's "
+                         "ray <scene.xml> [<width> <height>] [<depth>]; for the image's size give both "
+                         "width and height, e.g. 640 480)");
+    }
+}
+
 void applyPositionals(const std::vector<std::string>& positionals, CliOptions& options) {
     if (positionals.empty()) throw UsageError("no scene file given");
     options.scene = positionals[0];
-    RenderSettings& s = options.settings;
-    switch (positionals.size()) {
-        case 1:
-            break;
-        case 2:  // ray scene.xml <depth>
-            s.maxDepth = parseInt(positionals[1], "depth", 0, kMaxDepth);
-            break;
-        case 4:
-            s.maxDepth = parseInt(positionals[3], "depth", 0, kMaxDepth);
-            [[fallthrough]];
-        case 3:
-            s.width = parseInt(positionals[1], "width", 1, kMaxImageSide);
-            s.height = parseInt(positionals[2], "height", 1, kMaxImageSide);
-            break;
-        default:
-            throw UsageError("too many arguments: '" + positionals[4] + "'");
-    }
+    applySizeAndDepth(std::vector<std::string>(positionals.begin() + 1, positionals.end()), options.settings);
 }
 
 }  // namespace
 
+void applySizeAndDepth(const std::vector<std::string>& values, RenderSettings& s) {
+    switch (values.size()) {
+        case 0:
+            break;
+        case 1:  // ray scene.xml <depth>
+            applyLoneDepth(values[0], s);
+            break;
+        case 3:
+            s.maxDepth = parseInt(values[2], "depth", 0, kMaxDepth);
+            [[fallthrough]];
+        case 2:
+            s.width = parseInt(values[0], "width", 1, kMaxImageSide);
+            s.height = parseInt(values[1], "height", 1, kMaxImageSide);
+            break;
+        default:
+            throw UsageError("too many arguments: '" + values[3] + "' (after the scene: [<width> <height>] [<depth>])");
+    }
+}
+
+void addValueOption(CLI::App& app, const std::string& names, std::function<void(const std::string&)> apply) {
+    app.add_option_function<std::string>(names, std::move(apply))->take_last();
+}
+
+void addSwitch(CLI::App& app, const std::string& names, std::function<void()> apply) {
+    app.add_flag_callback(names, std::move(apply));
+}
+
+void addRenderSettingOptions(CLI::App& app, RenderSettings& s, std::vector<std::filesystem::path>& searchPaths) {
+    addValueOption(app, "--aa", [&](const std::string& v) { s.antialias = parseAntialias(v); });
+    addValueOption(app, "--samples", [&](const std::string& v) { s.samples = parseInt(v, "--samples", 1, kMaxSamples); });
+    addValueOption(app, "--area-samples",
+                   [&](const std::string& v) { s.areaSamples = parseInt(v, "--area-samples", 1, kMaxAreaSamples); });
+    addValueOption(app, "--seed", [&](const std::string& v) { s.seed = uint32_t(parseInt(v, "--seed", 0, 2147483647)); });
+    addValueOption(app, "--shutter", [&](const std::string& v) { s.shutter = parseDoubleBetween(v, "--shutter", 0, 1); });
+    addValueOption(app, "--threshold",
+                   [&](const std::string& v) { s.weightThreshold = parseDoubleBetween(v, "--threshold", 0, 1); });
+    app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
+        for (const std::string& dir : dirs) searchPaths.emplace_back(dir);
+    })->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    addSwitch(app, "--no-shadows", [&] { s.shadows = false; });
+    addSwitch(app, "--no-reflections", [&] { s.reflections = false; });
+    addSwitch(app, "--no-refraction", [&] { s.refraction = false; });
+    addSwitch(app, "--no-textures", [&] { s.textures = false; });
+    addSwitch(app, "--no-dof", [&] { s.depthOfField = false; });
+    addSwitch(app, "--fresnel", [&] { s.fresnel = true; });
+    addSwitch(app, "--course-meshes", [&] { s.courseMeshes = true; });
+    addValueOption(app, "--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });
+}
+
 namespace {
 
-// The option table. Each option is one line: its names, and what its value does to the
-// options (the converters above keep ray's messages). To add an option, add a line here and
-// its entry in kUsageText. CLI11 does the matching: names, values, repeats, unknown options.
+// The option table of the render command. Each option is one line: its names, and what its
+// value does to the options (the converters above keep ray's messages). To add an option,
+// add a line here and its entry in kUsageText. CLI11 does the matching: names, values,
+// repeats, unknown options.
 void addOptions(CLI::App& app, CliOptions& options) {
-    RenderSettings& s = options.settings;
-    auto text = [&](const char* names, std::function<void(const std::string&)> apply) {
-        return app.add_option_function<std::string>(names, std::move(apply))->take_last();
-    };
-    auto flag = [&](const char* names, bool& target, bool value) {
-        return app.add_flag_callback(names, [&target, value] { target = value; });
-    };
-    flag("-h,--help", options.help, true);
-    flag("--version", options.version, true);
-    text("-o,--output", [&](const std::string& v) { options.output = v; });
-    text("--aa", [&](const std::string& v) { s.antialias = parseAntialias(v); });
-    text("--samples", [&](const std::string& v) { s.samples = parseInt(v, "--samples", 1, kMaxSamples); });
-    text("--area-samples",
-         [&](const std::string& v) { s.areaSamples = parseInt(v, "--area-samples", 1, kMaxAreaSamples); });
-    text("--seed", [&](const std::string& v) { s.seed = uint32_t(parseInt(v, "--seed", 0, 2147483647)); });
-    text("--shutter", [&](const std::string& v) { s.shutter = parseDoubleBetween(v, "--shutter", 0, 1); });
-    text("--threshold", [&](const std::string& v) { s.weightThreshold = parseDoubleBetween(v, "--threshold", 0, 1); });
-    text("--device", [&](const std::string& v) { validateDevice(v); options.device = v; });
-    flag("--list-devices", options.listDevices, true);
-    text("--tile-size", [&](const std::string& v) { options.tileSize = parseInt(v, "--tile-size", 8, 4096); });
-    text("--rank-timeout",
-         [&](const std::string& v) { options.rankTimeout = parseDoubleBetween(v, "--rank-timeout", 0.1, 1e6); });
-    flag("--no-bvh", options.referenceBruteForce, true);
-    app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
-        for (const std::string& dir : dirs) options.searchPaths.emplace_back(dir);
-    })->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-    flag("--strict", options.strict, true);
-    flag("--no-shadows", s.shadows, false);
-    flag("--no-reflections", s.reflections, false);
-    flag("--no-refraction", s.refraction, false);
-    flag("--no-textures", s.textures, false);
-    flag("--no-dof", s.depthOfField, false);
-    flag("--fresnel", s.fresnel, true);
-    flag("--course-meshes", s.courseMeshes, true);
-    text("--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });
-    flag("-q,--quiet", options.quiet, true);
-    flag("--stats", options.stats, true);
-    text("--stats-json", [&](const std::string& v) { options.statsJson = v; });
-    flag("--partial", options.partial, true);
-    text("--max-primitives",
-         [&](const std::string& v) { options.maxPrimitives = size_t(parseInt(v, "--max-primitives", 1, 2147483647)); });
+    auto set = [](bool& target) { return [&target] { target = true; }; };
+    addSwitch(app, "-h,--help", set(options.help));
+    addSwitch(app, "--version", set(options.version));
+    addValueOption(app, "-o,--output", [&](const std::string& v) { options.output = v; });
+    addRenderSettingOptions(app, options.settings, options.searchPaths);
+    addValueOption(app, "--device", [&](const std::string& v) { validateDevice(v); options.device = v; });
+    addSwitch(app, "--list-devices", set(options.listDevices));
+    addValueOption(app, "--tile-size", [&](const std::string& v) { options.tileSize = parseInt(v, "--tile-size", 8, 4096); });
+    addValueOption(app, "--rank-timeout", [&](const std::string& v) {
+        options.rankTimeout = parseDoubleBetween(v, "--rank-timeout", 0.1, 1e6);
+    });
+    addSwitch(app, "--no-bvh", set(options.referenceBruteForce));
+    addSwitch(app, "--strict", set(options.strict));
+    addSwitch(app, "-q,--quiet", set(options.quiet));
+    addSwitch(app, "--stats", set(options.stats));
+    addValueOption(app, "--stats-json", [&](const std::string& v) { options.statsJson = v; });
+    addSwitch(app, "--partial", set(options.partial));
+    addValueOption(app, "--max-primitives", [&](const std::string& v) {
+        options.maxPrimitives = size_t(parseInt(v, "--max-primitives", 1, 2147483647));
+    });
+}
+
+// Levenshtein distance, for "did you mean".
+size_t editDistance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+std::string withoutDashes(const std::string& name) { return name.substr(std::min(name.find_first_not_of('-'), name.size())); }
+
+// Every name of the app's options ("-o", "--output", ...).
+std::vector<std::string> optionNames(const CLI::App& app) {
+    std::vector<std::string> names;
+    for (const CLI::Option* option : app.get_options()) {
+        for (const std::string& name : option->get_snames()) names.push_back("-" + name);
+        for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+    }
+    return names;
+}
+
+// The option a CLI11 message is about: the first of the app's names it mentions.
+std::string optionNamed(const std::string& message, const CLI::App& app) {
+    std::string best;
+    for (const std::string& name : optionNames(app))
+        if (name.size() > best.size() && message.find(name) != std::string::npos) best = name;
+    return best;
+}
+
+bool isSwitch(const std::string& name, const CLI::App& app) {
+    const CLI::Option* option = app.get_option_no_throw(name);
+    return option && option->get_expected_max() == 0;
 }
 
 // CLI11's own errors in ray's words (the tests and scripts match on these).
 UsageError usageErrorFrom(const CLI::ParseError& error, const CLI::App& app) {
+    const std::string message = error.what();
     if (dynamic_cast<const CLI::ExtrasError*>(&error)) {
         const std::vector<std::string> extras = app.remaining();
         const std::string first = extras.empty() ? std::string() : extras.front();
-        return UsageError("unknown option '" + first + "'");
+        if (first.empty() || first[0] != '-' || first == "-")
+            return UsageError("too many arguments: '" + first + "'");
+        const std::string name = first.substr(0, first.find('='));
+        const std::string guess = closestMatch(name, optionNames(app));
+        return UsageError("unknown option '" + name + "'" + (guess.empty() ? "" : "; did you mean " + guess + "?"));
     }
-    const std::string message = error.what();
-    if (dynamic_cast<const CLI::ArgumentMismatch*>(&error)) {
-        // CLI11 names the option before the first ':' ("--output: 1 required TEXT missing").
-        return UsageError(message.substr(0, message.find(':')) + " needs a value");
-    }
-    return UsageError(message);
+    const std::string option = optionNamed(message, app);
+    if (!option.empty() && isSwitch(option, app)) return UsageError(option + " is a switch: it takes no value");
+    if (!option.empty() && dynamic_cast<const CLI::ArgumentMismatch*>(&error))
+        return UsageError(option + " needs a value");
+    if (!option.empty()) return UsageError(option + " was not understood");
+    return UsageError("the arguments were not understood");
 }
 
 }  // namespace
+
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+    // A name the word is part of (--shadow: --no-shadows) beats one a few letters away.
+    const std::string bare = withoutDashes(word);
+    if (bare.size() >= 3)
+        for (const std::string& candidate : candidates)
+            if (withoutDashes(candidate).find(bare) != std::string::npos) return candidate;
+    std::string best;
+    size_t bestDistance = std::max<size_t>(2, bare.size() / 3) + 1;
+    for (const std::string& candidate : candidates) {
+        const size_t distance = editDistance(bare, withoutDashes(candidate));
+        if (distance < bestDistance) {
+            best = candidate;
+            bestDistance = distance;
+        }
+    }
+    return best;
+}
+
+void parseArguments(CLI::App& app, const std::vector<std::string>& args) {
+    // CLI11 lets a switch take a value (--strict=yes, --strict=0); ray's switches take none.
+    for (const std::string& arg : args) {
+        if (arg == "--") break;
+        const size_t equals = arg.find('=');
+        if (arg.rfind("--", 0) == 0 && equals != std::string::npos && isSwitch(arg.substr(0, equals), app))
+            throw UsageError(arg.substr(0, equals) + " is a switch: it takes no value");
+    }
+    // CLI11 takes a vector in reverse order (it pops arguments off the back).
+    std::vector<std::string> reversed(args.rbegin(), args.rend());
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+        throw usageErrorFrom(e, app);
+    }
+}
 
 CliOptions parseCommandLine(const std::vector<std::string>& args) {
     CliOptions options;
@@ -229,14 +341,7 @@ CliOptions parseCommandLine(const std::vector<std::string>& args) {
     app.set_help_flag();  // ray prints its own kUsageText for -h/--help
     addOptions(app, options);
     app.add_option("positionals", positionals);  // <scene.xml> [<width> <height>] [<depth>]
-
-    // CLI11 takes a vector in reverse order (it pops arguments off the back).
-    std::vector<std::string> reversed(args.rbegin(), args.rend());
-    try {
-        app.parse(reversed);
-    } catch (const CLI::ParseError& e) {
-        throw usageErrorFrom(e, app);
-    }
+    parseArguments(app, args);
     if (options.help || options.version || options.listDevices) {
         if (!positionals.empty()) applyPositionals(positionals, options);
         return options;

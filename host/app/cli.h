@@ -3,10 +3,15 @@
 
 #include <filesystem>
 #include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "render/render_settings.h"
+
+namespace CLI {
+class App;
+}
 
 namespace ray {
 
@@ -45,5 +50,30 @@ CliOptions parseCommandLine(const std::vector<std::string>& args);
 std::filesystem::path outputPathFor(const CliOptions& options);
 
 extern const char* const kUsageText;
+
+// What the subcommands share with the render command: ray's value parsers (each message
+// names the option and what it takes), the render settings' options, and CLI11 with its
+// errors put in ray's words. Each throws UsageError.
+int parseInt(const std::string& text, const std::string& what, int lo, int hi);
+double parseDoubleBetween(const std::string& text, const std::string& what, double lo, double hi);
+
+// An option with a value, parsed by `apply` (CLI11 only matches the names), and a switch.
+void addValueOption(CLI::App& app, const std::string& names, std::function<void(const std::string&)> apply);
+void addSwitch(CLI::App& app, const std::string& names, std::function<void()> apply);
+
+// The options of RenderSettings that every command that traces takes: --aa, --samples,
+// --seed, --area-samples, --shutter, --threshold, --no-shadows ... --no-dof, --fresnel,
+// --course-meshes, --texture-filter, --search-path.
+void addRenderSettingOptions(CLI::App& app, RenderSettings& settings, std::vector<std::filesystem::path>& searchPaths);
+
+// The course's [<width> <height>] [<depth>] after the scene: a lone number is the depth.
+void applySizeAndDepth(const std::vector<std::string>& values, RenderSettings& settings);
+
+// Parses args (argv without the program and subcommand names) with `app`. CLI11's own
+// errors become UsageErrors in ray's words: unknown options get a "did you mean".
+void parseArguments(CLI::App& app, const std::vector<std::string>& args);
+
+// The candidate `word` is most likely a misspelling of, or empty when none is close.
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates);
 
 }  // namespace ray

@@ -1,5 +1,6 @@
 // ray: renders a CS123 scenefile. See `ray --help` and README.md.
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <string_view>
 #include <vector>
@@ -21,9 +22,11 @@ double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+void printHelp();
+
 int run(const CliOptions& options) {
     if (options.help) {
-        std::cout << kUsageText;
+        printHelp();
         return 0;
     }
     if (options.version) {
@@ -61,18 +64,44 @@ int run(const CliOptions& options) {
 // any other first argument is the render command's course form. A subcommand registers a
 // line here. Its exceptions get the exit codes of describeFailure().
 struct Subcommand {
-    std::string_view name;
+    std::string name;
     int (*run)(const std::vector<std::string>& args);  // the arguments after the name
+    const char* synopsis;  // for ray --help: its arguments, then what it does
 };
 const std::vector<Subcommand> kSubcommands = {
-    {"explain", runExplainCommand},  // host/explain/
-    {"view", runViewModule},         // host/viewer/, in libray_viewer.so
+    {"view", runViewModule,  // host/viewer/, in libray_viewer.so
+     "<scene.xml> [options]\n"
+     "      a live viewer in the browser: orbit, zoom, switch features, click a pixel to\n"
+     "      explain it; saving the scene reloads it (ray view --help)"},
+    {"explain", runExplainCommand,  // host/explain/
+     "<scene.xml> <x> <y> [<width> <height>] [<depth>] [options]\n"
+     "      the tree of rays of pixel (x, y): every hit, light term and branch, as the\n"
+     "      reference renderer traces it (ray explain --help)"},
 };
+
+void printHelp() {
+    std::cout << kUsageText << "\nsubcommands:\n";
+    for (const Subcommand& subcommand : kSubcommands)
+        std::cout << "  ray " << subcommand.name << " " << subcommand.synopsis << "\n";
+}
+
+// `ray vie chess.xml`: a first argument that is no file but nearly a subcommand's name is
+// taken for a misspelled subcommand rather than a scene.
+void refuseMisspelledSubcommand(const std::string& first) {
+    if (first.empty() || first[0] == '-' || std::filesystem::exists(first)) return;
+    std::vector<std::string> names;
+    for (const Subcommand& subcommand : kSubcommands) names.push_back(subcommand.name);
+    const std::string guess = closestMatch(first, names);
+    if (!guess.empty())
+        throw UsageError("unknown subcommand '" + first + "' (and no such scene file); did you mean 'ray " + guess +
+                         "'?");
+}
 
 int dispatch(const std::vector<std::string>& args) {
     for (const Subcommand& subcommand : kSubcommands)
         if (!args.empty() && args.front() == subcommand.name)
             return subcommand.run(std::vector<std::string>(args.begin() + 1, args.end()));
+    if (!args.empty()) refuseMisspelledSubcommand(args.front());
     return run(parseCommandLine(args));
 }
 

@@ -3,7 +3,6 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
-#include <map>
 
 #include "app/cli.h"
 #include "core/atomic_file.h"
@@ -15,68 +14,64 @@ namespace ray {
 
 namespace {
 
+const char* const kExplainUsage = R"(usage: ray explain <scene.xml> <x> <y> [<width> <height>] [<depth>] [options]
+
+Prints the tree of rays of pixel (x, y) (0, 0 at the top left) as the reference renderer
+traces it: every ray, hit, light term and branch not traced, with the term each number is
+in the lighting equation. The image is as `ray` would render it: the same size and depth
+arguments (default 1024 768, depth 4; a lone number after the pixel is the depth) and the
+same options.
+
+options:
+  --json FILE              also write the tree as JSON to FILE
+  --aa MODE                off | course (default) | stratified | adaptive
+  --samples N              samples per pixel for stratified/adaptive (default 16)
+  --seed N                 seed of the stochastic sampling (default 0)
+  --area-samples N         point samples per area light (default 16, at most 1024)
+  --shutter T              motion blur: fraction of the scene's <motion> (0..1; default 1)
+  --threshold T            stop a branch whose weight is below T (default 1/256)
+  --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
+                           switch a feature off (the course's test settings)
+  --fresnel                exact Fresnel weights on transparent surfaces
+  --course-meshes          mesh hits as the course's solution measured them
+  --texture-filter F       nearest (default) | bilinear | trilinear | course
+  --search-path DIR        also look for textures and meshes under DIR (repeatable)
+  -h, --help               this text
+
+exit status: 0 success, 2 bad input or arguments
+)";
+
 struct ExplainOptions {
     std::filesystem::path scene;
     int x = 0, y = 0;
-    std::vector<int> sizeAndDepth;  // [w h] [depth]
+    std::vector<std::string> positionals;  // <scene.xml> <x> <y> [w h] [depth]
     std::filesystem::path json;
     std::vector<std::filesystem::path> searchPaths;
-    bool noShadows = false, noReflections = false, noRefraction = false, noTextures = false, noDof = false;
     RenderSettings settings;
+    bool help = false;
 };
 
-const std::map<std::string, AntialiasMode> kAntialiasModes{{"off", AntialiasMode::Off},
-                                                           {"course", AntialiasMode::Course},
-                                                           {"stratified", AntialiasMode::Stratified},
-                                                           {"adaptive", AntialiasMode::Adaptive}};
-
 void defineOptions(CLI::App& app, ExplainOptions& o) {
-    app.add_option("scene", o.scene, "the scenefile")->required();
-    app.add_option("x", o.x, "pixel column, 0 at the left")->required();
-    app.add_option("y", o.y, "pixel row, 0 at the top")->required();
-    app.add_option("size_and_depth", o.sizeAndDepth, "[width height] [depth] as for ray (default 1024 768 4)")
-        ->expected(0, 3);
-    app.add_option("--json", o.json, "also write the tree as JSON to FILE");
-    app.add_option("--aa", o.settings.antialias, "antialiasing: off | course | stratified | adaptive")
-        ->transform(CLI::CheckedTransformer(kAntialiasModes, CLI::ignore_case));
-    app.add_option("--samples", o.settings.samples, "samples a pixel (stratified, adaptive)")
-        ->check(CLI::Range(1, kMaxSamples));
-    app.add_option("--seed", o.settings.seed, "noise pattern of the stochastic modes");
-    app.add_option("--area-samples", o.settings.areaSamples, "point samples per area light")
-        ->check(CLI::Range(1, kMaxAreaSamples));
-    app.add_option("--shutter", o.settings.shutter, "motion blur: fraction of the motion")->check(CLI::Range(0.0, 1.0));
-    app.add_option("--search-path", o.searchPaths, "folders to look for textures and meshes in");
-    app.add_flag("--no-shadows", o.noShadows);
-    app.add_flag("--no-reflections", o.noReflections);
-    app.add_flag("--no-refraction", o.noRefraction);
-    app.add_flag("--no-textures", o.noTextures);
-    app.add_flag("--no-dof", o.noDof);
-    app.add_flag("--fresnel", o.settings.fresnel, "weight transparent surfaces' branches by exact Fresnel");
-    app.add_flag("--course-meshes", o.settings.courseMeshes,
-                 "mesh hits by the course's distance t·|M⁻¹d|, placed there, face normals");
+    app.set_help_flag();  // kExplainUsage instead of CLI11's
+    addSwitch(app, "-h,--help", [&] { o.help = true; });
+    addValueOption(app, "--json", [&](const std::string& v) {
+        if (v.empty()) throw UsageError("--json needs a file name");
+        o.json = v;
+    });
+    addRenderSettingOptions(app, o.settings, o.searchPaths);
+    app.add_option("positionals", o.positionals);
 }
 
-// The positional [w h] [depth] and the switches into the settings; throws UsageError.
+// The positionals into the options; throws UsageError.
 void finishSettings(ExplainOptions& o) {
+    const std::vector<std::string>& p = o.positionals;
+    if (p.empty()) throw UsageError("no scene file given");
+    if (p.size() < 3) throw UsageError("no pixel given: ray explain <scene.xml> <x> <y>");
+    o.scene = p[0];
     RenderSettings& s = o.settings;
-    const std::vector<int>& v = o.sizeAndDepth;
-    if (v.size() == 1) s.maxDepth = v[0];
-    if (v.size() >= 2) {
-        s.width = v[0];
-        s.height = v[1];
-    }
-    if (v.size() == 3) s.maxDepth = v[2];
-    if (s.width < 1 || s.height < 1 || s.width > kMaxImageSide || s.height > kMaxImageSide)
-        throw UsageError("width and height must be 1.." + std::to_string(kMaxImageSide));
-    if (s.maxDepth < 0 || s.maxDepth > kMaxDepth) throw UsageError("depth must be 0.." + std::to_string(kMaxDepth));
-    if (o.x < 0 || o.y < 0 || o.x >= s.width || o.y >= s.height)
-        throw UsageError("pixel (" + std::to_string(o.x) + ", " + std::to_string(o.y) + ") is outside the " +
-                         std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
-    s.shadows = !o.noShadows;
-    s.reflections = !o.noReflections;
-    s.refraction = !o.noRefraction;
-    s.textures = !o.noTextures;
-    s.depthOfField = !o.noDof;
+    applySizeAndDepth(std::vector<std::string>(p.begin() + 3, p.end()), s);
+    o.x = parseInt(p[1], "the pixel's x", 0, s.width - 1);
+    o.y = parseInt(p[2], "the pixel's y", 0, s.height - 1);
 }
 
 int explain(const ExplainOptions& o) {
@@ -95,25 +90,24 @@ int explain(const ExplainOptions& o) {
 }  // namespace
 
 int runExplainCommand(const std::vector<std::string>& args) {
-    CLI::App app{"ray explain: the tree of rays of one pixel, traced by the reference renderer", "ray explain"};
+    CLI::App app{"ray explain", "ray explain"};
     ExplainOptions options;
     options.settings.width = 1024;
     options.settings.height = 768;
     defineOptions(app, options);
     try {
-        std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
-        app.parse(reversed);
+        parseArguments(app, args);
+        if (options.help) {
+            std::cout << kExplainUsage;
+            return 0;
+        }
         finishSettings(options);
-        return explain(options);
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "ray explain: " << e.what() << "\n(see ray explain --help)\n";
-        return 2;
     } catch (const UsageError& e) {
         std::cerr << "ray explain: " << e.what() << "\n(see ray explain --help)\n";
         return 2;
+    }
+    try {
+        return explain(options);
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";
         return 2;

@@ -1,5 +1,6 @@
 #include "explain/explanation_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -35,6 +36,30 @@ const char* lightTypeName(LightType type) {
     return "?";
 }
 
+// Motion blur draws a shutter time per sample; in a scene where nothing moves it changes
+// nothing, and is not shown.
+bool sceneMoves(const Scene& scene) {
+    return std::any_of(scene.primitives.begin(), scene.primitives.end(),
+                       [](const PrimitiveInstance& p) { return p.motion != Vec3{0, 0, 0}; });
+}
+
+// The term of the lighting equation (SPEC §4) a branch's factor is: what its parent
+// multiplies the branch's clamped color by. `parent` is the ray whose hit the branch
+// leaves from.
+std::string factorName(const ExplainedRay& parent, const ExplainedRay& child, const RenderSettings& settings,
+                       const Scene& scene) {
+    const Material& material = scene.materials[size_t(scene.primitives[size_t(parent.hitInfo.primitive)].material)];
+    const bool transparent = settings.refraction && material.transparent != Vec3{};
+    const bool fresnel = settings.fresnel && transparent;
+    if (transparent && !parent.hitInfo.entering) {
+        // Leaving a transparent object: kt·Ot was applied on the way in.
+        if (!fresnel) return "1 (kt·Ot was applied on entry)";
+        return child.kind == TraceRayKind::Refracted ? "1−R (Fresnel)" : "R (Fresnel)";
+    }
+    if (child.kind == TraceRayKind::Reflected) return fresnel ? "R·ks·Or" : "ks·Or";
+    return fresnel ? "(1−R)·kt·Ot" : "kt·Ot";
+}
+
 // JSON has no infinity: a directional light's distance is null.
 json distanceJson(double distance) { return std::isfinite(distance) ? json(distance) : json(nullptr); }
 
@@ -61,7 +86,7 @@ json lightJson(const TraceLightTerm& term, const Scene& scene) {
     return j;
 }
 
-json rayJson(const ExplainedRay& ray, const Scene& scene) {
+json rayJson(const ExplainedRay& ray, const Scene& scene, const RenderSettings& settings) {
     json j{{"kind", traceRayKindName(ray.kind)}, {"origin", vec(ray.origin)}, {"direction", vec(ray.direction)},
            {"depth", ray.depth},  {"weight", vec(ray.weight)},          {"factor", vec(ray.factor)},
            {"color", vec(ray.color)}, {"hit", ray.hit}};
@@ -94,7 +119,11 @@ json rayJson(const ExplainedRay& ray, const Scene& scene) {
         stops.push_back({{"branch", traceRayKindName(stop.kind)}, {"reason", branchStopName(stop.reason)}});
     j["branches_not_traced"] = stops;
     json children = json::array();
-    for (const auto& child : ray.children) children.push_back(rayJson(*child, scene));
+    for (const auto& child : ray.children) {
+        json c = rayJson(*child, scene, settings);
+        c["factor_name"] = factorName(ray, *child, settings, scene);
+        children.push_back(c);
+    }
     j["children"] = children;
     return j;
 }
@@ -111,11 +140,13 @@ void printLight(const TraceLightTerm& term, const Scene& scene, const std::strin
         out << "\n";
         return;
     }
-    out << ", f_att " << number(term.attenuation) << ", diffuse " << text(term.diffuse) << ", R·V "
-        << number(term.rDotV) << ", specular " << text(term.specular) << " → " << text(term.contribution) << "\n";
+    out << ", f_att " << number(term.attenuation) << ", diffuse D·(N·L) " << text(term.diffuse) << ", R·V "
+        << number(term.rDotV) << ", specular ks·Os·(R·V)^n " << text(term.specular)
+        << " → f_att·I_L·(diffuse + specular) " << text(term.contribution) << "\n";
 }
 
-void printRay(const ExplainedRay& ray, const Scene& scene, int level, std::ostream& out) {
+void printRay(const ExplainedRay& ray, const Scene& scene, const RenderSettings& settings, int level,
+              std::ostream& out) {
     std::string indent(size_t(level) * 2, ' ');
     out << indent << traceRayKindName(ray.kind) << " ray (depth " << ray.depth << ", weight " << text(ray.weight)
         << ") from " << text(ray.origin) << " along " << text(ray.direction) << "\n";
@@ -129,16 +160,17 @@ void printRay(const ExplainedRay& ray, const Scene& scene, int level, std::ostre
     out << indent << "hits " << primitiveTypeName(primitive.type) << " at " << primitiveSource(scene, hit.primitive)
         << " (material " << primitive.material << ") t " << number(hit.t) << ", normal " << text(hit.normal) << ", uv ("
         << number(hit.uv.u) << ", " << number(hit.uv.v) << ")" << (hit.entering ? "" : ", from inside") << "\n";
-    out << indent << "ambient " << text(ray.ambient) << ", emissive " << text(ray.emissive) << ", diffuse color "
-        << text(ray.diffuseColor);
-    if (ray.textured) out << " (texel " << text(ray.texel) << ")";
+    out << indent << "ambient ka·Oa " << text(ray.ambient) << ", emissive " << text(ray.emissive)
+        << ", diffuse color D = kd·Od " << text(ray.diffuseColor);
+    if (ray.textured) out << " blended with the texel " << text(ray.texel);
     out << "\n";
     for (const TraceLightTerm& term : ray.lights) printLight(term, scene, indent, out);
     for (const ExplainedStop& stop : ray.stops)
         out << indent << traceRayKindName(stop.kind) << " branch not traced: " << branchStopName(stop.reason) << "\n";
     for (const auto& child : ray.children) {
-        out << indent << "× factor " << text(child->factor) << " of the clamped color of:\n";
-        printRay(*child, scene, level + 2, out);
+        out << indent << "+ " << factorName(ray, *child, settings, scene) << " " << text(child->factor)
+            << " × the clamped color of:\n";
+        printRay(*child, scene, settings, level + 2, out);
     }
     out << indent << "= " << text(ray.color) << "\n";
 }
@@ -148,22 +180,25 @@ void printRay(const ExplainedRay& ray, const Scene& scene, int level, std::ostre
 void printExplanation(const PixelExplanation& e, const Scene& scene, std::ostream& out) {
     out << "pixel (" << e.x << ", " << e.y << ") of " << e.settings.width << "x" << e.settings.height << ", depth "
         << e.settings.maxDepth << ", " << e.samples.size() << " sample" << (e.samples.size() == 1 ? "" : "s") << "\n";
+    const bool moves = sceneMoves(scene);
     for (const ExplainedSample& sample : e.samples) {
         out << "sample " << sample.index << " at offset (" << number(sample.sx) << ", " << number(sample.sy) << ")";
-        if (sample.time != 0) out << ", time " << number(sample.time);
+        if (moves) out << ", shutter time " << number(sample.time);
         out << ": " << text(sample.color) << "\n";
-        if (sample.ray) printRay(*sample.ray, scene, 1, out);
+        if (sample.ray) printRay(*sample.ray, scene, e.settings, 1, out);
     }
     out << "pixel color " << text(e.color) << ", clamped " << text(e.clamped) << ", 8-bit (" << e.bytes[0] << ", "
         << e.bytes[1] << ", " << e.bytes[2] << ")\n";
 }
 
 nlohmann::json explanationJson(const PixelExplanation& e, const Scene& scene) {
+    const bool moves = sceneMoves(scene);
     json samples = json::array();
     for (const ExplainedSample& sample : e.samples) {
-        json s{{"index", sample.index}, {"offset", json::array({sample.sx, sample.sy})}, {"time", sample.time},
+        json s{{"index", sample.index}, {"offset", json::array({sample.sx, sample.sy})},
                {"color", vec(sample.color)}, {"clamped", vec(clamp01(sample.color))}};
-        if (sample.ray) s["ray"] = rayJson(*sample.ray, scene);
+        if (moves) s["time"] = sample.time;
+        if (sample.ray) s["ray"] = rayJson(*sample.ray, scene, e.settings);
         samples.push_back(s);
     }
     return {{"scene", scene.sourceFile.string()},

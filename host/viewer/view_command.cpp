@@ -1,62 +1,148 @@
 #include "viewer/view_command.h"
 
 #include <CLI/CLI.hpp>
+#include <ctime>
 #include <iostream>
 
 #include "app/cli.h"
 #include "app/command_module_abi.h"
 #include "app/render_command.h"
-#include "scene/file_search.h"
 #include "opencl/opencl_device.h"
 #include "render/renderer.h"
+#include "scene/file_search.h"
+#include "viewer/access_token.h"
 #include "viewer/opencl_frame_source.h"
 #include "viewer/viewer_server.h"
 
 namespace ray {
 
-int runViewCommand(const std::vector<std::string>& args) {
-    CLI::App app{"ray view: a live viewer in the browser, served on 127.0.0.1", "ray view"};
+namespace {
+
+const char* const kViewUsage = R"(usage: ray view <scene.xml> [options]
+
+A live viewer in the browser: drag to orbit, shift-drag to pan, wheel to zoom, click a pixel
+to explain it. Saving the scene reloads it. Each change is drawn at once with one sample a
+pixel, then, once the view rests, with the antialiasing of `ray` (the course's), the image
+`ray <scene.xml> <width> <height>` makes of that view.
+
+options:
+  --port N          TCP port (0: any free one; default 8123). A port in use is refused
+  --bind ADDRESS    address to listen on (default 127.0.0.1; anything else exposes the
+                    viewer to the network)
+  --no-token        open to anyone who can reach the port. By default the printed URL
+                    holds a random access token (kept in a cookie after the first visit)
+                    and every request without it gets 403, so that other users of the
+                    machine cannot use the viewer
+  --width N, --height N
+                    image size (8..2048; default 640 480)
+  --depth N         recursion depth (0..16; default 4)
+  --aa MODE         antialiasing of the view at rest: course (default, as ray) | off
+  --device D        auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene packed
+                    once; ref: the reference renderer
+  --search-path DIR also look for textures and meshes under DIR (repeatable)
+  -h, --help        this text
+
+exit status: 0 stopped, 2 bad input or arguments, 3 the port is in use or the server or
+             device cannot start
+)";
+
+struct ViewCommand {
     ViewerOptions options;
-    options.settings.width = 640;
-    options.settings.height = 480;
-    options.settings.antialias = AntialiasMode::Off;  // interactive: one sample first
+    std::vector<std::string> positionals;
     std::vector<std::filesystem::path> searchPaths;
     std::string device = "auto";
-    app.add_option("scene", options.scene, "the scenefile (watched: saving it reloads)")->required();
-    app.add_option("--port", options.port, "TCP port (0: any free one; default 8123)")->check(CLI::Range(0, 65535));
-    app.add_option("--bind", options.address,
-                   "address to listen on (default 127.0.0.1; anything else exposes the viewer to the network)");
-    app.add_option("--width", options.settings.width)->check(CLI::Range(kMinViewSide, kMaxViewSide));
-    app.add_option("--height", options.settings.height)->check(CLI::Range(kMinViewSide, kMaxViewSide));
-    app.add_option("--depth", options.settings.maxDepth)->check(CLI::Range(0, kMaxViewDepth));
-    app.add_option("--device", device,
-                   "auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene packed once; ref: the reference renderer")
-        ->check([](const std::string& value) { return isDeviceSelection(value) ? "" : "not a device selection"; });
-    app.add_option("--search-path", searchPaths, "folders to look for textures and meshes in");
+    bool noToken = false;
+    bool help = false;
+};
+
+void defineOptions(CLI::App& app, ViewCommand& c) {
+    RenderSettings& s = c.options.settings;
+    app.set_help_flag();  // kViewUsage instead of CLI11's
+    addSwitch(app, "-h,--help", [&] { c.help = true; });
+    addValueOption(app, "--port", [&](const std::string& v) { c.options.port = parseInt(v, "--port", 0, 65535); });
+    addValueOption(app, "--bind", [&](const std::string& v) {
+        if (v.empty()) throw UsageError("--bind needs an address, such as 127.0.0.1");
+        c.options.address = v;
+    });
+    addSwitch(app, "--no-token", [&] { c.noToken = true; });
+    addValueOption(app, "--width", [&](const std::string& v) { s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide); });
+    addValueOption(app, "--height",
+                   [&](const std::string& v) { s.height = parseInt(v, "--height", kMinViewSide, kMaxViewSide); });
+    addValueOption(app, "--depth", [&](const std::string& v) { s.maxDepth = parseInt(v, "--depth", 0, kMaxViewDepth); });
+    addValueOption(app, "--aa", [&](const std::string& v) {
+        if (v == "off") s.antialias = AntialiasMode::Off;
+        else if (v == "course") s.antialias = AntialiasMode::Course;
+        else throw UsageError("--aa of ray view must be course or off, not '" + v + "'");
+    });
+    addValueOption(app, "--device", [&](const std::string& v) {
+        if (!isDeviceSelection(v))
+            throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
+                             v + "'");
+        c.device = v;
+    });
+    app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
+        for (const std::string& dir : dirs) c.searchPaths.emplace_back(dir);
+    })->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    app.add_option("scene", c.positionals);
+}
+
+std::string timeOfDay() {
+    std::time_t now = std::time(nullptr);
+    char text[16];
+    std::strftime(text, sizeof text, "%H:%M:%S", std::localtime(&now));
+    return text;
+}
+
+void finishOptions(ViewCommand& c) {
+    if (c.positionals.empty()) throw UsageError("no scene file given");
+    if (c.positionals.size() > 1) throw UsageError("too many arguments: '" + c.positionals[1] + "'");
+    ViewerOptions& options = c.options;
+    options.scene = c.positionals[0];
+    options.load.searchPaths = c.searchPaths;
+    for (auto& p : searchPathsFromEnvironment()) options.load.searchPaths.push_back(p);
+    options.load.warn = [](const std::string& message) { std::cerr << message << "\n"; };
+    if (!c.noToken) options.token = newAccessToken();
+    // The URL is the only place the token is ever printed.
+    options.onListening = [&options](int port) {
+        std::cout << "ray view: http://" << options.address << ":" << port << "/"
+                  << (options.token.empty() ? "" : "?token=" + options.token) << std::endl;
+    };
+    options.log = [](const std::string& message) { std::cerr << "ray view " << timeOfDay() << ": " << message << std::endl; };
+}
+
+}  // namespace
+
+int runViewCommand(const std::vector<std::string>& args) {
+    CLI::App app{"ray view", "ray view"};
+    ViewCommand command;
+    command.options.settings.width = 640;
+    command.options.settings.height = 480;
+    // The view at rest is refined to the CLI's antialiasing; while the camera moves, frames
+    // take one sample a pixel (viewer_server.h).
+    command.options.settings.antialias = RenderSettings{}.antialias;
+    defineOptions(app, command);
     try {
-        app.parse(std::vector<std::string>(args.rbegin(), args.rend()));
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
+        parseArguments(app, args);
+        if (command.help) {
+            std::cout << kViewUsage;
+            return 0;
+        }
+        finishOptions(command);
+    } catch (const UsageError& e) {
         std::cerr << "ray view: " << e.what() << "\n(see ray view --help)\n";
         return 2;
     }
+    const ViewerOptions& options = command.options;
     if (options.address != "127.0.0.1" && options.address != "localhost")
         std::cerr << "ray view: warning: listening on " << options.address
-                  << ", not only this machine: anyone who can reach it can use the viewer\n";
-    options.load.searchPaths = searchPaths;
-    for (auto& p : searchPathsFromEnvironment()) options.load.searchPaths.push_back(p);
-    options.load.warn = [](const std::string& message) { std::cerr << message << "\n"; };
-    options.onListening = [&](int port) {
-        std::cout << "ray view: http://" << options.address << ":" << port << "/" << std::endl;
-    };
+                  << ", not only this machine: anyone who can reach it can use the viewer"
+                  << (options.token.empty() ? "" : " if they learn its URL") << "\n";
     try {
         std::unique_ptr<FrameSource> source;
-        if (isReferenceDevice(device))
+        if (isReferenceDevice(command.device))
             source = std::make_unique<ReferenceFrameSource>();
         else
-            source = std::make_unique<OpenClFrameSource>(selectOpenClDevices(device));
+            source = std::make_unique<OpenClFrameSource>(selectOpenClDevices(command.device));
         runViewer(options, std::move(source));
         return 0;
     } catch (const InputError& e) {
@@ -64,7 +150,7 @@ int runViewCommand(const std::vector<std::string>& args) {
         return 2;
     } catch (const std::exception& e) {
         std::cerr << "ray view: " << e.what() << "\n";
-        return 3;
+        return kExitRuntime;
     }
 }
 

@@ -1,4 +1,5 @@
-// `ray view scene.xml [--port N] [--bind ADDRESS] [w h] [depth]`: the live viewer.
+// `ray view scene.xml [--port N] [--bind ADDRESS] [--no-token] [--width W --height H] [--depth D]
+// [--aa course|off] [--device D]`: the live viewer (`ray view --help`).
 #pragma once
 
 #include <string>

@@ -1,16 +1,23 @@
 #include "viewer/viewer_server.h"
 
 #include <httplib.h>
+#include <netinet/in.h>
+#include <netdb.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <condition_variable>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <mutex>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "explain/explanation_report.h"
+#include "viewer/access_token.h"
 #include "viewer/viewer_page.h"
 
 namespace ray {
@@ -27,6 +34,8 @@ constexpr auto kWatchInterval = std::chrono::milliseconds(300);
 // connect and never read cannot take every server thread (each stream holds one).
 constexpr uint64_t kMaxStreams = 6;
 constexpr size_t kServerThreads = 24;
+// How long the view must stay unchanged before it is refined to the full antialiasing.
+constexpr auto kRestDelay = std::chrono::milliseconds(350);
 
 std::string base64(const std::vector<uint8_t>& bytes) {
     static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -93,6 +102,20 @@ View parseView(const std::string& body, const View& current) {
     return view;
 }
 
+const char* antialiasName(AntialiasMode mode) { return mode == AntialiasMode::Off ? "off" : "course"; }
+
+// What a frame is: the view (request number) and scene (reload number) it shows, and
+// whether it is the quick preview of a change or the view at rest, refined.
+struct FrameKind {
+    uint64_t view = 0, scene = 0;
+    AntialiasMode antialias = AntialiasMode::Off;
+    bool final = true;  // no refinement follows
+};
+
+json frameKindJson(const FrameKind& kind) {
+    return {{"view", kind.view}, {"scene", kind.scene}, {"aa", antialiasName(kind.antialias)}, {"final", kind.final}};
+}
+
 // Everything the server threads share, under one mutex.
 class Session {
 public:
@@ -117,32 +140,38 @@ public:
                 {"shadows", view_.settings.shadows}, {"reflections", view_.settings.reflections},
                 {"refraction", view_.settings.refraction}, {"textures", view_.settings.textures},
                 {"fresnel", view_.settings.fresnel}, {"course_meshes", view_.settings.courseMeshes},
-                {"aa", view_.settings.antialias == AntialiasMode::Off ? "off" : "course"},
-                {"error", sceneError_}};
+                {"aa", antialiasName(view_.settings.antialias)},
+                {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_}};
     }
 
     // A new view: the frame in flight is cancelled and the latest request alone is rendered.
     void request(const std::string& body) {
         std::lock_guard lock(mutex_);
         view_ = parseView(body, view_);
-        ++requested_;
-        cancel_ = true;
-        changed_.notify_all();
+        newRequest();
     }
 
+    // The explanation names the view and scene it was made for, so that the page can tell
+    // when a later frame has made it stale.
     json explain(int x, int y) {
         std::shared_ptr<const Scene> scene;
         View view;
+        uint64_t viewId = 0, sceneVersion = 0;
         {
             std::lock_guard lock(mutex_);
             scene = scene_;
             view = view_;
+            viewId = requested_;
+            sceneVersion = sceneVersion_;
         }
         if (x < 0 || y < 0 || x >= view.settings.width || y >= view.settings.height)
             throw std::invalid_argument("pixel outside the image");
         Scene viewed = *scene;
         viewed.camera = view.camera;
-        return explanationJson(explainPixel(viewed, view.settings, x, y), viewed);
+        json tree = explanationJson(explainPixel(viewed, view.settings, x, y), viewed);
+        tree["view"] = viewId;
+        tree["scene_version"] = sceneVersion;
+        return tree;
     }
 
     // What one /events client has been sent so far.
@@ -152,6 +181,7 @@ public:
         size_t sent = 0;
         bool doneSent = false;
         std::string error;
+        uint64_t sceneVersion = 0;
     };
 
     // Writes, as server-sent events, what happened since `cursor`; waits up to a second.
@@ -163,24 +193,27 @@ public:
         size_t& sent = cursor.sent;
         bool& doneSent = cursor.doneSent;
         std::string& error = cursor.error;
+        uint64_t& sceneVersion = cursor.sceneVersion;
         std::string out;
         {
             std::unique_lock lock(mutex_);
             changed_.wait_for(lock, std::chrono::seconds(1), [&] {
-                return frame != frame_ || sent < tiles_.size() || error != sceneError_ || stop_ ||
-                       (frameDone_ && !doneSent);
+                return frame != frame_ || sent < tiles_.size() || error != sceneError_ ||
+                       sceneVersion != sceneVersion_ || stop_ || (frameDone_ && !doneSent);
             });
             if (stop_ || id + kMaxStreams < streamsOpened_) return false;
-            if (error != sceneError_) {
+            if (error != sceneError_ || sceneVersion != sceneVersion_) {
                 error = sceneError_;
-                out += "event: scene\ndata: " + json{{"error", error}}.dump() + "\n\n";
+                sceneVersion = sceneVersion_;
+                out += "event: scene\ndata: " + json{{"error", error}, {"version", sceneVersion}}.dump() + "\n\n";
             }
             if (frame != frame_) {
                 frame = frame_;
                 sent = 0;
                 doneSent = false;
-                out += "event: frame\ndata: " +
-                       json{{"frame", frame_}, {"width", frameWidth_}, {"height", frameHeight_}}.dump() + "\n\n";
+                json event{{"frame", frame_}, {"width", frameWidth_}, {"height", frameHeight_}};
+                event.update(frameKindJson(frameKind_));
+                out += "event: frame\ndata: " + event.dump() + "\n\n";
             }
             for (; sent < tiles_.size(); ++sent) {
                 const FrameTile& t = tiles_[sent];
@@ -219,20 +252,53 @@ private:
         return std::filesystem::last_write_time(options_.scene, ec);
     }
 
+    // A new view or scene: the frame in flight is cancelled, the next one is its preview.
+    // Called with mutex_ held.
+    void newRequest() {
+        ++requested_;
+        lastRequestAt_ = Clock::now();
+        cancel_ = true;
+        changed_.notify_all();
+    }
+
+    // What to render next, waiting for it: the preview of the latest request, or its
+    // refinement once the view has rested for kRestDelay. False when stopping.
+    bool nextFrame(std::unique_lock<std::mutex>& lock, uint64_t& rendered, bool& refined, FrameKind& kind) {
+        for (;;) {
+            if (stop_) return false;
+            if (requested_ != rendered) {
+                rendered = requested_;
+                refined = view_.settings.antialias == AntialiasMode::Off;
+                kind = {requested_, sceneVersion_, AntialiasMode::Off, refined};
+                return true;
+            }
+            const auto restAt = lastRequestAt_ + kRestDelay;
+            if (!refined && frameDone_ && Clock::now() >= restAt) {
+                refined = true;
+                kind = {requested_, sceneVersion_, view_.settings.antialias, true};
+                return true;
+            }
+            if (!refined && frameDone_) changed_.wait_until(lock, restAt);
+            else changed_.wait(lock);
+        }
+    }
+
     void renderLoop() {
         uint64_t rendered = ~uint64_t(0);
+        bool refined = true;
         for (;;) {
             std::shared_ptr<const Scene> scene;
             View view;
+            FrameKind kind;
             {
                 std::unique_lock lock(mutex_);
-                changed_.wait(lock, [&] { return stop_ || requested_ != rendered; });
-                if (stop_) return;
-                rendered = requested_;
+                if (!nextFrame(lock, rendered, refined, kind)) return;
                 scene = scene_;
                 view = view_;
+                view.settings.antialias = kind.antialias;
                 cancel_ = false;
                 ++frame_;
+                frameKind_ = kind;
                 tiles_.clear();
                 frameDone_ = false;
                 frameWidth_ = view.settings.width;
@@ -240,22 +306,44 @@ private:
                 changed_.notify_all();
             }
             auto start = Clock::now();
-            uint64_t rays = source_->renderFrame(scene, view.camera, view.settings,
-                                                 [&](const FrameTile& tile) {
-                                                     std::lock_guard lock(mutex_);
-                                                     tiles_.push_back(tile);
-                                                     changed_.notify_all();
-                                                 },
-                                                 cancel_);
+            uint64_t rays = 0;
+            try {
+                rays = source_->renderFrame(scene, view.camera, view.settings,
+                                            [&](const FrameTile& tile) {
+                                                std::lock_guard lock(mutex_);
+                                                tiles_.push_back(tile);
+                                                changed_.notify_all();
+                                            },
+                                            cancel_);
+            } catch (const std::exception& e) {
+                // The viewer stays up: the page and the terminal say why, the next change
+                // tries again.
+                log(std::string("frame ") + std::to_string(frame_) + " failed: " + e.what());
+                std::lock_guard lock(mutex_);
+                sceneError_ = std::string("rendering failed: ") + e.what();
+                errorIsFrames_ = true;
+                refined = true;
+                changed_.notify_all();
+                continue;
+            }
             double seconds = std::chrono::duration<double>(Clock::now() - start).count();
             std::lock_guard lock(mutex_);
             if (cancel_) continue;
+            if (errorIsFrames_) {  // a frame rendered again: the failure shown is over
+                sceneError_.clear();
+                errorIsFrames_ = false;
+            }
             frameDone_ = true;
             doneJson_ = {{"frame", frame_}, {"seconds", seconds}, {"rays", rays},
                          {"mrays", seconds > 0 ? double(rays) / seconds / 1e6 : 0.0},
                          {"device", source_->deviceName()}};
+            doneJson_.update(frameKindJson(kind));
             changed_.notify_all();
         }
+    }
+
+    void log(const std::string& message) const {
+        if (options_.log) options_.log(message);
     }
 
     // Saving the scene reloads it; a broken save keeps the last good scene and shows why.
@@ -268,17 +356,21 @@ private:
             auto time = lastWrite();
             if (time == sceneTime_) continue;
             sceneTime_ = time;
+            const std::string name = options_.scene.filename().string();
             try {
                 auto scene = std::make_shared<Scene>(loadScene(options_.scene, options_.load));
+                log("reloaded " + name);
                 std::lock_guard lock(mutex_);
                 scene_ = scene;
                 sceneError_.clear();
-                ++requested_;
-                cancel_ = true;
-                changed_.notify_all();
+                errorIsFrames_ = false;
+                ++sceneVersion_;
+                newRequest();
             } catch (const std::exception& e) {
+                log(std::string(e.what()) + " (" + name + " not reloaded: the last good version stays)");
                 std::lock_guard lock(mutex_);
                 sceneError_ = e.what();
+                errorIsFrames_ = false;
                 changed_.notify_all();
             }
         }
@@ -290,9 +382,13 @@ private:
     std::condition_variable changed_;
     std::shared_ptr<const Scene> scene_;
     std::filesystem::file_time_type sceneTime_;
-    std::string sceneError_;
+    std::string sceneError_;     // shown in the page: a broken save, or a failed frame
+    bool errorIsFrames_ = false;  // sceneError_ is a failed frame's
     View view_;
-    uint64_t requested_ = 0;
+    uint64_t requested_ = 0;     // view requests so far: the id of the latest view
+    uint64_t sceneVersion_ = 0;  // successful reloads so far
+    Clock::time_point lastRequestAt_ = Clock::now();
+    FrameKind frameKind_;        // what the frame frame_ shows
     std::atomic<bool> cancel_{false};
     bool stop_ = false;
     uint64_t frame_ = 0;
@@ -309,8 +405,32 @@ void badRequest(httplib::Response& response, const std::string& why) {
     response.set_content(json{{"error", why}}.dump(), "application/json");
 }
 
+// The access check every request passes first (viewer/access_token.h). A first visit to
+// the page with the token in its query gets the cookie and is sent on to the bare URL.
+httplib::Server::HandlerResponse checkAccess(const httplib::Request& request, httplib::Response& response,
+                                             const std::string& token, const std::string& cookieName) {
+    using Result = httplib::Server::HandlerResponse;
+    if (token.empty()) return Result::Unhandled;
+    const PresentedCredentials presented{request.get_param_value("token"), request.get_header_value("Authorization"),
+                                         request.get_header_value("Cookie")};
+    if (!tokensMatch(presentedToken(presented, cookieName), token)) {
+        response.status = 403;
+        response.set_content("ray view: this viewer needs its access token: open the URL that `ray view` printed "
+                             "(with ?token=...), or start it with --no-token\n",
+                             "text/plain; charset=utf-8");
+        return Result::Handled;
+    }
+    if (request.path == "/" && request.has_param("token")) {
+        response.set_header("Set-Cookie", cookieName + "=" + token + "; Path=/; HttpOnly; SameSite=Strict");
+        response.set_redirect("/", 303);
+        return Result::Handled;
+    }
+    return Result::Unhandled;
+}
+
 void defineRoutes(httplib::Server& server, Session& session) {
     server.Get("/", [](const httplib::Request&, httplib::Response& response) {
+        response.set_header("Cache-Control", "no-store");
         response.set_content(kViewerPage, "text/html; charset=utf-8");
     });
     server.Get("/state", [&](const httplib::Request&, httplib::Response& response) {
@@ -342,11 +462,50 @@ void defineRoutes(httplib::Server& server, Session& session) {
     });
 }
 
+// SO_REUSEADDR alone: a restarted viewer may take its port back from connections in
+// TIME_WAIT, but a port another server listens on stays refused. (cpp-httplib's default
+// also sets SO_REUSEPORT, under which two viewers both listened and shared the requests.)
+void exclusivePortOptions(socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+}
+
+// Why binding failed, asked again of the system: cpp-httplib only says that it did.
+int bindFailure(const std::string& address, int port) {
+    addrinfo hints{}, *found = nullptr;
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    hints.ai_flags = AI_PASSIVE;
+    if (getaddrinfo(address.c_str(), std::to_string(port).c_str(), &hints, &found) != 0 || !found) return EADDRNOTAVAIL;
+    int error = 0;
+    int sock = socket(found->ai_family, found->ai_socktype, found->ai_protocol);
+    if (sock < 0) error = errno;
+    else {
+        exclusivePortOptions(sock);
+        if (bind(sock, found->ai_addr, found->ai_addrlen) != 0) error = errno;
+        close(sock);
+    }
+    freeaddrinfo(found);
+    return error;
+}
+
+[[noreturn]] void throwCannotListen(const std::string& address, int port) {
+    const int error = bindFailure(address, port);
+    const std::string where = address + ":" + std::to_string(port);
+    if (error == EADDRINUSE)
+        throw AddressInUse("port " + std::to_string(port) + " on " + address +
+                           " is already in use (another ray view, or another server); stop it, or choose another "
+                           "port: --port N, or --port 0 for any free one");
+    throw std::runtime_error("cannot listen on " + where + (error ? std::string(": ") + std::strerror(error) : "") +
+                             "; try another --port or --bind");
+}
+
 }  // namespace
 
 void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source) {
     Session session(options, std::move(source));
     httplib::Server server;
+    server.set_socket_options(exclusivePortOptions);
     server.set_payload_max_length(kMaxRequestBody);
     // A client that stops reading is dropped after this long instead of holding a thread.
     server.set_write_timeout(5, 0);
@@ -357,9 +516,12 @@ void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source
     int port = options.port;
     if (port == 0) port = server.bind_to_any_port(options.address);
     else if (!server.bind_to_port(options.address, port)) port = -1;
-    if (port < 0)
-        throw std::runtime_error("cannot listen on " + options.address + ":" + std::to_string(options.port) +
-                                 "; try another --port");
+    if (port < 0) throwCannotListen(options.address, options.port);
+    // The cookie's name holds the port, known only now (--port 0).
+    server.set_pre_routing_handler([token = options.token, cookie = accessCookieName(port)](
+                                       const httplib::Request& request, httplib::Response& response) {
+        return checkAccess(request, response, token, cookie);
+    });
     session.start();
     if (options.onListening) options.onListening(port);
     server.listen_after_bind();

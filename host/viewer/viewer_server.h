@@ -3,14 +3,21 @@
 // settings changes, the scene file watched, and "explain this pixel".
 //
 // Only five routes exist (/, /state, /view, /events, /explain); nothing is ever read from
-// disk for a request, so no path can reach a file. Request bodies are capped, every number
-// is range-checked, and each change cancels the frame in flight: the renderer works on the
+// disk for a request, so no path can reach a file. Every request must carry the access
+// token (viewer/access_token.h) unless the viewer was started with --no-token: without it
+// the answer is 403, whatever the path. Request bodies are capped, every number is
+// range-checked, and each change cancels the frame in flight: the renderer works on the
 // latest request only.
+//
+// Frames: a change is first rendered with one sample a pixel (quick, while the camera
+// moves); once the view has rested for a moment it is rendered again with the antialiasing
+// asked for (the CLI's default, the course's), the image `ray scene W H` makes.
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "scene/scene_loader.h"
@@ -23,18 +30,28 @@ constexpr int kMinViewSide = 8;
 constexpr int kMaxViewSide = 2048;
 constexpr int kMaxViewDepth = 16;
 
+// The port is taken (another `ray view`, or any other server): binding fails rather than
+// sharing it (cpp-httplib's default sets SO_REUSEPORT, which let two viewers both listen).
+struct AddressInUse : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
 struct ViewerOptions {
     std::filesystem::path scene;
     std::string address = "127.0.0.1";
     int port = 8123;  // 0: any free port
-    RenderSettings settings;
+    RenderSettings settings;  // antialias: what a view at rest is refined to
     LoadOptions load;
+    // The access token every request must present; empty: the viewer is open (--no-token).
+    std::string token;
     // Called once the server listens, with the port it got.
     std::function<void(int port)> onListening;
+    // The terminal's log: reloads, broken saves, failed frames (never the token).
+    std::function<void(const std::string& message)> log;
 };
 
 // Serves until the process is stopped. Throws InputError for a scene that does not load at
-// start and std::runtime_error when the address cannot be bound.
+// start and AddressInUse / std::runtime_error when the address cannot be bound.
 void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source);
 
 }  // namespace ray

@@ -1,5 +1,8 @@
-"""ray view in headless Chromium (Selenium): the first full frame equals the CLI's render of the
-same view, a drag orbits and a new frame arrives, a click shows the pixel's explanation.
+"""ray view in headless Chromium (Selenium) in a 1280×800 window, as a user meets it: the URL
+with its token, the page without horizontal scrolling and the explanation fully visible, the
+view at rest byte-identical to the CLI's render of the same view, a drag that orbits, a
+click that explains and marks its pixel, and an explanation that goes stale and is
+refreshed after an orbit and a reload; a broken save's error does not squeeze the panel.
 Usage: python3 test_browser.py RAY_BINARY SCENE [SCREENSHOT.png]
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
 import os
@@ -24,7 +27,8 @@ from viewer_harness import Viewer
 
 ray, scene = sys.argv[1], sys.argv[2]
 screenshot = sys.argv[3] if len(sys.argv) > 3 else None
-WIDTH, HEIGHT = 160, 120
+WINDOW_WIDTH, WINDOW_HEIGHT = 1280, 800
+WIDTH, HEIGHT = 640, 480  # the viewer's default size
 
 
 def read_ppm(path):
@@ -40,53 +44,136 @@ def wait(driver, condition, timeout=180):
         value = driver.execute_script("return " + condition)
         if value:
             return value
-        time.sleep(0.2)
+        time.sleep(0.1)
     raise TimeoutError(condition)
 
 
-viewer = Viewer(ray, scene, "--width", str(WIDTH), "--height", str(HEIGHT), "--device", "cpu")
+def canvas_pixels(driver, canvas_id="view"):
+    return driver.execute_script(
+        f"const c = document.getElementById('{canvas_id}');"
+        "return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data);")
+
+
+def check_layout(driver, when):
+    """No horizontal scrolling; the explanation panel inside the window, its lines not cut."""
+    layout = driver.execute_script("""
+        const panel = document.getElementById('panel').getBoundingClientRect();
+        const text = document.getElementById('explain');
+        return { inner: window.innerWidth, scroll: document.documentElement.scrollWidth,
+                 bodyScroll: document.body.scrollWidth, scrollX: window.scrollX,
+                 panelLeft: panel.left, panelRight: panel.right, panelWidth: panel.width,
+                 textScroll: text.scrollWidth, textClient: text.clientWidth };""")
+    assert layout["scroll"] <= layout["inner"] and layout["bodyScroll"] <= layout["inner"], (when, layout)
+    assert layout["panelRight"] <= layout["inner"] and layout["panelLeft"] >= 0, (when, layout)
+    assert layout["textScroll"] <= layout["textClient"], (when, "explanation lines cut", layout)
+    assert layout["panelWidth"] >= 400, (when, "panel squeezed", layout)
+    return layout
+
+
+def explain_pixel(driver, canvas, x, y):
+    """Clicks pixel (x, y) of the canvas (CSS and canvas pixels are the same size here)."""
+    before = driver.execute_script("return window.rayViewer.explains")
+    rect = driver.execute_script("return document.getElementById('view').getBoundingClientRect().toJSON()")
+    ActionChains(driver).move_to_element_with_offset(canvas, int(x + 0.5 - rect["width"] / 2),
+                                                     int(y + 0.5 - rect["height"] / 2)).click().perform()
+    wait(driver, f"window.rayViewer.explains > {before} && window.rayViewer.explainState === 'fresh'")
+    return driver.execute_script("return window.rayViewer.lastExplain")
+
+
+viewer = Viewer(ray, scene, "--device", "cpu")
 options = webdriver.ChromeOptions()
-for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,900", "--disable-dev-shm-usage"]:
+for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", f"--window-size={WINDOW_WIDTH},{WINDOW_HEIGHT}",
+             "--disable-dev-shm-usage"]:
     options.add_argument(flag)
 driver = webdriver.Chrome(options=options)
 try:
+    # The viewport, not the window, is 1280 px wide (a window's frame would take from it).
+    inner = driver.execute_script("return [window.innerWidth, window.innerHeight]")
+    driver.set_window_size(2 * WINDOW_WIDTH - inner[0], 2 * WINDOW_HEIGHT - inner[1])
     driver.get(viewer.url)
-    wait(driver, "window.rayViewer.completeFrame > 0")
+    inner = driver.execute_script("return [window.innerWidth, window.innerHeight]")
+    assert inner == [WINDOW_WIDTH, WINDOW_HEIGHT], inner
 
-    # The canvas (PoCL, through the engine) against `ray` with --device cpu --aa off at the
-    # same size: the same kernel and pixel numbering, so byte-identical.
+    # The token: the URL's query is traded for an HttpOnly cookie and leaves the address bar.
+    assert "token" not in driver.current_url and driver.execute_script("return document.cookie") == "", \
+        driver.current_url
+    print("token: URL with the token -> cookie, address bar without it")
+
+    # At rest the view is refined to the CLI's antialiasing: byte-identical to `ray scene W H`
+    # on the same device (PoCL, through the engine).
+    rest = wait(driver, "window.rayViewer.restFrame")
+    assert rest["aa"] == "course", rest
     folder = tempfile.mkdtemp()
     ppm = os.path.join(folder, "cli.ppm")
-    subprocess.run([ray, viewer.scene, str(WIDTH), str(HEIGHT), "--device", "cpu", "--aa", "off", "-o", ppm, "--quiet"],
-                   check=True)
+    subprocess.run([ray, viewer.scene, str(WIDTH), str(HEIGHT), "--device", "cpu", "-o", ppm, "--quiet"], check=True)
     w, h, expected = read_ppm(ppm)
-    pixels = driver.execute_script(
-        "const c = document.getElementById('view');"
-        "return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data);")
+    pixels = canvas_pixels(driver)
     assert len(pixels) == w * h * 4, (len(pixels), w, h)
     differing = sum(1 for i in range(w * h) if tuple(pixels[4 * i:4 * i + 3]) != tuple(expected[3 * i:3 * i + 3]))
     assert differing == 0, f"{differing} pixels differ from the CLI's render"
-    print(f"first frame: {w}x{h}, identical to ray --device cpu --aa off")
+    print(f"view at rest (frame {rest['frame']}): {w}x{h}, course AA, identical to ray {WIDTH} {HEIGHT} --device cpu")
+    layout = check_layout(driver, "first view")
+    print(f"layout at {WINDOW_WIDTH}x{WINDOW_HEIGHT}: no horizontal scroll, panel {layout['panelWidth']:.0f} px wide "
+          f"at x {layout['panelLeft']:.0f}..{layout['panelRight']:.0f}")
 
-    # Drag to orbit: a new frame arrives and completes.
-    frames = driver.execute_script("return window.rayViewer.frames")
-    done = driver.execute_script("return window.rayViewer.completeFrame")
+    # Click a pixel on the floor: its explanation appears, fully visible, and the pixel is
+    # marked over the image (the image itself is untouched).
     canvas = driver.find_element(By.ID, "view")
-    ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(40, 10).release().perform()
-    wait(driver, f"window.rayViewer.frames > {frames} && window.rayViewer.completeFrame > {done}")
-    after = driver.execute_script(
-        "const c = document.getElementById('view');"
-        "return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data);")
-    assert after != pixels, "the orbit did not change the image"
-    print("drag: a new frame arrived")
-
-    # Click a pixel: its explanation appears beside the image.
-    ActionChains(driver).move_to_element_with_offset(canvas, 0, 0).click().perform()
-    wait(driver, "window.rayViewer.lastExplain !== null")
+    x, y = 400, 400
+    tree = explain_pixel(driver, canvas, x, y)
+    assert tree["pixel"] == [x, y], tree["pixel"]
     text = driver.find_element(By.ID, "explain").text
-    assert "pixel (" in text and "camera ray" in text, text[:300]
-    print("click: explanation shown:", text.splitlines()[0])
+    assert "pixel (" in text and "camera ray" in text and "hits " in text, text[:300]
+    check_layout(driver, "explanation shown")
+    marker = canvas_pixels(driver, "marker")
+    near = [marker[4 * (j * WIDTH + i) + 3] for j in range(y - 9, y + 10) for i in range(x - 9, x + 10)]
+    far = [marker[4 * (j * WIDTH + i) + 3] for j in range(0, 40) for i in range(0, 40)]
+    assert sum(1 for a in near if a > 0) >= 20 and not any(far), "the explained pixel is not marked"
+    assert canvas_pixels(driver) == pixels, "the marker was drawn into the image"
+    print(f"click: pixel ({x}, {y}) explained ({len(text.splitlines())} lines, none cut) and marked")
+
+    # Orbit: the explanation goes stale (dimmed) at once and is explained again, for the new
+    # view, once the camera rests.
+    old_view = tree["view"]
+    driver.execute_script("window.rayViewer.explainStates = []")
+    ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(40, 10).release().perform()
+    wait(driver, f"window.rayViewer.restFrame.view > {old_view} && window.rayViewer.explainState === 'fresh' && "
+                 f"window.rayViewer.lastExplain.view === window.rayViewer.restFrame.view")
+    states = driver.execute_script("return window.rayViewer.explainStates")
+    stale = [s for s in states if s["state"] == "stale"]
+    assert stale and all(float(s["opacity"]) < 0.6 for s in stale), states
+    assert float(states[-1]["opacity"]) == 1.0, states
+    assert canvas_pixels(driver) != pixels, "the orbit did not change the image"
+    refreshed = driver.execute_script("return window.rayViewer.lastExplain")
+    assert refreshed["pixel"] == [x, y] and refreshed["view"] > old_view
+    print("orbit: a new view; the explanation was dimmed as stale, then refreshed for it:",
+          " -> ".join(s["state"] for s in states))
+
+    # A good save reloads the scene: stale, then refreshed for the new version.
+    old_version = refreshed["scene_version"]
+    driver.execute_script("window.rayViewer.explainStates = []")
+    good = open(viewer.scene).read()
+    time.sleep(1.1)  # a new modification time, whatever the file system's resolution
+    open(viewer.scene, "w").write(good)
+    wait(driver, f"window.rayViewer.lastExplain.scene_version > {old_version} && "
+                 "window.rayViewer.explainState === 'fresh'")
+    states = driver.execute_script("return window.rayViewer.explainStates")
+    assert any(s["state"] == "stale" for s in states), states
+    print("reload: the explanation was dimmed as stale, then refreshed:", " -> ".join(s["state"] for s in states))
+
+    # A broken save: its error line wraps under the image and leaves the panel as wide.
+    width_before = check_layout(driver, "before the broken save")["panelWidth"]
+    time.sleep(1.1)
+    open(viewer.scene, "w").write(good[:len(good) // 2] + "<unclosed_" + "x" * 200 + "\n")
+    wait(driver, "document.getElementById('error').textContent.length > 0", timeout=30)
+    after = check_layout(driver, "broken save")
+    assert after["panelWidth"] == width_before, (width_before, after)
+    print(f"broken save: error shown, panel still {after['panelWidth']:.0f} px, no horizontal scroll")
     if screenshot:
+        time.sleep(1.1)
+        open(viewer.scene, "w").write(good)
+        wait(driver, "document.getElementById('error').textContent.length === 0", timeout=30)
+        wait(driver, "window.rayViewer.explainState === 'fresh'")
         driver.save_screenshot(screenshot)
 finally:
     driver.quit()

@@ -1,6 +1,9 @@
 """ray view against hostile clients: each case prints its outcome (for the report) and asserts
-that the server survives, serves no file and keeps its memory bounded.
+that the server survives, serves no file and keeps its memory bounded; requests without the
+access token, with a wrong one or a stolen-format one get 403 and change nothing.
 Usage: python3 test_hostile_clients.py RAY_BINARY SCENE"""
+import http.client
+import re
 import socket
 import sys
 import time
@@ -32,15 +35,68 @@ def raw(data, read=True, timeout=10):
     return reply
 
 
+def auth_line():
+    return f"Authorization: token {viewer.token}\r\n"
+
+
 try:
     viewer.wait_frame_done()
     baseline = viewer.rss_kib()
+    assert viewer.token and re.fullmatch(r"[0-9a-f]{32}", viewer.token), viewer.url
+
+    # The access token: every route, and paths that are none, answer 403 without it, with a
+    # wrong one, with one of the right format (32 hex digits) but another value (a token
+    # stolen from another viewer, or guessed), in the query, the header or a cookie, and
+    # with the right token under another port's cookie name.
+    status, before = viewer.json("GET", "/state")
+    assert status == 200
+    routes = [("GET", "/"), ("GET", "/state"), ("GET", "/events"), ("GET", "/explain?x=1&y=1"),
+              ("POST", "/view"), ("GET", "/nonexistent"), ("GET", "/../../etc/passwd")]
+    other = "%032x" % (int(viewer.token, 16) ^ 1)  # right format, one bit off
+    stolen = "0123456789abcdef0123456789abcdef"
+    presented = [
+        ("no token", "", {}),
+        ("empty token", "token=", {}),
+        ("wrong token", "token=abc", {}),
+        ("right format, wrong value (query)", "token=" + other, {}),
+        ("stolen-format token (header)", "", {"Authorization": "token " + stolen}),
+        ("right format, wrong value (cookie)", "", {"Cookie": f"ray_view_token_{viewer.port}={other}"}),
+        ("the token one character longer", "token=" + viewer.token + "0", {}),
+        ("the right token under another port's cookie", "", {"Cookie": f"ray_view_token_{viewer.port + 1}={viewer.token}"}),
+        ("the token in upper case", "token=" + viewer.token.upper(), {}),
+    ]
+    refused = 0
+    for name, query, headers in presented:
+        for method, path in routes:
+            target = path + (("&" if "?" in path else "?") + query if query else "")
+            body = b'{"position": [50, 50, 50]}' if method == "POST" else None
+            status, data = viewer.request(method, target, body, headers=headers)
+            assert status == 403, (name, method, target, status, data[:200])
+            assert viewer.token.encode() not in data
+            refused += 1
+    status, after = viewer.json("GET", "/state")
+    assert after["position"] == before["position"], "a refused POST /view moved the camera"
+    case("requests without the access token", f"{refused} requests ({len(presented)} kinds x {len(routes)} routes): all 403, nothing changed")
+
+    # The printed URL: the token in the query gets the cookie and is sent on to the bare URL,
+    # after which the cookie alone is enough.
+    connection = http.client.HTTPConnection("127.0.0.1", viewer.port, timeout=30)
+    connection.request("GET", "/?token=" + viewer.token)
+    response = connection.getresponse()
+    response.read()
+    cookie = response.getheader("Set-Cookie")
+    assert response.status == 303 and response.getheader("Location") == "/", response.status
+    assert cookie.startswith(f"ray_view_token_{viewer.port}={viewer.token};") and "HttpOnly" in cookie, cookie
+    connection.close()
+    status, _ = viewer.request("GET", "/state", headers={"Cookie": cookie.split(";")[0]})
+    assert status == 200
+    case("the printed URL", "303 to / with an HttpOnly cookie; the cookie alone then gets 200")
 
     # Path traversal and any file but the page: only five routes exist, nothing is read from disk.
     secret_markers = [b"root:", b"<scenefile", b"<?xml"]
     for path in ["/../../../../etc/passwd", "/%2e%2e/%2e%2e/etc/passwd", "/etc/passwd", "/" + scene.split("/")[-1],
                  "/..%2f..%2fetc%2fpasswd", "/index.html", "/web/index.html", "//etc/passwd", "/state/../../etc/passwd"]:
-        reply = raw(f"GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n".encode())
+        reply = raw(f"GET {path} HTTP/1.1\r\nHost: x\r\n{auth_line()}Connection: close\r\n\r\n".encode())
         status = reply.split(b"\r\n", 1)[0]
         assert not any(m in reply for m in secret_markers), f"{path} served a file: {reply[:200]}"
         assert b" 200 " not in status, f"{path}: {status}"
@@ -90,7 +146,7 @@ try:
     sockets = []
     for _ in range(50):
         s = socket.create_connection(("127.0.0.1", viewer.port))
-        s.sendall(b"GET /events HTTP/1.1\r\nHost: x\r\n\r\n")
+        s.sendall(f"GET /events HTTP/1.1\r\nHost: x\r\n{auth_line()}\r\n".encode())
         s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1024)
         sockets.append(s)
     for _ in range(20):
@@ -107,7 +163,24 @@ try:
     growth = viewer.rss_kib() - baseline
     case("memory", f"RSS grew by {growth} KiB over the run")
     assert growth < 200_000, growth
+
+    # The token is printed once, in the URL, and never logged after it.
+    time.sleep(0.3)
+    log = viewer.log()
+    assert log.count(viewer.token) == 1 and viewer.token in log.splitlines()[0], log[-2000:]
+    case("the token in the terminal", f"only in the printed URL ({len(log.splitlines())} lines printed)")
 finally:
     viewer.close()
+
+# --no-token: open to anyone, as before the token.
+open_viewer = Viewer(ray, scene, "--width", "16", "--height", "12", "--no-token")
+try:
+    assert open_viewer.token is None and "token" not in open_viewer.url, open_viewer.url
+    status, _ = open_viewer.request("GET", "/state", headers={})
+    assert status == 200
+    outcomes.append(("--no-token", "open"))
+    print("--no-token: no token in the URL, /state answers 200 without one")
+finally:
+    open_viewer.close()
 
 print("all hostile-client cases passed:", len(outcomes))

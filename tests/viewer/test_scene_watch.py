@@ -1,6 +1,5 @@
 """ray view watches its scene file: a broken save shows file:line on the event stream and the
 last good scene stays; a good save renders again.  Usage: python3 test_scene_watch.py RAY SCENE"""
-import http.client
 import json
 import sys
 import time
@@ -24,9 +23,7 @@ def next_event(response, wanted, timeout=30):
 try:
     viewer.wait_frame_done()
     good = open(viewer.scene).read()
-    connection = http.client.HTTPConnection("127.0.0.1", viewer.port, timeout=120)
-    connection.request("GET", "/events")
-    events = connection.getresponse()
+    events = viewer.events()
     time.sleep(0.5)
     lines = good.splitlines(keepends=True)
     open(viewer.scene, "w").write("".join(lines[:len(lines) // 2]) + "<unclosed\n")  # a save cut short
@@ -43,6 +40,11 @@ try:
     assert next_event(events, "scene")["error"] == ""
     next_event(events, "done")
     print("good save: reloaded and rendered")
-    connection.close()
+    # The terminal says both (the viewer logs reloads and broken saves).
+    time.sleep(0.5)  # the reader thread catches up
+    log = viewer.log()
+    assert f"{name} not reloaded" in log and f"reloaded {name}" in log, log
+    print("terminal log: the broken save and the reload")
+    events.close()
 finally:
     viewer.close()

@@ -1,4 +1,7 @@
-"""Starts `ray view` on a free port of 127.0.0.1 and talks to it (shared by the viewer tests)."""
+"""Starts `ray view` on a free port of 127.0.0.1 and talks to it (shared by the viewer tests).
+The viewer's access token is read from the URL it prints and sent with every request
+(Authorization: token ...); pass "--no-token" to start it open. Everything it prints is kept
+in `output` (read on a thread of its own, so that the pipe never fills)."""
 import http.client
 import json
 import os
@@ -6,6 +9,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import threading
 import time
 
 
@@ -17,23 +21,35 @@ class Viewer:
         self.process = subprocess.Popen([ray, "view", self.scene, "--port", "0", *extra],
                                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         line = self.process.stdout.readline()
-        match = re.search(r"http://127\.0\.0\.1:(\d+)/", line)
+        match = re.search(r"http://127\.0\.0\.1:(\d+)/(\?token=([0-9a-f]+))?$", line.strip())
         if not match:
             self.process.kill()
             raise RuntimeError("ray view did not start: " + line + self.process.stdout.read())
         self.port = int(match.group(1))
-        self.url = f"http://127.0.0.1:{self.port}/"
+        self.token = match.group(3)  # None with --no-token
+        self.url = match.group(0)    # what a user opens: with the token
+        self.output = [line]
+        self.reader = threading.Thread(target=self._read_output, daemon=True)
+        self.reader.start()
 
-    def request(self, method, path, body=None, timeout=30):
+    def _read_output(self):
+        for line in self.process.stdout:
+            self.output.append(line)
+
+    def auth_headers(self):
+        return {"Authorization": f"token {self.token}"} if self.token else {}
+
+    def request(self, method, path, body=None, timeout=30, headers=None):
+        """headers: None sends the token (if any); a dict sends exactly those headers."""
         connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=timeout)
-        connection.request(method, path, body=body)
+        connection.request(method, path, body=body, headers=self.auth_headers() if headers is None else headers)
         response = connection.getresponse()
         data = response.read()
         connection.close()
         return response.status, data
 
-    def json(self, method, path, body=None):
-        status, data = self.request(method, path, body)
+    def json(self, method, path, body=None, headers=None):
+        status, data = self.request(method, path, body, headers=headers)
         return status, json.loads(data) if data else None
 
     def alive(self):
@@ -43,10 +59,16 @@ class Viewer:
         with open(f"/proc/{self.process.pid}/status") as f:
             return int(re.search(r"VmRSS:\s+(\d+)", f.read()).group(1))
 
-    def wait_frame_done(self, timeout=120):
-        """Reads /events until a `done` event arrives; returns its data."""
+    def events(self, timeout=120):
+        """An open /events stream (an http.client response)."""
         connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=timeout)
-        connection.request("GET", "/events")
+        connection.request("GET", "/events", headers=self.auth_headers())
+        return connection.getresponse()
+
+    def wait_frame_done(self, timeout=120, final=False):
+        """Reads /events until a `done` event (with final: of a view at rest) arrives; returns its data."""
+        connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=timeout)
+        connection.request("GET", "/events", headers=self.auth_headers())
         response = connection.getresponse()
         event = None
         deadline = time.time() + timeout
@@ -55,8 +77,11 @@ class Viewer:
             if line.startswith("event: "):
                 event = line[7:].strip()
             elif line.startswith("data: ") and event == "done":
+                done = json.loads(line[6:])
+                if final and not done.get("final"):
+                    continue
                 connection.close()
-                return json.loads(line[6:])
+                return done
         connection.close()
         raise TimeoutError("no complete frame")
 
@@ -66,4 +91,9 @@ class Viewer:
             self.process.wait(10)
         except subprocess.TimeoutExpired:
             self.process.kill()
+        self.reader.join(5)
         shutil.rmtree(self.folder, ignore_errors=True)
+
+    def log(self):
+        """Everything the viewer printed so far."""
+        return "".join(self.output)
