@@ -81,8 +81,8 @@ inline bool csgInside(int operation, bool a, bool b) {
 }
 
 /* Combines lists a (countA boundaries) and b into out; returns out's count. Boundaries at
- * the same t are taken together, and a result boundary on both surfaces is a's, as
- * host/reference/csg.cpp combineCsgSpans does. */
+ * the same t are taken together, and a result boundary on both surfaces is b's (the operand
+ * written later: SPEC §4, coincident surfaces), as host/reference/csg.cpp combineCsgSpans does. */
 inline int csgCombine(int operation, const float* timesA, const int* codesA, int countA, const float* timesB,
                       const int* codesB, int countB, float* times, int* codes) {
     int i = 0, j = 0, count = 0;
@@ -92,10 +92,7 @@ inline int csgCombine(int operation, const float* timesA, const int* codesA, int
         float t = fmin(ta, tb);
         int code = -1;
         if (i < countA && ta == t) code = codesA[i++];
-        if (j < countB && tb == t) {
-            if (code < 0) code = codesB[j];
-            ++j;
-        }
+        if (j < countB && tb == t) code = codesB[j++];
         bool now = csgInside(operation, (i & 1) != 0, (j & 1) != 0);
         if (now == inside || count >= RAY_CSG_BOUNDARIES) continue;
         inside = now;
@@ -139,9 +136,13 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
         top = b;
     }
     if (top != 1) return;
+    /* A boundary at exactly hit->t wins when the object is listed after the primitive hit
+     * so far (Hit.order; the program's operand records carry the object's order). */
+    const bool winsTies = hit->primitive >= 0 && prims[first].info.z > hit->order;
+    const float limit = winsTies ? nextafter(hit->t, RAY_INFINITY) : hit->t;
     for (int k = 0; k < counts[0]; ++k) {
         float t = times[0][k];
-        if (!(t < hit->t)) return;
+        if (!(t < limit)) return;
         if (!(t > 0.0f)) continue;
         int operand = codes[0][k] >> 1, leaving = codes[0][k] & 1;
         float tAgain;

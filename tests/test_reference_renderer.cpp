@@ -16,6 +16,7 @@
 
 #include "reference/course_sampling.h"
 #include "core/random.h"
+#include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
 
 using namespace ray;
@@ -518,7 +519,8 @@ TEST_CASE("the BVH finds exactly what brute force finds", "[reference]") {
 
 // Squares flush with the top of a slab, as a chessboard's are with its border: every hit
 // on the top is a tie between two primitives at exactly the same distance, which the BVH
-// must settle as brute force does (the one listed first wins), not by its visiting order.
+// must settle as brute force does (the one listed last wins, SPEC §4), not by its visiting
+// order.
 TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[reference]") {
     Scene scene;
     scene.camera.position = {0, 6, 7};
@@ -549,8 +551,9 @@ TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[r
     for (size_t p = 0; p < withBvh.rgb.size(); p += 3)
         if (!std::equal(&withBvh.rgb[p], &withBvh.rgb[p] + 3, &withoutBvh.rgb[p])) ++differing;
     REQUIRE(differing == 0);
-    // Both kinds of tie occur: the top shows the squares of rows 0-3 and the slab where
-    // rows 4-7 lie, so both square colours and the slab's blue appear.
+    // Both kinds of tie occur: the top shows the slab where rows 0-3 lie (listed before
+    // it) and the squares of rows 4-7 (listed after), so both square colours and the
+    // slab's blue appear.
     bool slabSeen = false, squareSeen = false;
     for (size_t p = 0; p < withBvh.rgb.size(); p += 3) {
         if (withBvh.rgb[p + 2] > withBvh.rgb[p] + 0.1f) slabSeen = true;
@@ -558,6 +561,25 @@ TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[r
     }
     REQUIRE(slabSeen);
     REQUIRE(squareSeen);
+}
+
+// SPEC §4: at exactly the same distance the primitive listed last wins, in the BVH's search
+// and brute force's alike, whichever it visits first.
+TEST_CASE("coincident surfaces go to the primitive listed last", "[reference][ties]") {
+    Scene scene;
+    for (int i = 0; i < 5; ++i) {
+        // Five identical cubes, then a sphere elsewhere, so that the BVH splits them.
+        addInstance(scene, PrimitiveType::Cube, Affine::translation({0, 0, 0}), addMaterial(scene, diffuseMaterial({1, 1, 1})));
+    }
+    addInstance(scene, PrimitiveType::Sphere, Affine::translation({9, 0, 0}), 0);
+    for (reference::SceneSearch search : {reference::SceneSearch::Bvh, reference::SceneSearch::BruteForce}) {
+        reference::SceneIntersector intersector(scene, search);
+        for (const Vec3& direction : {Vec3{0, 0, -1}, Vec3{0.1, -0.2, -1}, Vec3{-1, 0.05, 0.02}}) {
+            auto hit = intersector.closestHit(Vec3{0, 0, 0} - 4 * direction, direction, 0, INFINITY);
+            REQUIRE(hit);
+            CHECK(hit->primitive == 4);
+        }
+    }
 }
 
 TEST_CASE("threads, progress and cancelling", "[reference]") {
