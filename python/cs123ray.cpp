@@ -118,6 +118,10 @@ api::Settings settingsFrom(const py::kwargs& options, api::Settings s) {
         else if (name == "refraction") s.refraction = value.cast<bool>();
         else if (name == "textures") s.textures = value.cast<bool>();
         else if (name == "dof") s.depthOfField = value.cast<bool>();
+        else if (name == "dof_mode")
+            s.dofMode = enumFromName<api::DofMode>(value.cast<std::string>(),
+                                                   {{"course", api::DofMode::Course}, {"disk", api::DofMode::Disk}},
+                                                   "dof_mode");
         else if (name == "fresnel") s.fresnel = value.cast<bool>();
         else if (name == "course_meshes") s.courseMeshes = value.cast<bool>();
         else if (name == "texture_filter")
@@ -354,7 +358,7 @@ PYBIND11_MODULE(cs123ray, m) {
         .def("set_options", [](api::Renderer& r, const py::kwargs& options) {
             r.setSettings(settingsFrom(options, r.settings()));
         }, "width, height, depth, aa, samples, seed, area_samples, shutter, threshold, shadows, reflections, "
-           "refraction, textures, dof, fresnel, course_meshes, texture_filter")
+           "refraction, textures, dof, dof_mode, fresnel, course_meshes, texture_filter")
         .def("render", [](api::Renderer& r, const std::string& dtype, const py::object& progress) {
             return renderArray(r, dtype, progress);
         }, py::arg("dtype") = "float32", py::arg("progress") = py::none(),

@@ -136,7 +136,7 @@ TEST_CASE("kernel matches host on the course scenes with reference renders", "[k
     }
 }
 
-TEST_CASE("kernel matches host with stratified sampling and depth of field", "[kernel][kvh]") {
+TEST_CASE("kernel matches host with stratified sampling and depth of field", "[kernel][kvh][dof]") {
     auto device = cpuDevice();
     if (!device) {
         test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
@@ -148,15 +148,29 @@ TEST_CASE("kernel matches host with stratified sampling and depth of field", "[k
     SECTION("showpiece.xml") {
         compareKernelWithHost(*device, test::scenesDir() / "showpiece.xml", settings, "stratified_showpiece");
     }
+    // The course's lens (the default: a 5×5 grid, SPEC §3) as the course renders it, without
+    // antialiasing, and under stratified samples; the random disk (--dof disk).
+    const std::map<std::string, RenderSettings> lenses = {
+        {"course", test::settingsFromOptions("--aa off", kWidth, kHeight)},
+        {"course_stratified", test::settingsFromOptions("--aa stratified --samples 4 --seed 7", kWidth, kHeight)},
+        {"disk", test::settingsFromOptions("--aa stratified --samples 9 --seed 7 --dof disk", kWidth, kHeight)}};
+    for (const auto& [lens, lensSettings] : lenses) {
+        SECTION("depth_of_field.xml, " + lens) {
+            compareKernelWithHost(*device, test::scenesDir() / "depth_of_field.xml", lensSettings,
+                                  "dof_" + lens + "_depth_of_field");
+        }
+    }
     auto shared = test::sharedDir();
     if (!shared) {
-        test::skip("../shared/cs123 is absent: no depth-of-field scenes");
+        test::skip("../shared/cs123 is absent: no course depth-of-field scenes");
         return;
     }
     for (const char* scene : {"dof.xml", "dof-mirror_depth.xml"}) {
-        SECTION(scene) {
-            compareKernelWithHost(*device, *shared / "cs123" / "scenes" / scene, settings,
-                                  std::string("dof_") + fs::path(scene).stem().string());
+        for (const char* lens : {"course", "disk"}) {
+            SECTION(std::string(scene) + ", " + lens) {
+                compareKernelWithHost(*device, *shared / "cs123" / "scenes" / scene, lenses.at(lens),
+                                      std::string("dof_") + lens + "_" + fs::path(scene).stem().string());
+            }
         }
     }
 }

@@ -42,6 +42,10 @@ options:
   --strict                 treat every warning as an error
   --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
                            switch a feature off (the course's test settings)
+  --dof MODE               depth of field for cameras with an aperture: course (default;
+                           each sample averages 25 rays from a 5x5 grid of lens points,
+                           as the course renders it) | disk (one random lens point a
+                           sample: a smooth blur with --aa stratified and many samples)
   --fresnel                weight the reflection and transmission of transparent objects
                            by exact Fresnel, reflections kept inside the object (SPEC §4;
                            off by default)
@@ -112,6 +116,12 @@ AntialiasMode parseAntialias(const std::string& text) {
     if (text == "stratified") return AntialiasMode::Stratified;
     if (text == "adaptive") return AntialiasMode::Adaptive;
     throw UsageError("--aa must be off, course, stratified or adaptive, not '" + text + "'");
+}
+
+DofMode parseDofMode(const std::string& text) {
+    if (text == "course") return DofMode::Course;
+    if (text == "disk") return DofMode::Disk;
+    throw UsageError("--dof must be course or disk, not '" + text + "'");
 }
 
 TextureFilter parseTextureFilter(const std::string& text) {
@@ -188,6 +198,7 @@ void addOptions(CLI::App& app, CliOptions& options) {
     flag("--no-refraction", s.refraction, false);
     flag("--no-textures", s.textures, false);
     flag("--no-dof", s.depthOfField, false);
+    text("--dof", [&](const std::string& v) { s.dofMode = parseDofMode(v); });
     flag("--fresnel", s.fresnel, true);
     flag("--course-meshes", s.courseMeshes, true);
     text("--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });

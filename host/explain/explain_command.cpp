@@ -29,6 +29,7 @@ const std::map<std::string, AntialiasMode> kAntialiasModes{{"off", AntialiasMode
                                                            {"course", AntialiasMode::Course},
                                                            {"stratified", AntialiasMode::Stratified},
                                                            {"adaptive", AntialiasMode::Adaptive}};
+const std::map<std::string, DofMode> kDofModes{{"course", DofMode::Course}, {"disk", DofMode::Disk}};
 
 void defineOptions(CLI::App& app, ExplainOptions& o) {
     app.add_option("scene", o.scene, "the scenefile")->required();
@@ -51,6 +52,8 @@ void defineOptions(CLI::App& app, ExplainOptions& o) {
     app.add_flag("--no-refraction", o.noRefraction);
     app.add_flag("--no-textures", o.noTextures);
     app.add_flag("--no-dof", o.noDof);
+    app.add_option("--dof", o.settings.dofMode, "depth of field: course (5x5 lens grid) | disk (random lens point)")
+        ->transform(CLI::CheckedTransformer(kDofModes, CLI::ignore_case));
     app.add_flag("--fresnel", o.settings.fresnel, "weight transparent surfaces' branches by exact Fresnel");
     app.add_flag("--course-meshes", o.settings.courseMeshes,
                  "mesh hits by the course's distance t·|M⁻¹d|, placed there, face normals");
