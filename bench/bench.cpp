@@ -167,7 +167,7 @@ void addFeatureScenes(std::vector<BenchScene>& scenes) {
         {"refraction_off", "refraction.xml", {"--aa", "off", "--no-refraction"}},
         {"refraction", "refraction.xml", {"--aa", "off"}},
         {"dof_off", "depth_of_field.xml", {"--aa", "off", "--no-dof"}},
-        {"dof_16", "depth_of_field.xml", {"--aa", "stratified", "--samples", "16"}},
+        {"dof_16", "depth_of_field.xml", {"--aa", "stratified", "--samples", "16", "--dof", "disk"}},
         {"aa_course", "shadows.xml", {"--aa", "course"}},
         {"aa_stratified_16", "shadows.xml", {"--aa", "stratified", "--samples", "16"}},
         {"aa_adaptive_16", "shadows.xml", {"--aa", "adaptive", "--samples", "16"}},

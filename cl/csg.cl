@@ -84,8 +84,8 @@ static inline bool csgInside(int operation, bool a, bool b) {
 
 /* Combines list a (countA boundaries, a copy of it) and list b, which starts at times[countA],
  * into times[0..], in place; returns the result's count. Boundaries at the same t are taken
- * together, and a result boundary on both surfaces is a's, as host/reference/csg.cpp
- * combineCsgSpans does. In place is safe: a step reads before it writes, and writes at
+ * together, and a result boundary on both surfaces is b's (the operand written later:
+ * SPEC §4, coincident surfaces), as host/reference/csg.cpp combineCsgSpans does. In place is safe: a step reads before it writes, and writes at
  * most one boundary for each it reads, so the result never overtakes b's unread part. */
 static inline int csgCombine(int operation, const float* timesA, const uchar* codesA, int countA, int countB,
                              float* times, uchar* codes) {
@@ -98,10 +98,7 @@ static inline int csgCombine(int operation, const float* timesA, const uchar* co
         float t = fmin(ta, tb);
         int code = -1;
         if (i < countA && ta == t) code = codesA[i++];
-        if (j < countB && tb == t) {
-            if (code < 0) code = codesB[j];
-            ++j;
-        }
+        if (j < countB && tb == t) code = codesB[j++];
         bool now = csgInside(operation, (i & 1) != 0, (j & 1) != 0);
         if (now == inside || count >= RAY_CSG_BOUNDARIES) continue;
         inside = now;
@@ -150,9 +147,13 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
         --top;
     }
     if (top != 1) return;
+    /* A boundary at exactly hit->t wins when the object is listed after the primitive hit
+     * so far (Hit.order; the program's operand records carry the object's order). */
+    const bool winsTies = hit->primitive >= 0 && prims[first].info.z > hit->order;
+    const float limit = winsTies ? nextafter(hit->t, RAY_INFINITY) : hit->t;
     for (int k = 0; k < start[1]; ++k) {
         float t = times[k];
-        if (!(t < hit->t)) return;
+        if (!(t < limit)) return;
         if (!(t > 0.0f)) continue;
         int operand = first + (codes[k] >> 1), leaving = codes[k] & 1;
         float tAgain;

@@ -29,7 +29,7 @@ typedef struct {
     float3 objectPoint;
     float3 objectNormal; /* outward, unnormalized */
     float2 barycentric;  /* meshes: the weights of the triangle's corners 1 and 2 (part: the triangle) */
-    int order;           /* the hit primitive's info.z: exact ties go to the lower (cl/shared_types.h) */
+    int order;           /* the hit primitive's info.z: exact ties go to the higher (cl/shared_types.h) */
 } Hit;
 
 static inline float3 transformPoint(__global const float4* m, float3 p) {
@@ -216,8 +216,8 @@ static inline void intersectPrimitive(__global const RayWideBvhNode* nodes, __gl
     float3 d = transformVector(prim->worldToObject, ray.direction);
     const bool keyed = courseMeshes && prim->info.x == RAY_PRIM_MESH;
     const float scale = keyed ? length(d) / length(ray.direction) : 1.0f;
-    /* A primitive listed before the one hit so far also takes a hit at exactly hit->t. */
-    const bool winsTies = hit->primitive >= 0 && prim->info.z < hit->order;
+    /* A primitive listed after the one hit so far also takes a hit at exactly hit->t. */
+    const bool winsTies = hit->primitive >= 0 && prim->info.z > hit->order;
     const float limit = keyed ? hit->t / scale : (winsTies ? nextafter(hit->t, RAY_INFINITY) : hit->t);
     float best = limit;
     int part = 0;

@@ -226,14 +226,22 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
 }
 
 /* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). With depth of field
- * the eye moves to a point of the lens disk (in the plane of U and V) picked by lens ∈
- * [0, 1)², and the ray aims at the point the pinhole ray reaches at the focal distance. */
+ * the eye moves to a point of the lens in the plane of U and V. The course's lens (SPEC §3):
+ * lens = grid point (i, j) ∈ {−2..2}², the eye moving by i·a/2 along U and j·a/2 along V
+ * (a/2 = the lens radius), the ray aimed where the pinhole ray meets the plane at depth
+ * focallength along the look axis. --dof disk: a point of the lens disk picked by lens ∈
+ * [0, 1)², the ray aimed at the point the pinhole ray reaches at the focal distance. */
 static inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
     float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
     float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
-    Ray ray = {params->eye.xyz, normalize(u * params->right.xyz + v * params->up.xyz + params->forward.xyz), time};
+    float3 through = u * params->right.xyz + v * params->up.xyz + params->forward.xyz; /* at depth 1 */
+    Ray ray = {params->eye.xyz, normalize(through), time};
     float lensRadius = params->lens.x;
-    if (lensRadius > 0.0f) {
+    if (lensRadius > 0.0f && !(params->mode.z & RAY_FEATURE_LENS_DISK)) {
+        float3 focus = ray.origin + params->lens.y * through;
+        ray.origin += lensRadius * lens.x * normalize(params->right.xyz) + lensRadius * lens.y * normalize(params->up.xyz);
+        ray.direction = normalize(focus - ray.origin);
+    } else if (lensRadius > 0.0f) {
         float3 focus = ray.origin + params->lens.y * ray.direction;
         float r = lensRadius * sqrt(lens.x), phi = 2.0f * M_PI_F * lens.y;
         ray.origin += r * cos(phi) * normalize(params->right.xyz) + r * sin(phi) * normalize(params->up.xyz);
@@ -242,21 +250,33 @@ static inline Ray cameraRay(const RayRenderParams* params, float i, float j, flo
     return ray;
 }
 
-/* One sample of the pixel, unclamped; draws the lens position from random dimensions 2
- * and 3 of the sample's number (0 and 1 are the stratified jitter), and its shutter time
- * from dimension 4: shutter (params->lens.z, 0 when nothing moves) times that number. */
+/* One sample of the pixel, unclamped; its shutter time from random dimension 4: shutter
+ * (params->lens.z, 0 when nothing moves) times that number. With the course's lens (SPEC §3)
+ * the sample is the mean of the RAY_LENS_GRID_SIDE² lens rays' clamped colors, one trace
+ * site in a loop; --dof disk draws one lens point from dimensions 2 and 3 of the sample's
+ * number (0 and 1 are the stratified jitter). */
 static inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
                           PixelTrace* counter) {
     uint k = counter->nextSample++;
     counter->sample = k;
+    uint seed = (uint)params->counts.w;
+    const bool lensGrid = params->lens.x > 0.0f && !(params->mode.z & RAY_FEATURE_LENS_DISK);
     float2 lens = (float2)(0.0f);
-    if (params->lens.x > 0.0f) {
-        uint seed = (uint)params->counts.w;
+    if (params->lens.x > 0.0f && !lensGrid)
         lens = (float2)(rayRandom(counter->pixel, k, 2u, seed), rayRandom(counter->pixel, k, 3u, seed));
-    }
     float shutter = params->lens.z;
-    counter->time = shutter > 0.0f ? shutter * rayRandom(counter->pixel, k, 4u, (uint)params->counts.w) : 0.0f;
-    return traceCameraRay(scene, params, cameraRay(params, (float)i, (float)j, sx, sy, lens, counter->time), counter);
+    counter->time = shutter > 0.0f ? shutter * rayRandom(counter->pixel, k, 4u, seed) : 0.0f;
+    const int lensRays = lensGrid ? RAY_LENS_GRID_SIDE * RAY_LENS_GRID_SIDE : 1;
+    float3 sum = (float3)(0.0f);
+    for (int l = 0; l < lensRays; ++l) {
+        if (lensGrid)
+            lens = (float2)((float)(l % RAY_LENS_GRID_SIDE - RAY_LENS_GRID_SIDE / 2),
+                            (float)(l / RAY_LENS_GRID_SIDE - RAY_LENS_GRID_SIDE / 2));
+        float3 color = traceCameraRay(scene, params, cameraRay(params, (float)i, (float)j, sx, sy, lens, counter->time),
+                                      counter);
+        sum += lensGrid ? clamp(color, 0.0f, 1.0f) : color;
+    }
+    return sum / (float)lensRays;
 }
 
 static inline float largestChannel(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }

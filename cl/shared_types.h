@@ -100,6 +100,11 @@ struct alignas(16) int4 {
 #define RAY_FEATURE_TRILINEAR 64 /* with BILINEAR: mipmapped, footprint of host/reference/texture_filtering.h */
 #define RAY_FEATURE_FRESNEL 128  /* --fresnel: transparent surfaces weight their branches by exact Fresnel (SPEC §4) */
 #define RAY_FEATURE_COURSE_MESHES 256 /* --course-meshes: mesh hits keyed and placed by t·|M⁻¹d|, face normals */
+#define RAY_FEATURE_LENS_DISK 512 /* --dof disk: one random point of the lens disk a sample, not the course's grid */
+
+/* The course's depth of field (SPEC §3): a sample is the mean of the clamped rays from a
+ * RAY_LENS_GRID_SIDE² grid of lens points spaced aperture/2 (the lens radius), both renderers. */
+#define RAY_LENS_GRID_SIDE 5
 
 /* A node of the flattened two-wide BVH: 64 bytes, one cache line.
  *

@@ -190,6 +190,11 @@ api::Antialias antialias(const std::string& name, const py::handle& value) {
                                         "aa");
 }
 
+api::DofMode dofMode(const std::string& name, const py::handle& value) {
+    return enumFromName<api::DofMode>(textOption(name, value),
+                                      {{"course", api::DofMode::Course}, {"disk", api::DofMode::Disk}}, "dof_mode");
+}
+
 api::TextureFilter textureFilter(const std::string& name, const py::handle& value) {
     return enumFromName<api::TextureFilter>(textOption(name, value),
                                             {{"nearest", api::TextureFilter::Nearest},
@@ -219,6 +224,7 @@ const std::pair<const char*, OptionSetter> kOptions[] = {
     {"refraction", [](S& s, N n, V v) { s.refraction = boolOption(n, v); }},
     {"textures", [](S& s, N n, V v) { s.textures = boolOption(n, v); }},
     {"dof", [](S& s, N n, V v) { s.depthOfField = boolOption(n, v); }},
+    {"dof_mode", [](S& s, N n, V v) { s.dofMode = dofMode(n, v); }},
     {"fresnel", [](S& s, N n, V v) { s.fresnel = boolOption(n, v); }},
     {"course_meshes", [](S& s, N n, V v) { s.courseMeshes = boolOption(n, v); }},
     {"texture_filter", [](S& s, N n, V v) { s.textureFilter = textureFilter(n, v); }},

@@ -360,3 +360,16 @@ TEST_CASE("the CLI points at what was meant", "[cli]") {
     CHECK(ray::closestMatch("--sed", {"--seed", "--samples"}) == "--seed");
     CHECK(ray::closestMatch("--zzzzzz", {"--seed", "--samples"}).empty());
 }
+
+TEST_CASE("the option --dof picks the lens: course by default, or disk", "[cli][dof]") {
+    using ray::DofMode;
+    using ray::kUsageText;
+    using ray::parseCommandLine;
+    CHECK(parseCommandLine({"a.xml"}).settings.dofMode == DofMode::Course);
+    CHECK(parseCommandLine({"a.xml", "--dof", "disk"}).settings.dofMode == DofMode::Disk);
+    CHECK(parseCommandLine({"a.xml", "--dof", "disk", "--dof", "course"}).settings.dofMode == DofMode::Course);
+    CHECK(parseCommandLine({"a.xml", "--dof", "disk"}).settings.depthOfField);
+    CHECK_FALSE(parseCommandLine({"a.xml", "--no-dof"}).settings.depthOfField);
+    CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--dof", "pinhole"}), "--dof must be course or disk, not 'pinhole'");
+    CHECK(std::string(kUsageText).find("--dof MODE") != std::string::npos);
+}

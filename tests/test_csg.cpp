@@ -67,10 +67,11 @@ TEST_CASE("touching operands: a union is one solid, an intersection is empty", "
     CHECK(combineCsgSpans(CsgStepKind::Intersection, a, b).empty());
     CsgSpans cut = combineCsgSpans(CsgStepKind::Difference, a, b);
     CHECK(times(cut) == Pairs{{0, 1}});
-    CHECK(cut[0].exit.operand == 0);  // a's own face: b only touches it
+    CHECK(cut[0].exit.operand == 1);  // the face a and b share: b's, written later (SPEC §4)
+    CHECK(cut[0].exit.entersOperand);
 }
 
-TEST_CASE("coincident faces go to the operand written first; a cut face to the subtracted one", "[csg]") {
+TEST_CASE("coincident faces go to the operand written last; a cut face to the subtracted one", "[csg]") {
     CsgSpans a{span(0, 2, 0)}, b{span(1, 2, 1)}, same{span(0, 2, 1)};
     CsgSpans cut = combineCsgSpans(CsgStepKind::Difference, a, b);
     REQUIRE(times(cut) == Pairs{{0, 1}});
@@ -78,8 +79,8 @@ TEST_CASE("coincident faces go to the operand written first; a cut face to the s
     CHECK(cut[0].exit.entersOperand);
     CsgSpans both = combineCsgSpans(CsgStepKind::Intersection, a, same);
     REQUIRE(times(both) == Pairs{{0, 2}});
-    CHECK(both[0].enter.operand == 0);
-    CHECK(both[0].exit.operand == 0);
+    CHECK(both[0].enter.operand == 1);
+    CHECK(both[0].exit.operand == 1);
     CHECK(combineCsgSpans(CsgStepKind::Difference, a, same).empty());
     CHECK(times(combineCsgSpans(CsgStepKind::Union, a, b)) == Pairs{{0, 2}});
 }

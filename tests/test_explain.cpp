@@ -182,6 +182,33 @@ TEST_CASE("explain with course antialiasing reports every sample and the pixel t
     });
 }
 
+TEST_CASE("explain with the course's lens reports the 25 lens rays of each sample", "[explain][dof]") {
+    Scene scene = loadScene(test::scenesDir() / "depth_of_field.xml");
+    REQUIRE(scene.camera.aperture > 0);
+    RenderSettings settings = smallSettings(24, 18, AntialiasMode::Off);
+    Image image = renderReference(scene, settings);
+    explainGrid(scene, settings, 6, [&](const PixelExplanation& e) {
+        requireMatchesImage(e, image);
+        REQUIRE(e.samples.size() == 1);
+        const ExplainedSample& sample = e.samples[0];
+        REQUIRE(sample.ray != nullptr);
+        REQUIRE(sample.otherLensRays.size() == 24);
+        // The sample is the mean of the lens rays' clamped colors (SPEC §3).
+        Vec3 sum = clamp01(sample.ray->color);
+        for (const auto& lensRay : sample.otherLensRays) {
+            REQUIRE(lensRay->kind == TraceRayKind::Camera);
+            sum = sum + clamp01(lensRay->color);
+        }
+        REQUIRE(sample.color.x == Approx(sum.x / 25).margin(1e-12));
+        REQUIRE(sample.color.y == Approx(sum.y / 25).margin(1e-12));
+        REQUIRE(sample.color.z == Approx(sum.z / 25).margin(1e-12));
+        REQUIRE(explanationJson(e, scene)["samples"][0]["other_lens_rays"].size() == 24);
+    });
+    settings.dofMode = DofMode::Disk;
+    PixelExplanation disk = explainPixel(scene, settings, 12, 9);
+    REQUIRE(disk.samples[0].otherLensRays.empty());
+}
+
 TEST_CASE("explain's JSON names the hit primitive's file and line and every light term", "[explain]") {
     Scene scene = loadScene(test::scenesDir() / "shadows.xml");
     RenderSettings settings = smallSettings(40, 30, AntialiasMode::Off);

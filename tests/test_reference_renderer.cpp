@@ -16,6 +16,7 @@
 
 #include "reference/course_sampling.h"
 #include "core/random.h"
+#include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
 
 using namespace ray;
@@ -429,11 +430,13 @@ TEST_CASE("camera rays: the image plane of SPEC §3", "[reference]") {
     }
 }
 
-TEST_CASE("depth of field: a lens of diameter aperture, focused at focallength", "[reference]") {
+TEST_CASE("depth of field, disk lens (--dof disk): a random point of a lens of diameter aperture, focused at focallength",
+          "[reference][dof]") {
     Scene scene = wallScene();
     scene.camera.aperture = 0.5;
     RenderSettings settings = onePixelSettings();
     settings.seed = 3;
+    settings.dofMode = DofMode::Disk;
 
     SECTION("switched off, or focused on the wall: the pinhole's point") {
         scene.camera.focalLength = 1;
@@ -453,6 +456,77 @@ TEST_CASE("depth of field: a lens of diameter aperture, focused at focallength",
         REQUIRE(y == Approx(-r * std::sin(phi)).margin(0.011));
         REQUIRE(std::hypot(x, y) > 0.03);  // this seed's lens point is well off centre
     }
+}
+
+namespace {
+
+// wallScene's wall with a 50×50 checker of black and white texels (0.16 wide) instead of
+// the ramp, lit head on by `light`: a ray's color is exactly 0 or light.
+Scene checkerWallScene(double light) {
+    Scene scene = wallScene();
+    Image checker(50, 50);
+    for (int y = 0; y < 50; ++y)
+        for (int x = 0; x < 50; ++x) checker.set(x, y, Vec3{1, 1, 1} * double((x + y) % 2));
+    scene.images[0] = checker;
+    scene.lights[0].color = {light, light, light};
+    scene.camera.aperture = 0.5;  // lens points up to ±0.5 along U and V
+    return scene;
+}
+
+// A 16×8 image (w = 2, h = 1): its pixel centres see wall points well inside texels.
+RenderSettings wideSettings(DofMode mode) {
+    RenderSettings settings = onePixelSettings();
+    settings.width = 16;
+    settings.height = 8;
+    settings.dofMode = mode;
+    return settings;
+}
+
+}  // namespace
+
+// SPEC §3: the course's lens is a 5×5 grid of points pos + (i·a/2)·U + (j·a/2)·V whose rays
+// all aim where the pinhole ray meets the plane at depth focallength along the look axis.
+TEST_CASE("course depth of field: focused on the plane at depth focallength, not at that distance", "[reference][dof]") {
+    // The wall is the plane at depth 1: focused there, every lens ray of a pixel meets the
+    // pinhole ray's wall point, even in the corners, where the point at distance 1 along
+    // the ray lies at depth 0.43 and a lens focused there would blur the checker.
+    Scene scene = checkerWallScene(1);
+    scene.camera.focalLength = 1;
+    Image lens = renderReference(scene, wideSettings(DofMode::Course));
+    scene.camera.aperture = 0;
+    Image pinhole = renderReference(scene, wideSettings(DofMode::Course));
+    REQUIRE(lens.rgb.size() == pinhole.rgb.size());
+    for (size_t k = 0; k < lens.rgb.size(); ++k) REQUIRE(lens.rgb[k] == Approx(pinhole.rgb[k]).margin(1e-6));
+    scene.camera.aperture = 0.5;
+    Image disk = renderReference(scene, wideSettings(DofMode::Disk));  // focused at distance 1: blurred
+    size_t differing = 0;
+    for (size_t k = 0; k < disk.rgb.size(); ++k) differing += std::abs(disk.rgb[k] - pinhole.rgb[k]) > 0.5f;
+    REQUIRE(differing > 0);
+}
+
+TEST_CASE("course depth of field: the mean of 25 lens rays, each clamped", "[reference][dof]") {
+    // Out of focus (the plane at depth 0.5), a pixel's lens rays meet different checker
+    // texels, each 0 or 3 (a light of intensity 3) before clamping and 0 or 1 after: the
+    // pixel is k/25 for k lens rays on white, never above 1.
+    Scene scene = checkerWallScene(3);
+    scene.camera.focalLength = 0.5;
+    RayCounts counts;
+    RenderSettings settings = wideSettings(DofMode::Course);
+    Image image = renderReference(scene, settings, {}, &counts);
+    CHECK(counts.primary == uint64_t(25 * settings.width * settings.height));
+    int blurred = 0;
+    for (float value : image.rgb) {
+        const double k = double(value) * 25;
+        REQUIRE(k == Approx(std::round(k)).margin(1e-4));
+        REQUIRE(value >= 0);
+        REQUIRE(value <= 1);
+        blurred += std::round(k) > 0 && std::round(k) < 25;
+    }
+    CHECK(blurred > int(image.rgb.size()) / 2);
+    // --dof disk: one lens ray a sample, unclamped under --aa off: 0 or 3.
+    Image disk = renderReference(scene, wideSettings(DofMode::Disk), {}, &counts);
+    CHECK(counts.primary == uint64_t(settings.width * settings.height));
+    for (float value : disk.rgb) REQUIRE((value == Approx(0).margin(1e-6) || value == Approx(3).margin(1e-6)));
 }
 
 namespace {
@@ -518,7 +592,8 @@ TEST_CASE("the BVH finds exactly what brute force finds", "[reference]") {
 
 // Squares flush with the top of a slab, as a chessboard's are with its border: every hit
 // on the top is a tie between two primitives at exactly the same distance, which the BVH
-// must settle as brute force does (the one listed first wins), not by its visiting order.
+// must settle as brute force does (the one listed last wins, SPEC §4), not by its visiting
+// order.
 TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[reference]") {
     Scene scene;
     scene.camera.position = {0, 6, 7};
@@ -549,8 +624,9 @@ TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[r
     for (size_t p = 0; p < withBvh.rgb.size(); p += 3)
         if (!std::equal(&withBvh.rgb[p], &withBvh.rgb[p] + 3, &withoutBvh.rgb[p])) ++differing;
     REQUIRE(differing == 0);
-    // Both kinds of tie occur: the top shows the squares of rows 0-3 and the slab where
-    // rows 4-7 lie, so both square colours and the slab's blue appear.
+    // Both kinds of tie occur: the top shows the slab where rows 0-3 lie (listed before
+    // it) and the squares of rows 4-7 (listed after), so both square colours and the
+    // slab's blue appear.
     bool slabSeen = false, squareSeen = false;
     for (size_t p = 0; p < withBvh.rgb.size(); p += 3) {
         if (withBvh.rgb[p + 2] > withBvh.rgb[p] + 0.1f) slabSeen = true;
@@ -558,6 +634,25 @@ TEST_CASE("the BVH settles ties between coplanar faces as brute force does", "[r
     }
     REQUIRE(slabSeen);
     REQUIRE(squareSeen);
+}
+
+// SPEC §4: at exactly the same distance the primitive listed last wins, in the BVH's search
+// and brute force's alike, whichever it visits first.
+TEST_CASE("coincident surfaces go to the primitive listed last", "[reference][ties]") {
+    Scene scene;
+    for (int i = 0; i < 5; ++i) {
+        // Five identical cubes, then a sphere elsewhere, so that the BVH splits them.
+        addInstance(scene, PrimitiveType::Cube, Affine::translation({0, 0, 0}), addMaterial(scene, diffuseMaterial({1, 1, 1})));
+    }
+    addInstance(scene, PrimitiveType::Sphere, Affine::translation({9, 0, 0}), 0);
+    for (reference::SceneSearch search : {reference::SceneSearch::Bvh, reference::SceneSearch::BruteForce}) {
+        reference::SceneIntersector intersector(scene, search);
+        for (const Vec3& direction : {Vec3{0, 0, -1}, Vec3{0.1, -0.2, -1}, Vec3{-1, 0.05, 0.02}}) {
+            auto hit = intersector.closestHit(Vec3{0, 0, 0} - 4 * direction, direction, 0, INFINITY);
+            REQUIRE(hit);
+            CHECK(hit->primitive == 4);
+        }
+    }
 }
 
 TEST_CASE("threads, progress and cancelling", "[reference]") {

@@ -32,6 +32,7 @@ ray::RenderSettings internal(const Settings& s) {
     r.refraction = s.refraction;
     r.textures = s.textures;
     r.depthOfField = s.depthOfField;
+    r.dofMode = ray::DofMode(int(s.dofMode));  // same order: Course, Disk
     r.fresnel = s.fresnel;
     r.courseMeshes = s.courseMeshes;
     r.textureFilter = ray::TextureFilter(int(s.textureFilter));  // same order

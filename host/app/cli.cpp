@@ -43,6 +43,10 @@ options:
   --strict                 treat every warning as an error
   --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
                            switch a feature off (the course's test settings)
+  --dof MODE               depth of field for cameras with an aperture: course (default;
+                           each sample averages 25 rays from a 5x5 grid of lens points,
+                           as the course renders it) | disk (one random lens point a
+                           sample: a smooth blur with --aa stratified and many samples)
   --fresnel                weight the reflection and transmission of transparent objects
                            by exact Fresnel, reflections kept inside the object (SPEC §4;
                            off by default)
@@ -121,6 +125,12 @@ AntialiasMode parseAntialias(const std::string& text) {
     if (text == "stratified") return AntialiasMode::Stratified;
     if (text == "adaptive") return AntialiasMode::Adaptive;
     throw UsageError("--aa must be off, course, stratified or adaptive, not '" + text + "'");
+}
+
+DofMode parseDofMode(const std::string& text) {
+    if (text == "course") return DofMode::Course;
+    if (text == "disk") return DofMode::Disk;
+    throw UsageError("--dof must be course or disk, not '" + text + "'");
 }
 
 TextureFilter parseTextureFilter(const std::string& text) {
@@ -202,6 +212,7 @@ void addRenderSettingOptions(CLI::App& app, RenderSettings& s, std::vector<std::
     addSwitch(app, "--no-refraction", [&] { s.refraction = false; });
     addSwitch(app, "--no-textures", [&] { s.textures = false; });
     addSwitch(app, "--no-dof", [&] { s.depthOfField = false; });
+    addValueOption(app, "--dof", [&](const std::string& v) { s.dofMode = parseDofMode(v); });
     addSwitch(app, "--fresnel", [&] { s.fresnel = true; });
     addSwitch(app, "--course-meshes", [&] { s.courseMeshes = true; });
     addValueOption(app, "--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });

@@ -184,8 +184,12 @@ void printExplanation(const PixelExplanation& e, const Scene& scene, std::ostrea
     for (const ExplainedSample& sample : e.samples) {
         out << "sample " << sample.index << " at offset (" << number(sample.sx) << ", " << number(sample.sy) << ")";
         if (moves) out << ", shutter time " << number(sample.time);
-        out << ": " << text(sample.color) << "\n";
+        out << ": " << text(sample.color);
+        if (!sample.otherLensRays.empty())
+            out << ", the mean of " << 1 + sample.otherLensRays.size() << " lens rays' clamped colors";
+        out << "\n";
         if (sample.ray) printRay(*sample.ray, scene, e.settings, 1, out);
+        for (const auto& lensRay : sample.otherLensRays) printRay(*lensRay, scene, e.settings, 1, out);
     }
     out << "pixel color " << text(e.color) << ", clamped " << text(e.clamped) << ", 8-bit (" << e.bytes[0] << ", "
         << e.bytes[1] << ", " << e.bytes[2] << ")\n";
@@ -199,6 +203,11 @@ nlohmann::json explanationJson(const PixelExplanation& e, const Scene& scene) {
                {"color", vec(sample.color)}, {"clamped", vec(clamp01(sample.color))}};
         if (moves) s["time"] = sample.time;
         if (sample.ray) s["ray"] = rayJson(*sample.ray, scene, e.settings);
+        if (!sample.otherLensRays.empty()) {
+            json lensRays = json::array();
+            for (const auto& lensRay : sample.otherLensRays) lensRays.push_back(rayJson(*lensRay, scene, e.settings));
+            s["other_lens_rays"] = lensRays;
+        }
         samples.push_back(s);
     }
     return {{"scene", scene.sourceFile.string()},

@@ -33,8 +33,10 @@ public:
         ray->weight = weight;
         ray->factor = factor;
         ExplainedRay* raw = ray.get();
-        if (open_.empty()) samples_.back().ray = std::move(ray);
-        else open_.back()->children.push_back(std::move(ray));
+        ExplainedSample& sample = samples_.back();
+        if (!open_.empty()) open_.back()->children.push_back(std::move(ray));
+        else if (sample.ray) sample.otherLensRays.push_back(std::move(ray));  // the course's lens grid
+        else sample.ray = std::move(ray);
         open_.push_back(raw);
     }
     void miss() override { open_.back()->hit = false; }

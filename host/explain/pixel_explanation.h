@@ -43,6 +43,9 @@ struct ExplainedSample {
     double sx = 0.5, sy = 0.5, time = 0;
     Vec3 color;  // as the camera ray returned it (the sampling pattern clamps it where it says)
     std::unique_ptr<ExplainedRay> ray;
+    // The course's depth of field (SPEC §3): the sample is the mean of the clamped colors of
+    // 25 lens rays, ray and these 24 others.
+    std::vector<std::unique_ptr<ExplainedRay>> otherLensRays;
 };
 
 struct PixelExplanation {

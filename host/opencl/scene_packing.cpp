@@ -281,6 +281,7 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
     if (s.refraction) features |= RAY_FEATURE_REFRACTION;
     if (s.fresnel) features |= RAY_FEATURE_FRESNEL;
     if (s.courseMeshes) features |= RAY_FEATURE_COURSE_MESHES;
+    if (s.dofMode == DofMode::Disk) features |= RAY_FEATURE_LENS_DISK;
     if (s.textures) features |= RAY_FEATURE_TEXTURES;
     if (s.textureFilter == TextureFilter::Bilinear || s.textureFilter == TextureFilter::Trilinear)
         features |= RAY_FEATURE_BILINEAR;

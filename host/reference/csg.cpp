@@ -27,10 +27,9 @@ CsgSpans combineCsgSpans(CsgStepKind kind, const CsgSpans& a, const CsgSpans& b)
         const double t = std::min(boundaryT(a, i), boundaryT(b, j));
         const CsgBoundary* crossed = nullptr;
         if (i < endA && boundaryT(a, i) == t) crossed = &boundaryAt(a, i++);
-        if (j < endB && boundaryT(b, j) == t) {
-            if (!crossed) crossed = &boundaryAt(b, j);
-            ++j;
-        }
+        // A boundary on both surfaces is b's, the operand written later (SPEC §4,
+        // coincident surfaces).
+        if (j < endB && boundaryT(b, j) == t) crossed = &boundaryAt(b, j++);
         const bool now = csgCombine(kind, i % 2 == 1, j % 2 == 1);
         if (now == inside) continue;
         inside = now;

@@ -35,7 +35,8 @@ using CsgSpans = std::vector<CsgSpan>;
 // The spans of a and b combined by a Union, Intersection or Difference step. Boundaries at
 // exactly the same t are taken together (coincident faces, touching operands: a union of
 // two touching solids has no surface between them); a boundary of the result on both
-// operands' surfaces is a's (the operand written first).
+// operands' surfaces is b's (the operand written later, as SPEC §4 settles coincident
+// surfaces).
 CsgSpans combineCsgSpans(CsgStepKind kind, const CsgSpans& a, const CsgSpans& b);
 
 // The span of one convex operand along origin + t·direction (world space), empty when the

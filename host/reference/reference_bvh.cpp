@@ -204,10 +204,10 @@ std::optional<SceneHit> SceneIntersector::closestHit(const Vec3& origin, const V
     const double stretch = courseMeshes_ ? meshKeyStretch_ : 1.0;
     traverse(origin, direction, tMin, tMax, stretch, [&](int primitive, double tLimit) {
         // Coplanar faces (a chessboard's squares flush with its border) are hit at exactly
-        // the same distance. Such a tie goes to the primitive listed first in the scene,
-        // as brute force, visiting primitives in that order, decides it, so that the image
-        // does not depend on the order in which the BVH happens to visit them.
-        double limit = best && primitive < best->primitive ? std::nextafter(tLimit, INFINITY) : tLimit;
+        // the same distance. Such a tie goes to the primitive listed last in the scene, as
+        // the course's renders show (SPEC §4), whatever order the BVH or brute force visits
+        // the primitives in.
+        double limit = best && primitive > best->primitive ? std::nextafter(tLimit, INFINITY) : tLimit;
         if (courseMeshes_ && primitives_[primitive].type == PrimitiveType::Mesh) {
             // The course's key t_obj = t·scale: a key below limit is a world t below
             // limit/scale; the hit's t becomes the key (the course's hit point).

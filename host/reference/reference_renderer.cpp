@@ -42,12 +42,16 @@ constexpr double kSurfaceOffset = 1e-9;
 // The unlit color of the world: rays that leave the scene add black (SPEC §4).
 const Vec3 kBackground{0, 0, 0};
 
+// The course's depth of field (SPEC §3): the lens rays of one sample, a 5 × 5 grid.
+constexpr int kLensGridRays = RAY_LENS_GRID_SIDE * RAY_LENS_GRID_SIDE;
+
 struct Ray {
     Vec3 origin;
     Vec3 direction;  // unit length
 };
 
-// The pinhole camera of SPEC §3, and the thin lens for depth of field.
+// The pinhole camera of SPEC §3, and the thin lens for depth of field: the course's grid
+// of lens points (SPEC §3), or with --dof disk a random point of the lens disk.
 class CameraModel {
 public:
     CameraModel(const Camera& camera, const RenderSettings& settings)
@@ -58,21 +62,26 @@ public:
         halfHeight_ = std::tan(radians(camera.heightAngleDegrees) / 2);
         halfWidth_ = halfHeight_ * double(width_) / double(height_);
         lensRadius_ = settings.depthOfField ? camera.aperture / 2 : 0;
+        lensGrid_ = lensRadius_ > 0 && settings.dofMode == DofMode::Course;
         // An unset focal length focuses where the camera looks: at the focus point for
         // a camera given by <focus> (look = focus − pos).
         focalLength_ = camera.focalLength > 0 ? camera.focalLength : length(camera.look);
     }
 
-    // The pinhole ray through image position (x, y) = (i + sx, j + sy).
-    Ray pinholeRay(double x, double y) const {
+    // The point of the view plane at depth 1 along the look axis that image position
+    // (x, y) = (i + sx, j + sy) sees.
+    Vec3 viewPlanePoint(double x, double y) const {
         double u = 2 * x / width_ - 1;
         double v = 1 - 2 * y / height_;
-        return {eye_, normalize(u * halfWidth_ * right_ + v * halfHeight_ * up_ + forward_)};
+        return u * halfWidth_ * right_ + v * halfHeight_ * up_ + forward_;
     }
 
-    // With depth of field the eye moves to a point of the lens disk (diameter aperture,
-    // in the plane of U and V) picked by lensX, lensY ∈ [0, 1), and the ray aims at the
-    // point the pinhole ray reaches at distance focallength, which stays sharp.
+    // The pinhole ray through image position (x, y).
+    Ray pinholeRay(double x, double y) const { return {eye_, normalize(viewPlanePoint(x, y))}; }
+
+    // --dof disk: the eye moves to a point of the lens disk (diameter aperture, in the
+    // plane of U and V) picked by lensX, lensY ∈ [0, 1), and the ray aims at the point the
+    // pinhole ray reaches at distance focallength, which stays sharp.
     Ray cameraRay(double x, double y, double lensX, double lensY) const {
         Ray pinhole = pinholeRay(x, y);
         if (lensRadius_ <= 0) return pinhole;
@@ -82,13 +91,28 @@ public:
         return {lensPoint, normalize(focus - lensPoint)};
     }
 
+    // The course's lens (SPEC §3): lens ray `index` of the grid leaves from
+    // pos + (i·a/2)·U + (j·a/2)·V, i = index % side − 2, j = index / side − 2 (a/2 is the
+    // lens radius), aimed where the pinhole ray meets the plane at depth focallength along
+    // the look axis (not at that distance along the ray).
+    Ray gridLensRay(double x, double y, int index) const {
+        Vec3 focus = eye_ + focalLength_ * viewPlanePoint(x, y);
+        const int half = RAY_LENS_GRID_SIDE / 2;
+        double i = index % RAY_LENS_GRID_SIDE - half, j = index / RAY_LENS_GRID_SIDE - half;
+        Vec3 lensPoint = eye_ + i * lensRadius_ * right_ + j * lensRadius_ * up_;
+        return {lensPoint, normalize(focus - lensPoint)};
+    }
+
     bool hasLens() const { return lensRadius_ > 0; }
+    // Whether a sample is the mean of the course's kLensGridRays lens rays (else one ray).
+    bool lensGrid() const { return lensGrid_; }
 
 private:
     Vec3 eye_, forward_, right_, up_;
     int width_, height_;
     double halfWidth_ = 0, halfHeight_ = 0;
     double lensRadius_ = 0, focalLength_ = 0;
+    bool lensGrid_ = false;
 };
 
 // What the lighting model needs to know about a hit, in world space.
@@ -497,21 +521,30 @@ public:
     Vec3 pixelColor(int column, int row, RayCounts& counts) const {
         uint32_t pixel = uint32_t(row) * uint32_t(settings_.width) + uint32_t(column);
         // Samples are numbered in the order the sampling pattern asks for them, which
-        // is deterministic; the lens position of sample k comes from dimensions 2, 3
-        // of sampleRandom (0, 1 are the stratified pattern's jitter), its shutter
-        // time from dimension 4.
+        // is deterministic; the shutter time of sample k comes from dimension 4 of
+        // sampleRandom, with --dof disk its lens position from dimensions 2, 3 (0, 1 are
+        // the stratified pattern's jitter). With the course's lens grid a sample is the
+        // mean of its lens rays' clamped colors (SPEC §3), which share the sample's number.
         uint32_t sampleIndex = 0;
         auto sample = [&](double sx, double sy) {
             uint32_t k = sampleIndex++;
             double lensX = 0, lensY = 0;
-            if (camera_.hasLens()) {
+            if (camera_.hasLens() && !camera_.lensGrid()) {
                 lensX = sampleRandom(pixel, k, 2, settings_.seed);
                 lensY = sampleRandom(pixel, k, 3, settings_.seed);
             }
             double time = settings_.shutter > 0 ? settings_.shutter * sampleRandom(pixel, k, 4, settings_.seed) : 0;
             if (observer_) observer_->beginSample(int(k), sx, sy, time);
-            Vec3 color = tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY),
-                                                SampleId{pixel, k, time}, counts);
+            const SampleId id{pixel, k, time};
+            Vec3 color;
+            if (camera_.lensGrid()) {
+                Vec3 sum{0, 0, 0};
+                for (int lens = 0; lens < kLensGridRays; ++lens)
+                    sum = sum + clamp01(tracer_.traceCameraRay(camera_.gridLensRay(column + sx, row + sy, lens), id, counts));
+                color = sum / double(kLensGridRays);
+            } else {
+                color = tracer_.traceCameraRay(camera_.cameraRay(column + sx, row + sy, lensX, lensY), id, counts);
+            }
             if (observer_) observer_->endSample(color);
             return color;
         };

@@ -18,6 +18,14 @@ enum class AntialiasMode {
 // (SPEC §5); Bilinear and Trilinear put texel centres there.
 enum class TextureFilter { Nearest, Bilinear, Trilinear, Course };
 
+// Depth of field, for a camera with an aperture (SPEC §3). Course (the default): each
+// sample is the mean of the clamped colors of 25 rays from a 5×5 grid of lens points
+// spaced aperture/2, aimed where the pinhole ray meets the plane at depth focallength
+// along the look axis, as the course renders it. Disk: one lens point a sample, uniform on
+// the lens disk (random dimensions 2, 3 of the sample), aimed at distance focallength
+// along the pinhole ray; a smooth blur under a stochastic --aa with many samples.
+enum class DofMode { Course, Disk };
+
 struct RenderSettings {
     int width = 1024;
     int height = 768;
@@ -32,6 +40,7 @@ struct RenderSettings {
     bool refraction = true;
     bool textures = true;
     bool depthOfField = true;
+    DofMode dofMode = DofMode::Course;  // --dof
     // --fresnel (SPEC §4, off by default): the surfaces of transparent objects weight their
     // reflected and transmitted branches by the exact Fresnel reflectance R, ks·Or·R and
     // kt·Ot·(1 − R), and split a ray leaving the object into R inside and 1 − R out

@@ -99,6 +99,12 @@ View parseView(const std::string& body, const View& current) {
         else if (aa == "course") s.antialias = AntialiasMode::Course;
         else throw std::invalid_argument("aa must be off or course");
     }
+    if (j.contains("dof")) {  // depth of field: off, or --dof's course | disk
+        std::string dof = j["dof"].get<std::string>();
+        if (dof != "off" && dof != "course" && dof != "disk") throw std::invalid_argument("dof must be off, course or disk");
+        s.depthOfField = dof != "off";
+        if (dof != "off") s.dofMode = dof == "disk" ? DofMode::Disk : DofMode::Course;
+    }
     return view;
 }
 
@@ -141,6 +147,9 @@ public:
                 {"refraction", view_.settings.refraction}, {"textures", view_.settings.textures},
                 {"fresnel", view_.settings.fresnel}, {"course_meshes", view_.settings.courseMeshes},
                 {"aa", antialiasName(view_.settings.antialias)},
+                {"dof", !view_.settings.depthOfField                  ? "off"
+                        : view_.settings.dofMode == DofMode::Disk ? "disk"
+                                                                  : "course"},
                 {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_}};
     }
 

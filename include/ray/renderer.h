@@ -16,6 +16,9 @@ namespace ray::api {
 
 enum class Antialias { Off, Course, Stratified, Adaptive };
 enum class TextureFilter { Nearest, Bilinear, Trilinear };
+// Depth of field (README "Beyond the course"): Course, the course's 5×5 lens grid (SPEC §3);
+// Disk, one random point of the lens disk a sample.
+enum class DofMode { Course, Disk };
 
 // What to render: the same switches as the command line (see README "Using it").
 struct Settings {
@@ -28,6 +31,7 @@ struct Settings {
     double shutter = 1;                     // motion blur: fraction of the motion
     double threshold = 1.0 / 256.0;         // weight below which a branch stops
     bool shadows = true, reflections = true, refraction = true, textures = true, depthOfField = true;
+    DofMode dofMode = DofMode::Course;      // --dof: how a camera with an aperture samples its lens
     bool fresnel = false;                   // --fresnel: exact Fresnel weights on transparent surfaces
     bool courseMeshes = false;              // --course-meshes: mesh hits as the course's renderer finds them
     TextureFilter textureFilter = TextureFilter::Nearest;

@@ -105,6 +105,20 @@ def test_fresnel_option_changes_glass_only():
     check_switch_changes_only("fresnel", "refraction.xml")
 
 
+def test_dof_mode_picks_the_lens():
+    """dof_mode: "course" (the default, the course's 5x5 lens grid) or "disk" (a random lens
+    point a sample); a scene without an aperture is the same either way."""
+    scene = cs123ray.load_scene(SCENES / "depth_of_field.xml")
+    options = dict(device="ref", width=32, height=24, aa="off")
+    course = cs123ray.render(scene, **options)
+    assert np.array_equal(course, cs123ray.render(scene, dof_mode="course", **options))
+    assert not np.array_equal(course, cs123ray.render(scene, dof_mode="disk", **options))
+    pinhole = build_sphere_scene()
+    assert np.array_equal(cs123ray.render(pinhole, dof_mode="disk", **options), cs123ray.render(pinhole, **options))
+    with pytest.raises(ValueError):
+        cs123ray.render(scene, dof_mode="pinhole", **options)
+
+
 def test_a_bad_scene_raises_naming_file_and_line(output):
     broken = output / "broken.xml"
     broken.write_text("<scenefile>\n<object type=\"tree\" name=\"root\">\n<transblock>\n</scenefile>\n")

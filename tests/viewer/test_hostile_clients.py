@@ -141,6 +141,13 @@ try:
         status, state = viewer.json("GET", "/state")
         assert status == 200 and state["fresnel"] is on and state["course_meshes"] is on, state
     case("fresnel and course_meshes switches", "set and cleared through /view, reported by /state")
+    for dof in ("off", "disk", "course"):
+        viewer.request("POST", "/view", f'{{"dof": "{dof}"}}'.encode())
+        status, state = viewer.json("GET", "/state")
+        assert status == 200 and state["dof"] == dof, state
+    status, _ = viewer.request("POST", "/view", b'{"dof": "sideways"}')
+    assert status == 400, status
+    case("dof modes", "off, disk and course set through /view and reported by /state; another name refused")
 
     # Clients that connect and never read (nor send).
     sockets = []
