@@ -107,7 +107,7 @@ struct FrameStats {
     double renderSeconds = 0;
     int tiles = 0, duplicatesDropped = 0;
     std::vector<DeviceStats> devices;
-    std::vector<std::string> warnings;  // one per device dropped
+    std::vector<std::string> warnings;  // one per device dropped (once), and llvmpipe on the first frame
 };
 
 struct FrameResult {
