@@ -97,3 +97,65 @@ TEST_CASE("An 8-bit frame holds the bytes an 8-bit file of the float frame holds
     CHECK_THROWS_AS(ray::writeImage(bytes.bytes, folder / "bytes.exr"), ray::ImageError);
     std::filesystem::remove_all(folder);
 }
+
+TEST_CASE("A device still building takes no part in a frame and keeps building for the next", "[engine][kernel]") {
+    auto device = ray::test::cpuDevice();
+    if (!device) return ray::test::skip("no OpenCL CPU device");
+    ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
+    ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 40, 32, 2);
+    const ray::Image alone = renderFresh(*device, scene, scene.camera, settings);
+    // The same device twice: two slots, each with its own context, queue and program.
+    setenv("RAY_TEST_SLOW_BUILD", "1:3", 1);
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device});
+    ray::FrameOptions options;
+    options.tileSize = 8;
+    ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+    CHECK(first.image.rgb == alone.rgb);
+    REQUIRE(first.stats.devices.size() == 2);
+    CHECK(first.stats.devices[1].building);
+    CHECK(first.stats.devices[1].tiles == 0);
+    CHECK(first.stats.devices[0].tiles == first.stats.tiles);
+    // The build goes on between frames (were it restarted for each short frame, with its
+    // 3 s delay, device 1 would never be ready).
+    bool ready = false;
+    for (int frame = 0; frame < 600 && !ready; ++frame) {
+        ray::FrameResult next = engine.renderFrame(scene.camera, settings, options);
+        CHECK(next.image.rgb == alone.rgb);
+        ready = !next.stats.devices[1].building;
+        if (!ready) usleep(100000);
+    }
+    unsetenv("RAY_TEST_SLOW_BUILD");
+    CHECK(ready);
+    CHECK(engine.devicesLeft() == 2);
+}
+
+TEST_CASE("A hung device is dropped, the frames stay whole, and the engine goes without waiting for it",
+          "[engine][kernel]") {
+    auto device = ray::test::cpuDevice();
+    if (!device) return ray::test::skip("no OpenCL CPU device");
+    ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
+    ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 40, 32, 2);
+    const ray::Image alone = renderFresh(*device, scene, scene.camera, settings);
+    // Device 1 stops answering after 2 tiles; device 0 starts 3 s late, so that it has them.
+    setenv("RAY_TEST_SLOW_BUILD", "0:3", 1);
+    setenv("RAY_TEST_HANG_DEVICE", "1:2", 1);
+    {
+        ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device});
+        ray::FrameOptions options;
+        options.tileSize = 8;
+        ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+        unsetenv("RAY_TEST_SLOW_BUILD");
+        unsetenv("RAY_TEST_HANG_DEVICE");
+        CHECK(first.image.rgb == alone.rgb);
+        REQUIRE(first.stats.devices.size() == 2);
+        CHECK(first.stats.devices[1].failed);
+        CHECK_THAT(first.stats.devices[1].failure, Catch::Matchers::Contains("stopped answering"));
+        CHECK(first.stats.warnings.size() == 1);
+        CHECK(engine.devicesLeft() == 1);
+        // The engine lives on with the device that answers.
+        ray::FrameResult second = engine.renderFrame(scene.camera, settings, options);
+        CHECK(second.image.rgb == alone.rgb);
+        CHECK(second.stats.devices[0].tiles == second.stats.tiles);
+        CHECK(second.stats.warnings.empty());  // said once
+    }  // the destructor leaves the hung device's thread: were it joined, this test would hang
+}

@@ -6,13 +6,17 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
+#include <functional>
+#include <iterator>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
 #include <optional>
 #include <mutex>
 #include <sstream>
+#include <tuple>
 
 #include "core/atomic_file.h"
 #include "opencl/kernel_source.h"
@@ -28,30 +32,83 @@ constexpr const char* kNoPlatformInstalled =
     "for this CPU (Debian: apt-get install pocl-opencl-icd) or your GPU vendor's OpenCL driver; or render with the "
     "host reference renderer: --device ref";
 
+constexpr const char* kPoclPlatformName = "Portable Computing Language";  // its CL_PLATFORM_NAME
+
 // ICD files tell the loader which platforms are installed: $OCL_ICD_VENDORS (a folder or
 // one file) when set, else /etc/OpenCL/vendors/*.icd.
-std::vector<std::string> installedIcdFiles() {
+struct IcdFile {
+    std::string name;     // "pocl.icd"
+    std::string library;  // what it names: "libpocl.so.2.10.0"
+    bool isPocl() const { return library.find("pocl") != std::string::npos; }
+};
+
+std::vector<IcdFile> installedIcdFiles() {
     fs::path where = "/etc/OpenCL/vendors";
     if (const char* env = std::getenv("OCL_ICD_VENDORS"); env && *env) where = env;
+    std::vector<fs::path> paths;
     std::error_code ec;
-    if (fs::is_regular_file(where, ec)) return {where.string()};
-    std::vector<std::string> files;
-    for (fs::directory_iterator it(where, ec), end; !ec && it != end; it.increment(ec))
-        if (it->path().extension() == ".icd") files.push_back(it->path().filename().string());
+    if (fs::is_regular_file(where, ec)) {
+        paths.push_back(where);
+    } else {
+        for (fs::directory_iterator it(where, ec), end; !ec && it != end; it.increment(ec))
+            if (it->path().extension() == ".icd") paths.push_back(it->path());
+    }
+    std::sort(paths.begin(), paths.end());
+    std::vector<IcdFile> files;
+    for (const fs::path& path : paths) {
+        IcdFile icd{path.filename().string(), {}};  // the library on its first line
+        std::ifstream in(path);
+        std::getline(in, icd.library);
+        files.push_back(icd);
+    }
     return files;
 }
 
-// Why no device could be enumerated, for the message: not installed, or installed but
-// failing to start (with the OpenCL error, and PoCL's own words above it on stderr).
-std::string noDeviceMessage(const std::string& failure) {
-    std::vector<std::string> icds = installedIcdFiles();
+// What the platforms said when asked for their devices, for the messages.
+struct PlatformReport {
+    std::string name, vendor;
+    size_t devices = 0;
+    std::string failure;  // why it listed none
+};
+
+struct Enumeration {
+    std::vector<OpenClDevice> devices;
+    std::vector<PlatformReport> platforms;
+    std::string loaderFailure;  // clGetPlatformIDs failed: no platform started
+};
+
+// Why there is no device, platform by platform, with the hint each one calls for. PoCL's
+// cache hint only where PoCL is installed: it is PoCL that refuses to start without one.
+std::string noDeviceMessage(const Enumeration& found) {
+    std::vector<IcdFile> icds = installedIcdFiles();
     if (icds.empty()) return kNoPlatformInstalled;
-    std::string names;
-    for (const std::string& icd : icds) names += (names.empty() ? "" : ", ") + icd;
-    return "an OpenCL platform is installed (" + names + ") but failed to start" +
-           (failure.empty() ? std::string() : ": " + failure) +
-           ". PoCL fails so when it cannot create its cache folder: set POCL_CACHE_DIR to a writable folder; or "
-           "render with the host reference renderer: --device ref";
+    std::string installed;
+    for (const IcdFile& icd : icds) installed += (installed.empty() ? "" : ", ") + icd.name;
+    const bool poclInstalled = std::any_of(icds.begin(), icds.end(), [](const IcdFile& i) { return i.isPocl(); });
+    const bool poclStarted = std::any_of(found.platforms.begin(), found.platforms.end(),
+                                         [](const PlatformReport& p) { return p.name == kPoclPlatformName; });
+    std::string message = "no OpenCL device found: ";
+    if (found.platforms.empty()) {
+        message += "OpenCL platforms are installed (" + installed + ") but none started" +
+                   (found.loaderFailure.empty() ? std::string() : " (" + found.loaderFailure + ")");
+    } else {
+        message += "the platforms that started list none:";
+        for (const PlatformReport& p : found.platforms) {
+            message += " " + p.name + " (" + p.vendor + "): " + (p.failure.empty() ? "no device" : p.failure) + ";";
+            if (p.name == "rusticl")
+                message += " Mesa's rusticl lists only the drivers RUSTICL_ENABLE names (such as radeonsi; ray does "
+                           "not use its llvmpipe unless chosen by index);";
+        }
+        message += " installed: " + installed;
+    }
+    message += ". ";
+    if (poclInstalled)  // it started with no device, or not at all
+        message += std::string(poclStarted ? "PoCL lists no device" : "PoCL is installed but did not start") +
+                   ": it fails so when it cannot create its cache folder (set POCL_CACHE_DIR to a writable folder), "
+                   "or when POCL_DEVICES names no device. ";
+    else
+        message += "For this CPU, install PoCL (Debian: apt-get install pocl-opencl-icd). ";
+    return message + "Or render with the host reference renderer: --device ref";
 }
 
 std::string typeName(const OpenClDevice& d) {
@@ -202,85 +259,129 @@ std::string openClErrorName(cl_int code) {
 
 namespace {
 
-// Every device of every platform; `failure` says why when a platform or the loader failed.
-std::vector<OpenClDevice> enumerateDevices(std::string& failure) {
+OpenClDevice describeDevice(const cl::Platform& platform, const cl::Device& device, int index) {
+    OpenClDevice d;
+    d.index = index;
+    d.platform = platform;
+    d.device = device;
+    d.name = device.getInfo<CL_DEVICE_NAME>();
+    d.platformName = platform.getInfo<CL_PLATFORM_NAME>();
+    d.platformVersion = platform.getInfo<CL_PLATFORM_VERSION>();
+    d.driverVersion = device.getInfo<CL_DRIVER_VERSION>();
+    cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
+    d.isGpu = (type & CL_DEVICE_TYPE_GPU) != 0;
+    d.isCpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    d.isPocl = d.platformName == kPoclPlatformName;
+    d.isLlvmpipe = d.name.rfind("llvmpipe", 0) == 0;  // "llvmpipe (LLVM 15.0.6, 256 bits)"
+    d.computeUnits = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+    d.globalMemory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+    d.maxAllocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+    return d;
+}
+
+// Every device of every platform, platforms sorted (see enumerateOpenClDevices), and what
+// each platform said.
+Enumeration enumerateDevices() {
     preparePoclCacheFolder();
     // One thread at a time: PoCL 3.1 lists no device to a second thread that asks while a
     // first one is starting it (startOpenClInBackground made that happen).
     static std::mutex oneAtATime;
     std::lock_guard lock(oneAtATime);
+    Enumeration found;
     std::vector<cl::Platform> platforms;
     try {
         cl::Platform::get(&platforms);
     } catch (const cl::Error& e) {
         // CL_PLATFORM_NOT_FOUND_KHR: no ICD file, or every platform failed to initialise.
-        failure = std::string(e.what()) + " returned " + openClErrorName(e.err());
-        return {};
+        found.loaderFailure = std::string(e.what()) + " returned " + openClErrorName(e.err());
+        return found;
     }
-    if (platforms.empty()) failure = "the OpenCL loader got no platform from it (clGetPlatformIDs)";
-    std::vector<OpenClDevice> devices;
-    for (const cl::Platform& platform : platforms) {
+    struct Named {
+        cl::Platform platform;
+        PlatformReport report;
+    };
+    std::vector<Named> named;
+    for (const cl::Platform& platform : platforms)
+        named.push_back({platform, {platform.getInfo<CL_PLATFORM_NAME>(), platform.getInfo<CL_PLATFORM_VENDOR>(), 0, {}}});
+    std::stable_sort(named.begin(), named.end(), [](const Named& a, const Named& b) {
+        return std::tie(a.report.name, a.report.vendor) < std::tie(b.report.name, b.report.vendor);
+    });
+    for (Named& n : named) {
         std::vector<cl::Device> platformDevices;
         try {
-            platform.getDevices(CL_DEVICE_TYPE_ALL, &platformDevices);
+            n.platform.getDevices(CL_DEVICE_TYPE_ALL, &platformDevices);
         } catch (const cl::Error& e) {
-            failure = "listing the devices of " + platform.getInfo<CL_PLATFORM_NAME>() + " returned " +
-                      openClErrorName(e.err());
-            continue;  // a platform with no usable device
+            n.report.failure = "clGetDeviceIDs returned " + openClErrorName(e.err());  // a platform with no device
         }
-        for (const cl::Device& device : platformDevices) {
-            OpenClDevice d;
-            d.index = int(devices.size());
-            d.platform = platform;
-            d.device = device;
-            d.name = device.getInfo<CL_DEVICE_NAME>();
-            d.platformName = platform.getInfo<CL_PLATFORM_NAME>();
-            d.platformVersion = platform.getInfo<CL_PLATFORM_VERSION>();
-            d.driverVersion = device.getInfo<CL_DRIVER_VERSION>();
-            cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
-            d.isGpu = (type & CL_DEVICE_TYPE_GPU) != 0;
-            d.isCpu = (type & CL_DEVICE_TYPE_CPU) != 0;
-            d.computeUnits = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
-            d.globalMemory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
-            d.maxAllocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-            devices.push_back(std::move(d));
-        }
+        n.report.devices = platformDevices.size();
+        for (const cl::Device& device : platformDevices)
+            found.devices.push_back(describeDevice(n.platform, device, int(found.devices.size())));
+        found.platforms.push_back(n.report);
     }
-    if (devices.empty() && failure.empty()) failure = "its platforms list no device";
-    return devices;
+    return found;
+}
+
+std::string listedDevices(const std::vector<OpenClDevice>& devices) {
+    std::string list;
+    for (const OpenClDevice& d : devices)
+        list += (list.empty() ? "" : ", ") + std::to_string(d.index) + ": " + d.description() + " (" + typeName(d) + ")";
+    return list;
+}
+
+// auto's order: a GPU, PoCL's CPU device, another CPU device, another device; llvmpipe never.
+std::optional<int> autoRank(const OpenClDevice& d) {
+    if (d.isLlvmpipe) return std::nullopt;
+    if (d.isGpu) return 0;
+    if (d.isCpu) return d.isPocl ? 1 : 2;
+    return 3;
+}
+
+// The first device of the best rank, or nothing.
+std::optional<OpenClDevice> bestRanked(const std::vector<OpenClDevice>& all,
+                                       const std::function<std::optional<int>(const OpenClDevice&)>& rank) {
+    std::optional<OpenClDevice> best;
+    std::optional<int> bestRank;
+    for (const OpenClDevice& d : all) {
+        std::optional<int> r = rank(d);
+        if (r && (!bestRank || *r < *bestRank)) best = d, bestRank = r;
+    }
+    return best;
+}
+
+DeviceError noSuchDevice(const std::string& what, const std::vector<OpenClDevice>& all, bool llvmpipeWouldDo) {
+    std::string message = "no OpenCL " + what + " found; the devices are " + listedDevices(all) + ". ";
+    for (const OpenClDevice& d : all)
+        if (d.isLlvmpipe && llvmpipeWouldDo)
+            message += "ray does not pick Mesa's llvmpipe (device " + std::to_string(d.index) +
+                       ") by itself: it is 30-145x slower than PoCL and caps each work-item at 65,535 loop "
+                       "iterations (heavy pixels come out wrong); choose it with --device " +
+                       std::to_string(d.index) + " if you accept that. ";
+    return DeviceError(message + "Or render with the host reference renderer: --device ref");
 }
 
 }  // namespace
 
-std::vector<OpenClDevice> enumerateOpenClDevices() {
-    std::string ignored;
-    return enumerateDevices(ignored);
-}
+std::vector<OpenClDevice> enumerateOpenClDevices() { return enumerateDevices().devices; }
 
 std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
-    std::string failure;
-    std::vector<OpenClDevice> all = enumerateDevices(failure);
-    if (all.empty()) throw DeviceError(noDeviceMessage(failure));
-    auto ofType = [&](bool gpu) {
+    Enumeration found = enumerateDevices();
+    const std::vector<OpenClDevice>& all = found.devices;
+    if (all.empty()) throw DeviceError(noDeviceMessage(found));
+    if (selector == "all") {
         std::vector<OpenClDevice> chosen;
-        for (const OpenClDevice& d : all)
-            if (gpu ? d.isGpu : d.isCpu) chosen.push_back(d);
+        std::copy_if(all.begin(), all.end(), std::back_inserter(chosen), [](const OpenClDevice& d) { return !d.isLlvmpipe; });
+        if (chosen.empty()) throw noSuchDevice("device but llvmpipe", all, true);
         return chosen;
-    };
-    if (selector == "all") return all;
-    if (selector == "gpu" || selector == "cpu") {
-        auto chosen = ofType(selector == "gpu");
-        if (chosen.empty())
-            throw DeviceError("no OpenCL " + std::string(selector == "gpu" ? "GPU" : "CPU") +
-                              " device found (see ray --list-devices); try --device auto, or --device ref "
-                              "for the host reference renderer");
-        return {chosen.front()};
     }
-    if (selector == "auto") {
-        auto gpus = ofType(true);
-        if (!gpus.empty()) return {gpus.front()};
-        auto cpus = ofType(false);
-        return {cpus.empty() ? all.front() : cpus.front()};
+    if (selector == "gpu" || selector == "cpu" || selector == "auto") {
+        const bool gpu = selector == "gpu", cpu = selector == "cpu";
+        std::optional<OpenClDevice> best = bestRanked(all, [&](const OpenClDevice& d) -> std::optional<int> {
+            std::optional<int> rank = autoRank(d);
+            if ((gpu && !d.isGpu) || (cpu && !d.isCpu)) return std::nullopt;
+            return rank;
+        });
+        if (!best) throw noSuchDevice(gpu ? "GPU device" : cpu ? "CPU device but llvmpipe" : "device but llvmpipe", all, !gpu);
+        return {*best};
     }
     // An index or a comma-separated list of them ("0,2"), each device once.
     std::vector<OpenClDevice> chosen;
@@ -299,12 +400,19 @@ std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector) {
     return chosen;
 }
 
+std::string llvmpipeWarning(const OpenClDevice& device) {
+    if (!device.isLlvmpipe) return {};
+    return "device " + std::to_string(device.index) + " (" + device.description() +
+           ") is Mesa's llvmpipe: it stops each work-item after 65,535 loop iterations in all, silently, so heavy "
+           "pixels (many samples, deep reflections, big scenes) can come out wrong; it is also 30-145x slower than "
+           "PoCL (--device cpu)";
+}
+
 std::jthread startOpenClInBackground() {
     preparePoclCacheFolder();  // here: it may set an environment variable, which no thread may do
     return std::jthread([] {
         try {
-            std::string ignored;
-            enumerateDevices(ignored);
+            enumerateDevices();
         } catch (...) {
             // The same calls fail again where the render makes them, and say so there.
         }
@@ -312,10 +420,10 @@ std::jthread startOpenClInBackground() {
 }
 
 void printOpenClDevices(std::ostream& out) {
-    std::string failure;
-    std::vector<OpenClDevice> devices = enumerateDevices(failure);
+    Enumeration found = enumerateDevices();
+    const std::vector<OpenClDevice>& devices = found.devices;
     if (devices.empty()) {
-        out << noDeviceMessage(failure) << "\n";
+        out << noDeviceMessage(found) << "\n";
         return;
     }
     for (const OpenClDevice& d : devices) {
@@ -325,6 +433,9 @@ void printOpenClDevices(std::ostream& out) {
             << "   " << typeName(d) << ", " << d.computeUnits << " compute units, "
             << d.globalMemory / (1024 * 1024) << " MiB global memory, " << d.maxAllocation / (1024 * 1024)
             << " MiB largest buffer\n";
+        if (d.isLlvmpipe)
+            out << "   Mesa's llvmpipe: never picked by auto, cpu or all (it caps each work-item at 65,535 loop "
+                   "iterations); only by its index\n";
     }
     out << "ref: the host reference renderer (always available)\n";
 }

@@ -18,18 +18,34 @@ struct OpenClDevice {
     cl::Device device;
     std::string name, platformName, platformVersion, driverVersion;
     bool isGpu = false, isCpu = false;
+    bool isPocl = false;      // the platform is PoCL (Portable Computing Language)
+    bool isLlvmpipe = false;  // Mesa's software rasterizer (rusticl with RUSTICL_ENABLE=llvmpipe)
     unsigned computeUnits = 0;
     uint64_t globalMemory = 0, maxAllocation = 0;
 
     std::string description() const;  // "NAME (PLATFORM)"
 };
 
-// Every device of every platform; empty when there is no OpenCL platform at all.
+// Every device of every platform; empty when there is no OpenCL platform at all. The
+// platforms come sorted by name (then vendor, version), each with its devices in its own
+// order, so that the indices do not depend on the order the ICD loader found them in
+// (readdir order of /etc/OpenCL/vendors).
 std::vector<OpenClDevice> enumerateOpenClDevices();
 
-// The devices a --device value names: auto (a GPU if there is one, else a CPU device),
-// cpu, gpu, all, or an index. Throws DeviceError with advice when none fits.
+// The devices a --device value names, deterministically:
+//   auto  a GPU, else PoCL's CPU device, else another CPU device, else another device;
+//   cpu   PoCL's CPU device, else another CPU device;
+//   gpu   the first GPU;
+//   all   every device;
+// each the first of its kind in the list, and none of them ever Mesa's llvmpipe (30-145x
+// slower than PoCL, and it silently caps each work-item at 65,535 loop iterations, so
+// heavy pixels come out wrong). An index or a list of them ("0,2") takes those devices,
+// llvmpipe too (the engine then warns about the cap). Throws DeviceError with advice, naming
+// the platforms and devices seen, when none fits.
 std::vector<OpenClDevice> selectOpenClDevices(const std::string& selector);
+
+// The warning for a selection that includes llvmpipe, empty for other devices.
+std::string llvmpipeWarning(const OpenClDevice& device);
 
 void printOpenClDevices(std::ostream& out);
 

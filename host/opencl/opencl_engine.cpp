@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <map>
@@ -26,6 +27,10 @@ using Clock = std::chrono::steady_clock;
 constexpr size_t kTilesInFlight = 4;  // per device: it never idles between launches
 // renderTile's arguments for the launch's tile outputs (cl/render.cl).
 constexpr cl_uint kColorsArgument = 7, kCountsArgument = 8;
+
+Clock::duration inClockTicks(double seconds) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -105,13 +110,25 @@ DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
     return DeviceError(device.description() + ": " + e.what() + " failed with " + what + "; " + advice);
 }
 
-// RAY_TEST_FAIL_DEVICE="k:n": device k of the selection fails after n tiles of a frame.
-std::optional<int> testFailureAfter(int deviceSlot) {
-    const char* hook = std::getenv("RAY_TEST_FAIL_DEVICE");
+// Test hooks, read from the environment for each device of a frame (opencl_engine.h).
+struct TestHooks {
+    std::optional<int> failAfterTiles;    // RAY_TEST_FAIL_DEVICE="k:n"
+    std::optional<int> hangAfterTiles;    // RAY_TEST_HANG_DEVICE="k:n"
+    std::optional<int> slowBuildSeconds;   // RAY_TEST_SLOW_BUILD="k:s"
+};
+
+// "k:n" in the variable, for device k of the selection (0-based): n, else nothing.
+std::optional<int> hookValue(const char* variable, int deviceSlot) {
+    const char* hook = std::getenv(variable);
     if (!hook) return std::nullopt;
     int k = -1, n = -1;
     if (std::sscanf(hook, "%d:%d", &k, &n) != 2 || k != deviceSlot || n < 0) return std::nullopt;
     return n;
+}
+
+TestHooks testHooksFor(int deviceSlot) {
+    return {hookValue("RAY_TEST_FAIL_DEVICE", deviceSlot), hookValue("RAY_TEST_HANG_DEVICE", deviceSlot),
+            hookValue("RAY_TEST_SLOW_BUILD", deviceSlot)};
 }
 
 // The engine's own tile source: the image cut into a grid of square tiles, row by row.
@@ -134,21 +151,46 @@ private:
 // A tile of a frame as the scheduler sees it.
 enum class TileState { Queued, InFlight, Done };
 
-}  // namespace
+// When a device that has tiles in flight counts as hung (see opencl_engine.h): no tile back
+// for kDeadlineFactor times the slowest tile seen, and at least kDeadlineFloorSeconds (a
+// machine busy with other work, a tile far heavier than those before it). A device's first
+// tile with a program also compiles it for the launch (PoCL: about 14 s for this kernel, cold,
+// on a loaded 2-core machine), so it gets kWarmUpSeconds, and a frame never waits for it.
+constexpr double kDeadlineFactor = 10;
+constexpr double kDeadlineFloorSeconds = 10;
+constexpr double kWarmUpSeconds = 300;
 
-// What one device keeps between frames: its context, queue, uploaded scene, programs.
+struct Frame;
+
+// What one device keeps between frames: its context, queue, uploaded scene, programs, and
+// the host thread that serves it. Shared by the engine and that thread, which may outlive
+// the engine: a hung device's thread cannot be joined (opencl_engine.h).
 struct DeviceSlot {
     OpenClDevice device;
-    bool dropped = false;
+    int index = 0;  // position in the engine's selection
+
+    // The thread's mailbox, under `mutex`.
+    std::mutex mutex;
+    std::condition_variable wake;
+    std::shared_ptr<Frame> frame;  // the frame to serve next
+    uint64_t frameNumber = 0;             // that frame's number: a new one wakes the thread
+    bool stop = false;                    // the engine is gone
+    bool busy = false;                    // serving a frame (preparing, rendering or hung)
+    bool dropped = false, hung = false;
+    std::string failure;                  // why it was dropped
+    bool failureReported = false;         // in some frame's warnings
+    std::thread thread;
+
+    // Touched only by the thread (or by the engine while the thread is idle).
     cl::Context context;
     cl::CommandQueue queue;
-    int uploadedVersion = -1;  // the engine's packVersion these buffers hold
+    std::shared_ptr<const PackedScene> uploaded;  // what the scene's buffers hold (CPU devices read it in place)
     size_t checkedTilePixels = 0;  // the tile size checkDeviceLimits last passed with them
     cl::Buffer nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions;
     // Lets go of the scene's buffers: before the packed tables they may use in place change.
     void releaseScene() {
         nodes = primitives = materials = lights = textures = texels = triangles = triangleShading = motions = {};
-        uploadedVersion = -1;
+        uploaded.reset();
     }
     // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
     // frame costs the device (and, on a CPU device, the host) a few tiles, not two
@@ -161,69 +203,178 @@ struct DeviceSlot {
     struct Program {
         KernelProgram program;
         cl::Kernel kernel;
+        bool warm = false;  // a tile came back: the launch-time compile is behind it
     };
     std::map<int, Program> programs;  // by maximum depth
+    double slowestTileSeconds = 0;    // the slowest tile it has rendered (warm-up tiles aside)
+    std::optional<cl::UserEvent> neverSet;  // RAY_TEST_HANG_DEVICE: what its launches wait for
 };
 
-struct OpenClEngine::Impl {
-    const Scene& scene;
-    std::vector<OpenClDevice> selection;
-    std::vector<std::unique_ptr<DeviceSlot>> slots;
-    PackedScene packed;
-    int packVersion = 0;
-    bool packed_ = false;
-    int packedGridSide = -1;
-    bool packedTrilinear = false;
-
-    Impl(const Scene& s, std::vector<OpenClDevice> d) : scene(s), selection(std::move(d)) {}
-};
-
-namespace {
-
-// The state of one frame shared by the device threads.
+// The state of one frame, shared by the engine's thread and the device threads. The caller's
+// objects (options, source, image, stats) are touched only under `mutex` while the frame is
+// open, or in source->next() while sourceCallers counts it: the engine closes the frame before
+// renderFrame returns, and a device thread that was left behind (hung, still building) then
+// touches nothing of the caller's.
 struct Frame {
     std::mutex mutex;
     std::condition_variable changed;
+    bool closed = false;
+    int sourceCallers = 0;  // device threads inside source->next()
     const FrameOptions* options = nullptr;
     TileSource* source = nullptr;
-    std::vector<TileRect> tiles;
-    std::vector<TileState> state;
-    std::vector<int> flights;  // devices rendering each tile now
-    std::deque<int> queue;     // tiles put back by a failed device
-    bool sourceDone = false;
-    int done = 0, devicesLeft = 0;
-    int preparing = 0;  // devices still uploading or building: tiles wait for all of them
-    uint64_t pixelsDone = 0, pixelsTotal = 0;
-    Image* image = nullptr;     // the frame: one of these two (FrameOptions::eightBit)
+    Image* image = nullptr;  // the frame: one of these two (FrameOptions::eightBit)
     ByteImage* bytes = nullptr;
     FrameStats* stats = nullptr;
 
+    // What the devices prepare for; copies, so that a thread left behind may read them.
+    std::shared_ptr<const PackedScene> packed;
+    RenderSettings settings;
+    gpu::RayRenderParams params{};
+    size_t tilePixels = 0;
+    size_t workGroupSize = 8;
+
+    std::vector<TileRect> tiles;
+    std::vector<TileState> state;
+    std::vector<int> devicesOn;  // devices rendering each tile now
+    std::deque<int> queue;       // tiles put back by a failed or hung device
+    bool sourceDone = false;
+    int done = 0;
+    uint64_t pixelsDone = 0, pixelsTotal = 0;
+    double slowestTileSeconds = 0;  // any device's, this frame, warm-up tiles aside
+    double uploadSeconds = 0, buildSeconds = 0;
+
+    // One device's part in the frame.
+    struct Flight {
+        int tile;
+        Clock::time_point launched;
+    };
+    enum class Part { Absent, Preparing, Rendering, Left, Failed, Hung };
+    struct Participant {
+        Part part = Part::Absent;
+        TestHooks hooks;
+        std::deque<Flight> flights;  // launched and not back, oldest first (they finish in order)
+        Clock::time_point lastAnswer;
+        bool warm = false;
+        double slowestTileSeconds = 0;
+        double busySeconds = 0;
+    };
+    std::vector<Participant> devices;  // by slot index
+    int devicesLeft = 0;               // preparing or rendering
+
     bool cancelled() const { return options->cancel && options->cancel->load(); }
-    // The first tiles wait until every device has its scene and program: a device whose
-    // cached kernel loads first would otherwise take a small frame's every tile.
-    void deviceReady() {
-        std::lock_guard lock(mutex);
-        --preparing;
+    // Every tile is Done (the queue may still name some: taken back, then answered late).
+    bool allDone() const { return sourceDone && done == int(tiles.size()); }
+
+    // The next tile put back and not answered since, if any.
+    std::optional<int> popQueued() {
+        while (!queue.empty()) {
+            int tile = queue.front();
+            queue.pop_front();
+            if (state[size_t(tile)] != TileState::Done) return tile;
+        }
+        return std::nullopt;
+    }
+
+    // When the device counts as hung if no tile comes back: nothing while it has none in flight.
+    std::optional<Clock::time_point> deadline(const Participant& p) const {
+        if (p.part != Part::Rendering || p.flights.empty()) return std::nullopt;
+        const Clock::time_point since = std::max(p.flights.front().launched, p.lastAnswer);
+        if (!p.warm) return since + inClockTicks(kWarmUpSeconds);
+        double seconds =
+            std::max(kDeadlineFloorSeconds, kDeadlineFactor * std::max(slowestTileSeconds, p.slowestTileSeconds));
+        return since + inClockTicks(seconds);
+    }
+    bool late(const Participant& p, Clock::time_point now) const {
+        auto d = deadline(p);
+        return d && *d < now;
+    }
+
+    // The frame can return: its picture is complete (or cancelled) and no device that answers
+    // still has a tile in flight, or no device is left. Devices still building, or compiling
+    // their first launch, take no part and are not waited for.
+    bool over() const {
+        if (sourceCallers > 0) return false;
+        if (devicesLeft == 0) return true;
+        if (!allDone() && !cancelled()) return false;
+        for (const Participant& p : devices)
+            if (p.part == Part::Rendering && p.warm && !p.flights.empty()) return false;
+        return true;
+    }
+
+    // Puts the tiles the device holds back in the queue, unless another device has them too.
+    void takeBackTiles(Participant& p) {
+        for (const Flight& f : p.flights) {
+            const size_t t = size_t(f.tile);
+            if (state[t] == TileState::Done) continue;
+            if (--devicesOn[t] == 0) {
+                state[t] = TileState::Queued;
+                queue.push_back(f.tile);
+            }
+        }
+        p.flights.clear();
+    }
+
+    // Ends the device's part after a failure; its tiles go to the others.
+    void deviceFailed(int index) {
+        Participant& p = devices[size_t(index)];
+        if (p.part != Part::Preparing && p.part != Part::Rendering) return;
+        takeBackTiles(p);
+        p.part = Part::Failed;
+        --devicesLeft;
         changed.notify_all();
     }
-    void waitForEveryDevice() {
-        std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return preparing == 0; });
+
+    // Drops the devices past their deadline while another device is in the frame and not late
+    // itself (a device that is the last one left is waited for: no other could take its
+    // tiles). Returns them, with how long each was silent.
+    struct Silent {
+        int device;
+        double seconds;
+    };
+    std::vector<Silent> dropLateDevices(Clock::time_point now) {
+        std::vector<Silent> dropped;
+        for (size_t i = 0; i < devices.size(); ++i) {
+            Participant& p = devices[i];
+            if (!late(p, now)) continue;
+            bool another = false;
+            for (size_t j = 0; j < devices.size(); ++j) {
+                const Participant& q = devices[j];
+                const bool in = q.part == Part::Preparing || q.part == Part::Rendering || q.part == Part::Left;
+                if (j != i && in && !late(q, now)) another = true;
+            }
+            if (!another) continue;
+            const Clock::time_point since = std::max(p.flights.front().launched, p.lastAnswer);
+            dropped.push_back({int(i), std::chrono::duration<double>(now - since).count()});
+            takeBackTiles(p);
+            p.part = Part::Hung;
+            --devicesLeft;
+            changed.notify_all();
+        }
+        return dropped;
     }
-    bool allDone() const { return sourceDone && queue.empty() && done == int(tiles.size()); }
+
+    // The next moment a deadline passes after `now`, if any device has one ahead.
+    std::optional<Clock::time_point> nextDeadline(Clock::time_point now) const {
+        std::optional<Clock::time_point> next;
+        for (const Participant& p : devices)
+            if (auto d = deadline(p); d && *d > now && (!next || *d < *next)) next = d;
+        return next;
+    }
 };
 
-// One device's part of a frame, run on its own host thread.
+// One device's part of a frame, run on its thread once its kernel is built.
 class DeviceWorker {
 public:
-    DeviceWorker(Frame& frame, DeviceSlot& slot, int slotIndex, const gpu::RayRenderParams& params)
-        : frame_(frame), slot_(slot), index_(slotIndex), params_(params), failAfter_(testFailureAfter(slotIndex)) {}
+    DeviceWorker(Frame& frame, DeviceSlot& slot) : frame_(frame), slot_(slot), index_(slot.index) {
+        std::lock_guard lock(frame_.mutex);
+        hooks_ = frame_.devices[size_t(index_)].hooks;
+    }
 
     void run(cl::Kernel& kernel) {
         auto start = Clock::now();
         bool started = false;
         while (true) {
-            if (failAfter_ && finished_ >= *failAfter_)
+            if (hooks_.failAfterTiles && finished_ >= *hooks_.failAfterTiles)
                 throw DeviceError(slot_.device.description() + ": failed on purpose (RAY_TEST_FAIL_DEVICE)");
             while (inFlight_.size() < kTilesInFlight) {
                 std::optional<int> tile = acquire();
@@ -233,6 +384,7 @@ public:
             }
             if (inFlight_.empty()) {
                 std::unique_lock lock(frame_.mutex);
+                if (!taking()) break;
                 if (frame_.cancelled() || frame_.allDone()) break;
                 frame_.changed.wait_for(lock, std::chrono::milliseconds(50));
                 continue;
@@ -241,21 +393,11 @@ public:
             busySeconds_ = secondsSince(start);
         }
         std::lock_guard lock(frame_.mutex);
-        frame_.stats->devices[size_t(index_)].busySeconds = busySeconds_;
-    }
-
-    // Puts every tile this device still holds back in the queue.
-    void abandonTiles() {
-        std::lock_guard lock(frame_.mutex);
-        for (const Launch& l : inFlight_) {
-            if (frame_.state[size_t(l.tile)] == TileState::Done) continue;
-            if (--frame_.flights[size_t(l.tile)] == 0) {
-                frame_.state[size_t(l.tile)] = TileState::Queued;
-                frame_.queue.push_back(l.tile);
-            }
-        }
-        inFlight_.clear();
-        frame_.stats->devices[size_t(index_)].busySeconds = busySeconds_;
+        Frame::Participant& p = frame_.devices[size_t(index_)];
+        slot_.slowestTileSeconds = p.slowestTileSeconds;
+        p.busySeconds = busySeconds_;
+        if (p.part == Frame::Part::Rendering) p.part = Frame::Part::Left;
+        frame_.changed.notify_all();
     }
 
 private:
@@ -265,40 +407,47 @@ private:
         cl::Event event;
     };
 
+    // Under the frame's lock: the frame is open and this device still part of it.
+    bool taking() const { return !frame_.closed && frame_.devices[size_t(index_)].part == Frame::Part::Rendering; }
+
     // The next tile for this device: one put back, else a new one from the source, else
     // (when this device is idle) one still pending on another device.
     std::optional<int> acquire() {
         std::unique_lock lock(frame_.mutex);
-        if (frame_.cancelled()) return std::nullopt;
-        if (!frame_.queue.empty()) return take(frame_.queue.front(), true);
+        if (!taking() || frame_.cancelled()) return std::nullopt;
+        if (auto queued = frame_.popQueued()) return take(*queued);
         if (!frame_.sourceDone) {
+            ++frame_.sourceCallers;
             lock.unlock();
             TileRect rect;
             bool more = frame_.source->next(rect);  // may block (a distributed source)
             lock.lock();
+            --frame_.sourceCallers;
+            frame_.changed.notify_all();
             if (more) {
                 frame_.tiles.push_back(rect);
                 frame_.state.push_back(TileState::Queued);
-                frame_.flights.push_back(0);
-                return take(int(frame_.tiles.size()) - 1, false);
+                frame_.devicesOn.push_back(0);
+                return take(int(frame_.tiles.size()) - 1);
             }
             frame_.sourceDone = true;
-            if (!frame_.queue.empty()) return take(frame_.queue.front(), true);
+            if (auto queued = frame_.popQueued()) return take(*queued);
         }
         if (!inFlight_.empty()) return std::nullopt;
         // End of the frame: duplicate the pending tile with the fewest devices on it.
         int best = -1;
         for (size_t t = 0; t < frame_.tiles.size(); ++t)
-            if (frame_.state[t] == TileState::InFlight && (best < 0 || frame_.flights[t] < frame_.flights[size_t(best)]))
+            if (frame_.state[t] == TileState::InFlight &&
+                (best < 0 || frame_.devicesOn[t] < frame_.devicesOn[size_t(best)]))
                 best = int(t);
         if (best < 0) return std::nullopt;
-        return take(best, false);
+        return take(best);
     }
 
-    int take(int tile, bool fromQueue) {
-        if (fromQueue) frame_.queue.pop_front();
+    int take(int tile) {
         frame_.state[size_t(tile)] = TileState::InFlight;
-        ++frame_.flights[size_t(tile)];
+        ++frame_.devicesOn[size_t(tile)];
+        frame_.devices[size_t(index_)].flights.push_back({tile, Clock::now()});
         return tile;
     }
 
@@ -308,9 +457,9 @@ private:
             std::lock_guard lock(frame_.mutex);
             rect = frame_.tiles[size_t(tile)];
         }
-        const size_t group = size_t(frame_.options->workGroupSize);
+        const size_t group = frame_.workGroupSize;
         auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
-        gpu::RayRenderParams params = params_;
+        gpu::RayRenderParams params = frame_.params;
         params.image.z = rect.x;
         params.image.w = rect.y;
         params.tile = {rect.width, rect.height, 0, 0};
@@ -330,9 +479,19 @@ private:
         kernel.setArg(kCountsArgument, out.counts);
         Launch l{tile, output, {}};
         slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width), roundUp(rect.height)),
-                                         cl::NDRange(group, group), nullptr, &l.event);
+                                         cl::NDRange(group, group), hangHook(), &l.event);
         slot_.queue.flush();
         inFlight_.push_back(l);
+    }
+
+    // RAY_TEST_HANG_DEVICE: once the device has answered its tiles, its launches wait for an
+    // event that is never set, as on a hung driver, and so does all that is queued after them
+    // (the queue is in order): the thread blocks in clWaitForEvents, for good.
+    const std::vector<cl::Event>* hangHook() {
+        if (!hooks_.hangAfterTiles || answered_ < *hooks_.hangAfterTiles) return nullptr;
+        if (!slot_.neverSet) slot_.neverSet = cl::UserEvent(slot_.context);
+        hangingOn_ = {*slot_.neverSet};
+        return &hangingOn_;
     }
 
     // Waits for the oldest launch, reads its tile back and keeps it unless another device
@@ -352,6 +511,7 @@ private:
         slot_.queue.enqueueReadBuffer(out.colors, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
         slot_.queue.enqueueReadBuffer(out.counts, CL_TRUE, 0, n * sizeof(cl_uint4), rays.data());
         inFlight_.pop_front();
+        ++answered_;
 
         FinishedTile result;
         result.rect = rect;
@@ -367,9 +527,30 @@ private:
         keep(l.tile, result);
     }
 
+    // The device's answer: its tile time, then the tile unless another device was first.
+    void answered(Frame::Participant& p, Clock::time_point now) {
+        if (p.flights.empty()) return;  // dropped as hung: its tiles were taken back
+        Frame::Flight f = p.flights.front();
+        p.flights.pop_front();
+        --frame_.devicesOn[size_t(f.tile)];
+        if (!p.warm) {
+            p.warm = true;  // the first tile also compiled the program for the launch: no measure
+            auto found = slot_.programs.find(frame_.settings.maxDepth);
+            if (found != slot_.programs.end()) found->second.warm = true;
+        } else {
+            double seconds = std::chrono::duration<double>(now - std::max(f.launched, p.lastAnswer)).count();
+            p.slowestTileSeconds = std::max(p.slowestTileSeconds, seconds);
+            frame_.slowestTileSeconds = std::max(frame_.slowestTileSeconds, seconds);
+        }
+        p.lastAnswer = now;
+    }
+
     void keep(int tile, const FinishedTile& result) {
+        const Clock::time_point now = Clock::now();
         std::lock_guard lock(frame_.mutex);
-        --frame_.flights[size_t(tile)];
+        if (frame_.closed) return;
+        answered(frame_.devices[size_t(index_)], now);
+        frame_.changed.notify_all();  // for the engine's thread too: a device with no tile in flight
         if (frame_.state[size_t(tile)] == TileState::Done) {
             ++frame_.stats->duplicatesDropped;
             return;
@@ -394,58 +575,37 @@ private:
         if (frame_.options->onTile) frame_.options->onTile(result);
         if (frame_.options->progress && frame_.pixelsTotal > 0)
             frame_.options->progress(std::min(1.0, double(frame_.pixelsDone) / double(frame_.pixelsTotal)));
-        frame_.changed.notify_all();
     }
 
     Frame& frame_;
     DeviceSlot& slot_;
     int index_;
-    gpu::RayRenderParams params_;
-    std::optional<int> failAfter_;
+    TestHooks hooks_;
     std::deque<Launch> inFlight_;
+    std::vector<cl::Event> hangingOn_;
     size_t launches_ = 0;
-    int finished_ = 0;
+    int answered_ = 0;  // tiles read back, duplicates too
+    int finished_ = 0;  // tiles kept
     double busySeconds_ = 0;
 };
 
-}  // namespace
-
-OpenClEngine::OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices)
-    : impl_(std::make_unique<Impl>(scene, std::move(devices))) {
-    if (impl_->selection.empty()) throw DeviceError("no OpenCL device selected; see ray --list-devices");
-    for (const OpenClDevice& d : impl_->selection) {
-        auto slot = std::make_unique<DeviceSlot>();
-        slot->device = d;
-        impl_->slots.push_back(std::move(slot));
-    }
-}
-
-OpenClEngine::~OpenClEngine() = default;
-
-const std::vector<OpenClDevice>& OpenClEngine::devices() const { return impl_->selection; }
-
-int OpenClEngine::devicesLeft() const {
-    int n = 0;
-    for (const auto& s : impl_->slots) n += s->dropped ? 0 : 1;
-    return n;
-}
-
-namespace {
-
-// Uploads the scene (when the device holds an older packing), sizes the output buffers,
-// builds (or reuses) the program for the frame's depth and binds the buffers.
-cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packVersion, const RenderSettings& settings,
-                          size_t tilePixels, double& uploadSeconds, double& buildSeconds) {
-    if (slot.uploadedVersion != packVersion || slot.checkedTilePixels != tilePixels) {
-        checkDeviceLimits(slot.device, packed, tilePixels * sizeof(cl_float4));
-        slot.checkedTilePixels = tilePixels;
+// Uploads the scene (when the device holds another packing), sizes the output buffers,
+// builds (or reuses) the program for the frame's depth and binds the buffers. Reports the
+// seconds spent uploading and building to the frame.
+cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks) {
+    const PackedScene& packed = *frame.packed;
+    if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels) {
+        checkDeviceLimits(slot.device, packed, frame.tilePixels * sizeof(cl_float4));
+        slot.checkedTilePixels = frame.tilePixels;
     }
     if (!slot.context()) {
         slot.context = cl::Context(slot.device.device);
         slot.queue = cl::CommandQueue(slot.context, slot.device.device);
     }
+    double uploadSeconds = 0, buildSeconds = 0;
     auto start = Clock::now();
-    if (slot.uploadedVersion != packVersion) {
+    if (slot.uploaded != frame.packed) {
+        slot.releaseScene();
         const bool inPlace = slot.device.isCpu;
         slot.nodes = uploadBuffer(slot.context, packed.nodes, inPlace);
         slot.primitives = uploadBuffer(slot.context, packed.primitives, inPlace);
@@ -456,16 +616,19 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packV
         slot.triangles = uploadBuffer(slot.context, packed.triangles, inPlace);
         slot.triangleShading = uploadBuffer(slot.context, packed.triangleShading, inPlace);
         slot.motions = uploadBuffer(slot.context, packed.motions, inPlace);  // one placeholder when nothing moves
-        slot.uploadedVersion = packVersion;
+        slot.uploaded = frame.packed;
         uploadSeconds = secondsSince(start);
     }
-    auto found = slot.programs.find(settings.maxDepth);
+    const int depth = frame.settings.maxDepth;
+    auto found = slot.programs.find(depth);
     if (found == slot.programs.end()) {
+        start = Clock::now();
+        if (hooks.slowBuildSeconds) std::this_thread::sleep_for(std::chrono::seconds(*hooks.slowBuildSeconds));
         DeviceSlot::Program p;
-        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(settings.maxDepth));
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth));
         p.kernel = cl::Kernel(p.program.program, "renderTile");
-        buildSeconds = p.program.buildSeconds;
-        found = slot.programs.emplace(settings.maxDepth, std::move(p)).first;
+        buildSeconds = secondsSince(start);
+        found = slot.programs.emplace(depth, std::move(p)).first;
     }
     cl::Kernel& kernel = found->second.kernel;
     // Arguments 1-11 in renderTile's order; the tile outputs are set at each launch.
@@ -474,7 +637,164 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, const PackedScene& packed, int packV
         {5, &slot.textures},  {6, &slot.texels},     {9, &slot.triangles}, {10, &slot.triangleShading},
         {11, &slot.motions}};
     for (const auto& [index, buffer] : args) kernel.setArg(index, *buffer);
+    std::lock_guard lock(frame.mutex);
+    frame.uploadSeconds = std::max(frame.uploadSeconds, uploadSeconds);
+    frame.buildSeconds = std::max(frame.buildSeconds, buildSeconds);
     return kernel;
+}
+
+// The device's part in one frame: prepare, then render if the frame still wants it. A
+// failure drops the device, its tiles going to the others.
+void serveFrame(DeviceSlot& slot, Frame& frame) {
+    const int index = slot.index;
+    try {
+        try {
+            TestHooks hooks;
+            {
+                std::lock_guard lock(frame.mutex);
+                if (frame.closed) return;  // the device was busy until the frame was over
+                hooks = frame.devices[size_t(index)].hooks;
+            }
+            cl::Kernel& kernel = prepareDevice(slot, frame, hooks);
+            {
+                std::lock_guard lock(frame.mutex);
+                Frame::Participant& p = frame.devices[size_t(index)];
+                // Done without it (its program is kept for the next frame), or cancelled.
+                if (frame.closed || p.part != Frame::Part::Preparing) return;
+                p.part = Frame::Part::Rendering;
+                p.warm = slot.programs.at(frame.settings.maxDepth).warm;
+                p.slowestTileSeconds = slot.slowestTileSeconds;
+                p.lastAnswer = Clock::now();
+            }
+            DeviceWorker(frame, slot).run(kernel);
+        } catch (const cl::Error& err) {
+            throw describeClError(slot.device, err);
+        }
+    } catch (const std::exception& err) {
+        {
+            std::lock_guard lock(slot.mutex);
+            slot.dropped = true;
+            slot.failure = err.what();
+        }
+        std::lock_guard lock(frame.mutex);
+        frame.deviceFailed(index);
+    }
+}
+
+// The device's thread: serves the newest frame posted to it, one after another, until the
+// engine stops it or the device is dropped.
+void serveFrames(std::shared_ptr<DeviceSlot> slot) {
+    uint64_t served = 0;
+    while (true) {
+        std::shared_ptr<Frame> frame;
+        {
+            std::unique_lock lock(slot->mutex);
+            slot->busy = false;
+            slot->wake.wait(lock, [&] { return slot->stop || slot->dropped || slot->frameNumber != served; });
+            if (slot->stop || slot->dropped) return;
+            frame = slot->frame;
+            served = slot->frameNumber;
+            slot->busy = true;
+        }
+        if (frame) serveFrame(*slot, *frame);
+    }
+}
+
+}  // namespace
+
+struct OpenClEngine::Impl {
+    const Scene& scene;
+    std::vector<OpenClDevice> selection;
+    std::vector<std::shared_ptr<DeviceSlot>> slots;
+    std::shared_ptr<const PackedScene> packed;
+    int packedGridSide = -1;
+    bool packedTrilinear = false;
+    uint64_t frames = 0;
+
+    Impl(const Scene& s, std::vector<OpenClDevice> d) : scene(s), selection(std::move(d)) {}
+};
+
+OpenClEngine::OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices)
+    : impl_(std::make_unique<Impl>(scene, std::move(devices))) {
+    if (impl_->selection.empty()) throw DeviceError("no OpenCL device selected; see ray --list-devices");
+    for (const OpenClDevice& d : impl_->selection) {
+        auto slot = std::make_shared<DeviceSlot>();
+        slot->device = d;
+        slot->index = int(impl_->slots.size());
+        slot->thread = std::thread(serveFrames, slot);
+        impl_->slots.push_back(std::move(slot));
+    }
+}
+
+// Joins the device threads that are idle. A thread still busy (building a kernel, rendering
+// the first launch of a frame that was done without it, or hung in the driver) is left to
+// finish on its own: it keeps its slot (context, queue, buffers) alive, and a hung one is
+// never released, since releasing a hung queue would block too.
+OpenClEngine::~OpenClEngine() {
+    for (const auto& slot : impl_->slots) {
+        bool busy;
+        {
+            std::lock_guard lock(slot->mutex);
+            slot->stop = true;
+            slot->frame.reset();
+            busy = slot->busy;
+        }
+        slot->wake.notify_all();
+        if (busy)
+            slot->thread.detach();
+        else
+            slot->thread.join();
+    }
+}
+
+const std::vector<OpenClDevice>& OpenClEngine::devices() const { return impl_->selection; }
+
+int OpenClEngine::devicesLeft() const {
+    int n = 0;
+    for (const auto& s : impl_->slots) {
+        std::lock_guard lock(s->mutex);
+        n += s->dropped ? 0 : 1;
+    }
+    return n;
+}
+
+namespace {
+
+// Repacks the scene when a setting that shapes the buffers changed (or on the first frame).
+void packIfNeeded(const Scene& scene, const RenderSettings& settings,
+                  std::shared_ptr<const PackedScene>& packed, int& gridSide, bool& trilinear,
+                  const std::vector<std::shared_ptr<DeviceSlot>>& slots, FrameStats& stats) {
+    const int side = areaLightGridSide(settings);
+    const bool tri = settings.textureFilter == TextureFilter::Trilinear;
+    if (packed && side == gridSide && tri == trilinear) return;
+    // Idle devices let go of the old tables now (CPU devices read them in place); a busy one
+    // keeps them alive until it uploads the new ones.
+    packed.reset();
+    for (const auto& slot : slots) {
+        std::lock_guard lock(slot->mutex);
+        if (!slot->busy) slot->releaseScene();
+    }
+    auto start = Clock::now();
+    auto fresh = std::make_shared<PackedScene>(packScene(scene, settings));
+    stats.packSeconds = secondsSince(start);
+    stats.bvhBuildSeconds = fresh->bvhBuildSeconds;
+    packed = std::move(fresh);
+    gridSide = side;
+    trilinear = tri;
+}
+
+std::string hungMessage(double silentSeconds) {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.1f", silentSeconds);
+    return "stopped answering: no tile back in " + std::string(seconds) + " s, past its deadline (" +
+           std::to_string(int(kDeadlineFactor)) + " times the slowest tile, at least " +
+           std::to_string(int(kDeadlineFloorSeconds)) +
+           " s); its tiles went to the other devices, and ray does not wait for it";
+}
+
+std::string droppedWarning(const DeviceSlot& slot) {
+    return "device " + std::to_string(slot.device.index) + " (" + slot.device.description() + ") dropped: " +
+           slot.failure;
 }
 
 }  // namespace
@@ -483,21 +803,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     Impl& e = *impl_;
     FrameResult result;
     FrameStats& stats = result.stats;
-    // Repack only when a setting that shapes the buffers changed.
-    const int gridSide = areaLightGridSide(settings);
-    const bool trilinear = settings.textureFilter == TextureFilter::Trilinear;
-    if (!e.packed_ || gridSide != e.packedGridSide || trilinear != e.packedTrilinear) {
-        for (const auto& slot : e.slots) slot->releaseScene();  // they may read the old tables in place
-        auto start = Clock::now();
-        e.packed = packScene(e.scene, settings);
-        stats.packSeconds = secondsSince(start);
-        stats.bvhBuildSeconds = e.packed.bvhBuildSeconds;
-        e.packed_ = true;
-        e.packedGridSide = gridSide;
-        e.packedTrilinear = trilinear;
-        ++e.packVersion;
-    }
-    const gpu::RayRenderParams params = makeRenderParams(camera, e.scene.globals, settings, e.packed);
+    packIfNeeded(e.scene, settings, e.packed, e.packedGridSide, e.packedTrilinear, e.slots, stats);
 
     if (options.eightBit)
         result.bytes = ByteImage(settings.width, settings.height);
@@ -505,78 +811,94 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
         result.image = Image(settings.width, settings.height);
     const int side = std::max(8, options.tileSize > 0 ? options.tileSize : 128);
     GridTiles grid(settings.width, settings.height, side);
-    const size_t tilePixels = size_t(side) * size_t(side);  // a guide: launches grow their buffers as needed
-    Frame frame;
-    frame.options = &options;
-    frame.source = options.tiles ? options.tiles : &grid;
-    frame.image = options.eightBit ? nullptr : &result.image;
-    frame.bytes = options.eightBit ? &result.bytes : nullptr;
-    frame.stats = &stats;
-    frame.pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
+    auto frame = std::make_shared<Frame>();
+    frame->options = &options;
+    frame->source = options.tiles ? options.tiles : &grid;
+    frame->image = options.eightBit ? nullptr : &result.image;
+    frame->bytes = options.eightBit ? &result.bytes : nullptr;
+    frame->stats = &stats;
+    frame->packed = e.packed;
+    frame->settings = settings;
+    frame->params = makeRenderParams(camera, e.scene.globals, settings, *e.packed);
+    frame->tilePixels = size_t(side) * size_t(side);  // a guide: launches grow their buffers as needed
+    frame->workGroupSize = size_t(options.workGroupSize);
+    frame->pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
+    frame->devices.resize(e.slots.size());
     stats.devices.resize(e.slots.size());
     // The index too: two devices of one kind have the same name.
     for (size_t i = 0; i < e.slots.size(); ++i)
         stats.devices[i].device = std::to_string(e.slots[i]->device.index) + ": " + e.slots[i]->device.description();
+    if (e.frames == 0)
+        for (const OpenClDevice& d : e.selection)
+            if (std::string warning = llvmpipeWarning(d); !warning.empty()) stats.warnings.push_back(warning);
 
-    std::vector<std::string> failures(e.slots.size());
-    std::vector<double> uploads(e.slots.size(), 0), builds(e.slots.size(), 0);
-    for (const auto& slot : e.slots) frame.devicesLeft += slot->dropped ? 0 : 1;
-    frame.preparing = frame.devicesLeft;
+    // Each device that is left gets the frame: it starts as soon as its own kernel is built.
+    const uint64_t number = ++e.frames;
     auto renderStart = Clock::now();
-    std::vector<std::thread> threads;
     for (size_t i = 0; i < e.slots.size(); ++i) {
         DeviceSlot& slot = *e.slots[i];
+        std::lock_guard lock(slot.mutex);
         if (slot.dropped) continue;
-        threads.emplace_back([&, i] {
-            DeviceSlot& s = *e.slots[i];
-            DeviceWorker worker(frame, s, int(i), params);
-            try {
-                try {
-                    cl::Kernel* kernel = nullptr;
-                    try {
-                        kernel = &prepareDevice(s, e.packed, e.packVersion, settings, tilePixels, uploads[i],
-                                                builds[i]);
-                    } catch (...) {
-                        frame.deviceReady();
-                        throw;
-                    }
-                    frame.deviceReady();
-                    frame.waitForEveryDevice();
-                    worker.run(*kernel);
-                } catch (const cl::Error& err) {
-                    throw describeClError(s.device, err);
-                }
-            } catch (const std::exception& err) {
-                worker.abandonTiles();
-                std::lock_guard lock(frame.mutex);
-                failures[i] = err.what();
-                s.dropped = true;
-                stats.devices[i].failed = true;
-                stats.devices[i].failure = err.what();
-                --frame.devicesLeft;
-                frame.changed.notify_all();
-            }
-        });
+        frame->devices[i].part = Frame::Part::Preparing;
+        frame->devices[i].hooks = testHooksFor(int(i));
+        ++frame->devicesLeft;
+        slot.frame = frame;
+        slot.frameNumber = number;
+        slot.wake.notify_all();
     }
-    for (std::thread& t : threads) t.join();
-    stats.renderSeconds = secondsSince(renderStart);
-    stats.uploadSeconds = *std::max_element(uploads.begin(), uploads.end());
-    stats.kernelBuildSeconds = *std::max_element(builds.begin(), builds.end());
-    stats.tiles = frame.done;
-    result.cancelled = frame.cancelled();
 
-    std::string allFailures;
-    for (size_t i = 0; i < failures.size(); ++i) {
-        if (failures[i].empty()) continue;
-        stats.warnings.push_back("device " + std::to_string(e.slots[i]->device.index) + " (" + e.slots[i]->device.description() + ")" + " dropped: " + failures[i]);
-        allFailures += (allFailures.empty() ? "" : "; ") + failures[i];
+    // Wait for the picture, dropping the devices that stop answering meanwhile.
+    {
+        std::unique_lock lock(frame->mutex);
+        while (!frame->over()) {
+            for (const Frame::Silent& hung : frame->dropLateDevices(Clock::now())) {
+                DeviceSlot& slot = *e.slots[size_t(hung.device)];
+                std::lock_guard slotLock(slot.mutex);
+                slot.dropped = slot.hung = true;
+                slot.failure = hungMessage(hung.seconds);
+            }
+            if (frame->over()) break;
+            // Wake for the next deadline, and at least every second (a device launching its
+            // tiles does not call), or every 50 ms when the frame can be cancelled (the flag is
+            // set from another thread, unannounced).
+            const Clock::time_point now = Clock::now();
+            Clock::time_point wake = now + (options.cancel ? std::chrono::milliseconds(50) : std::chrono::seconds(1));
+            if (auto deadline = frame->nextDeadline(now); deadline && *deadline < wake) wake = *deadline;
+            frame->changed.wait_until(lock, wake);
+        }
+        frame->closed = true;
+        result.cancelled = frame->cancelled();
+        stats.tiles = frame->done;
+        stats.uploadSeconds = frame->uploadSeconds;
+        stats.kernelBuildSeconds = frame->buildSeconds;
+        for (size_t i = 0; i < frame->devices.size(); ++i) {
+            stats.devices[i].busySeconds = frame->devices[i].busySeconds;
+            stats.devices[i].building = frame->devices[i].part == Frame::Part::Preparing;
+        }
     }
-    if (frame.devicesLeft == 0) {
+    stats.renderSeconds = secondsSince(renderStart);
+
+    // Every failure is reported once: in this frame, or, for a device that failed after its
+    // frame was done (a build that failed late), in the next.
+    std::string failures;
+    for (size_t i = 0; i < e.slots.size(); ++i) {
+        DeviceSlot& slot = *e.slots[i];
+        std::lock_guard lock(slot.mutex);
+        if (slot.frame == frame) slot.frame.reset();  // a slot keeps no frame that is over
+        if (!slot.dropped) continue;
+        stats.devices[i].failed = true;
+        stats.devices[i].failure = slot.failure;
+        failures += (failures.empty() ? "" : "; ") + slot.failure;
+        if (slot.failureReported) continue;
+        slot.failureReported = true;
+        stats.warnings.push_back(droppedWarning(slot));
+    }
+    if (devicesLeft() == 0) {
         // One device: its own message, as it always was.
-        if (e.slots.size() == 1) throw DeviceError(allFailures);
-        throw DeviceError("every OpenCL device failed: " + allFailures);
+        if (e.slots.size() == 1) throw DeviceError(failures);
+        throw DeviceError("every OpenCL device failed: " + failures);
     }
-    if (!result.cancelled && !frame.allDone())
+    if (!result.cancelled && !frame->allDone())
         throw DeviceError("the frame ended with tiles unrendered");  // a scheduler bug, never silent
     return result;
 }

@@ -10,16 +10,36 @@
 // camera, image size, antialiasing, features, seed, shutter) is the kernel's per-launch
 // parameter block and costs nothing to change.
 //
-// Scheduling: one host thread per device, each with its own context, queue, program and
-// buffers. Tiles come from one shared queue; each device keeps a few in flight. When the
-// queue is empty, an idle device renders again a tile still pending on another; the first
-// result wins and the duplicate is dropped. Every pixel is a pure function of its
-// coordinates and the seed, so the image does not depend on which device rendered a tile.
-// A device that fails has its tiles put back in the queue and is dropped with a warning
-// naming it; the frame fails (DeviceError) only when no device is left.
+// Scheduling: one host thread per device, kept for the engine's life, each with its own
+// context, queue, program and buffers. Each device starts on a frame as soon as its own scene
+// is uploaded and its own kernel built: a slow first build (a GPU driver's can take minutes)
+// holds back no other device. A device still building when the frame is done takes no part
+// in it and keeps building, for the next frame. Tiles come from one shared queue; each device
+// keeps a few in flight. When the queue is empty, an idle device renders again a tile still
+// pending on another; the first result wins and the duplicate is dropped. Every pixel is a
+// pure function of its coordinates and the seed, so the image does not depend on which
+// device rendered a tile. A device that fails has its tiles put back in the queue and is
+// dropped with a warning naming it; the frame fails (DeviceError) only when no device is left.
 //
-// Test hook: RAY_TEST_FAIL_DEVICE="k:n" makes device k of the selection (0-based) fail
-// after it has finished n tiles of a frame, as a lost device would.
+// Hung devices: a device with tiles in flight that sends none back within its deadline (10
+// times the slowest tile of the frame, at least 10 s; a device's first tile with a program,
+// which PoCL also compiles for the launch, gets 300 s) is taken for hung while another device
+// still answers: its tiles go back to the queue (the first result wins, its own if it answers
+// late after all), it is dropped with a warning and gets no more tiles. The frame waits for
+// the devices that answer to bring back their tiles in flight, but not for a hung device nor
+// one still building or compiling its first launch. When every device is late at once, the
+// machine stalled (a suspend): none is dropped. A hung OpenCL queue can neither be finished
+// nor released, so the engine's destructor does not wait for the thread of such a device (nor
+// for one still building): the thread is left, with its context and queue, and the process
+// exits without it.
+//
+// Test hooks (for tests only; each "k:n" names device k of the selection, 0-based):
+//   RAY_TEST_FAIL_DEVICE="k:n"  device k fails after it has kept n tiles of a frame, as a lost
+//                               device would;
+//   RAY_TEST_HANG_DEVICE="k:n"  device k stops answering after n tiles of a frame: its later
+//                               launches wait for an OpenCL user event that is never set, so
+//                               its thread blocks in the driver as on a hung GPU;
+//   RAY_TEST_SLOW_BUILD="k:s"   device k's kernel build takes s seconds longer.
 #pragma once
 
 #include <atomic>
@@ -87,7 +107,7 @@ struct FrameStats {
     double renderSeconds = 0;
     int tiles = 0, duplicatesDropped = 0;
     std::vector<DeviceStats> devices;
-    std::vector<std::string> warnings;  // one per device dropped
+    std::vector<std::string> warnings;  // one per device dropped (once), and llvmpipe on the first frame
 };
 
 struct FrameResult {

@@ -47,7 +47,8 @@ void printStats(const RenderStats& s, std::ostream& out) {
         std::string who = i < s.deviceRanks.size() ? "rank " + std::to_string(s.deviceRanks[i]) + " " : "";
         std::snprintf(line, sizeof line, "device       %s%s: %d tiles, %llu pixels, %llu rays, busy %.3f s, %.2f Mrays/s%s\n",
                       who.c_str(), d.device.c_str(), d.tiles, (unsigned long long)d.pixels, (unsigned long long)d.rays,
-                      d.busySeconds, d.mraysPerSecond(), d.failed ? " (failed, dropped)" : "");
+                      d.busySeconds, d.mraysPerSecond(),
+                      d.failed ? " (failed, dropped)" : d.building ? " (still building its kernel)" : "");
         out << line;
     }
 }
@@ -92,6 +93,7 @@ std::string statsToJson(const RenderStats& s) {
         device["busy_seconds"] = d.busySeconds;
         device["mrays_per_second"] = d.mraysPerSecond();
         device["failed"] = d.failed;
+        device["building"] = d.building;
         json["devices"].push_back(device);
     }
     return json.dump(2) + "\n";

@@ -17,6 +17,7 @@ struct DeviceStats {
     double busySeconds = 0;  // from its first launch to its last tile of the frame
     bool failed = false;
     std::string failure;  // why it was dropped
+    bool building = false;  // still building its kernel when the frame was done: took no part
 
     double mraysPerSecond() const { return busySeconds > 0 ? double(rays) / busySeconds / 1e6 : 0; }
 };
