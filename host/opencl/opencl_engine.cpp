@@ -204,6 +204,9 @@ struct DeviceSlot {
         KernelProgram program;
         cl::Kernel kernel;
         bool warm = false;  // a tile came back: the launch-time compile is behind it
+        // The driver's CL_KERNEL_PRIVATE_MEM_SIZE: private memory a work-item (the GPU
+        // budget of README "The kernel on GPUs"; scripts/gpu_check.sh reports it).
+        uint64_t privateBytes = 0;
     };
     std::map<int, Program> programs;  // by maximum depth
     double slowestTileSeconds = 0;    // the slowest tile it has rendered (warm-up tiles aside)
@@ -569,6 +572,7 @@ private:
         s.secondaryRays += result.secondaryRays;
         DeviceStats& d = s.devices[size_t(index_)];
         ++d.tiles;
+        d.kernelPrivateBytes = slot_.programs.at(frame_.settings.maxDepth).privateBytes;
         d.pixels += uint64_t(r.width) * uint64_t(r.height);
         d.rays += result.primaryRays + result.shadowRays + result.secondaryRays;
         frame_.pixelsDone += uint64_t(r.width) * uint64_t(r.height);
@@ -627,6 +631,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         DeviceSlot::Program p;
         p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth));
         p.kernel = cl::Kernel(p.program.program, "renderTile");
+        p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);
         buildSeconds = secondsSince(start);
         found = slot.programs.emplace(depth, std::move(p)).first;
     }

@@ -94,6 +94,7 @@ std::string statsToJson(const RenderStats& s) {
         device["mrays_per_second"] = d.mraysPerSecond();
         device["failed"] = d.failed;
         device["building"] = d.building;
+        device["kernel_private_bytes"] = d.kernelPrivateBytes;
         json["devices"].push_back(device);
     }
     return json.dump(2) + "\n";

@@ -18,6 +18,7 @@ struct DeviceStats {
     bool failed = false;
     std::string failure;  // why it was dropped
     bool building = false;  // still building its kernel when the frame was done: took no part
+    uint64_t kernelPrivateBytes = 0;  // the driver's CL_KERNEL_PRIVATE_MEM_SIZE, once it rendered
 
     double mraysPerSecond() const { return busySeconds > 0 ? double(rays) / busySeconds / 1e6 : 0; }
 };
