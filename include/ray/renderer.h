@@ -74,7 +74,8 @@ using TileCallback = std::function<void(const Tile& tile)>;
 
 // Renders one scene on one device selection, frame after frame.
 //
-// devices: "auto" (a GPU, else an OpenCL CPU device), "cpu", "gpu", "all", an index from
+// devices: "auto" (a GPU, else PoCL's CPU device, else another CPU device; never Mesa's
+// llvmpipe: README "Which device"), "cpu", "gpu", "all", an index from
 // listDevices(), a list of indices ("0,2": the devices share each frame), or "ref", the
 // double-precision host reference renderer (no OpenCL needed). The Renderer keeps its own
 // copy of the scene. On OpenCL devices the scene is packed and uploaded on the first frame
