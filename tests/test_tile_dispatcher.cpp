@@ -193,7 +193,7 @@ TEST_CASE("a dropped rank's late tile does not stretch the deadlines", "[distrib
     CHECK(dispatcher.deadline(2) == D::kDeadlineFloorSeconds);
 }
 
-TEST_CASE("--rank-timeout replaces the deadline, first tiles included", "[distributed]") {
+TEST_CASE("the --rank-timeout option replaces the deadline, first tiles included", "[distributed]") {
     ManualClock clock;
     ray::TileDispatcher dispatcher(32, 16, 16, clock.function());
     dispatcher.setDeadline(2.5);
