@@ -5,19 +5,19 @@
 #define RAY_BUMP_STRENGTH 2.0f
 
 /* The texture coordinates of a hit (SPEC §5). */
-RAY_INLINE float2 hitUv(const SceneBuffers* scene, int type, const Hit* hit) {
+static inline float2 hitUv(const SceneBuffers* scene, int type, const Hit* hit) {
     return type == RAY_PRIM_MESH ? meshUv(scene->triangleShading, hit->part, hit->barycentric)
                                  : surfaceUv(type, hit->part, hit->objectPoint);
 }
 
-RAY_INLINE float bumpHeight(const SceneBuffers* scene, int map, float2 uv, float2 repeats) {
+static inline float bumpHeight(const SceneBuffers* scene, int map, float2 uv, float2 repeats) {
     float3 c = sampleTexture(scene, map, uv, repeats, true);
     return (c.x + c.y + c.z) * (1.0f / 3.0f);
 }
 
 /* The object-space direction in which u grows (SPEC §5): cube faces and caps by their
  * mapping, around the y axis for the round surfaces; meshes carry theirs per triangle. */
-RAY_INLINE float3 objectTangent(const SceneBuffers* scene, int type, int part, float3 p) {
+static inline float3 objectTangent(const SceneBuffers* scene, int type, int part, float3 p) {
     if (type == RAY_PRIM_MESH) {
         __global const RayTriangleShading* s = &scene->triangleShading[part];
         return (float3)(s->n0.w, s->n1.w, s->n2.w);
@@ -37,7 +37,7 @@ RAY_INLINE float3 objectTangent(const SceneBuffers* scene, int type, int part, f
 /* +1, or −1 on a mesh triangle whose texture coordinates are mirrored, for the shading
  * normal n (host/scene/mesh.h uvHandedness): the handedness is about the triangle's face normal,
  * and a shading normal facing the other way reverses it. */
-RAY_INLINE float bitangentSign(const SceneBuffers* scene, int type, int part, float3 faceNormal, float3 n) {
+static inline float bitangentSign(const SceneBuffers* scene, int type, int part, float3 faceNormal, float3 n) {
     if (type != RAY_PRIM_MESH) return 1.0f;
     float handedness = scene->triangleShading[part].uv2.w;
     return dot(faceNormal, n) < 0.0f ? -handedness : handedness;

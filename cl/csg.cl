@@ -15,12 +15,12 @@
 #define RAY_CSG_BOUNDARIES (2 * RAY_CSG_MAX_OPERANDS)
 #define RAY_CSG_SLIVER 1e-5f /* host/scene/csg.h kCsgSliver: thinner spans and gaps are rounding */
 
-RAY_INLINE bool csgSliver(float t0, float t1) {
+static inline bool csgSliver(float t0, float t1) {
     return t1 - t0 <= RAY_CSG_SLIVER * fmax(fabs(t0), fabs(t1));
 }
 
 /* The nearest surface point of a unit convex primitive from o along d (t > 0). */
-RAY_INLINE bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
+static inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
     float best = RAY_INFINITY;
     *part = 0;
     *normal = (float3)(0.0f);
@@ -41,7 +41,7 @@ RAY_INLINE bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* p
  * point before the operand's unit box (after it, looking back, for the exit) they find the
  * entry (the exit) of the whole line. The start lies a quarter of the box outside it, far
  * more than the rounding of moving the origin there. */
-RAY_INLINE bool csgCrossing(__global const RayPrimitive* operand, float3 origin, float3 direction, int leaving, float* t,
+static inline bool csgCrossing(__global const RayPrimitive* operand, float3 origin, float3 direction, int leaving, float* t,
                         int* part, float3* normal) {
     float3 o = transformPoint(operand->worldToObject, origin);
     float3 d = transformVector(operand->worldToObject, direction);
@@ -61,7 +61,7 @@ RAY_INLINE bool csgCrossing(__global const RayPrimitive* operand, float3 origin,
 /* The span list of one operand: two boundaries, or none where the line misses or grazes
  * it. Codes are relative to the object's program, whose records number fewer than 128
  * (RAY_CSG_MAX_OPERANDS operands and one operator fewer), so a code fits a byte. */
-RAY_INLINE int csgOperandBoundaries(__global const RayPrimitive* prims, int index, int program, float3 origin,
+static inline int csgOperandBoundaries(__global const RayPrimitive* prims, int index, int program, float3 origin,
                                        float3 direction, float* times, uchar* codes) {
     float enter, leave;
     int part;
@@ -76,7 +76,7 @@ RAY_INLINE int csgOperandBoundaries(__global const RayPrimitive* prims, int inde
     return 2;
 }
 
-RAY_INLINE bool csgInside(int operation, bool a, bool b) {
+static inline bool csgInside(int operation, bool a, bool b) {
     if (operation == RAY_CSG_UNION) return a || b;
     if (operation == RAY_CSG_INTERSECTION) return a && b;
     return a && !b; /* RAY_CSG_DIFFERENCE */
@@ -87,7 +87,7 @@ RAY_INLINE bool csgInside(int operation, bool a, bool b) {
  * together, and a result boundary on both surfaces is b's (the operand written later:
  * SPEC §4, coincident surfaces), as host/reference/csg.cpp combineCsgSpans does. In place is safe: a step reads before it writes, and writes at
  * most one boundary for each it reads, so the result never overtakes b's unread part. */
-RAY_INLINE int csgCombine(int operation, const float* timesA, const uchar* codesA, int countA, int countB,
+static inline int csgCombine(int operation, const float* timesA, const uchar* codesA, int countA, int countB,
                              float* times, uchar* codes) {
     const float* timesB = times + countA;
     const uchar* codesB = codes + countA;

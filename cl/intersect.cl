@@ -32,17 +32,17 @@ typedef struct {
     int order;           /* the hit primitive's info.z: exact ties go to the higher (cl/shared_types.h) */
 } Hit;
 
-RAY_INLINE float3 transformPoint(__global const float4* m, float3 p) {
+static inline float3 transformPoint(__global const float4* m, float3 p) {
     return (float3)(dot(m[0].xyz, p) + m[0].w, dot(m[1].xyz, p) + m[1].w, dot(m[2].xyz, p) + m[2].w);
 }
 
-RAY_INLINE float3 transformVector(__global const float4* m, float3 v) {
+static inline float3 transformVector(__global const float4* m, float3 v) {
     return (float3)(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v));
 }
 
 /* Object normal to world: the transpose of world-to-object's linear part (SPEC §1: normals
  * transform by the inverse transpose of object-to-world). */
-RAY_INLINE float3 normalToWorld(__global const float4* m, float3 n) {
+static inline float3 normalToWorld(__global const float4* m, float3 n) {
     return normalize(m[0].xyz * n.x + m[1].xyz * n.y + m[2].xyz * n.z);
 }
 
@@ -53,7 +53,7 @@ RAY_INLINE float3 normalToWorld(__global const float4* m, float3 n) {
  * its distance (the tiny spheres of recursiveSpheres*.xml, whose object-space origins are
  * thousands of radii away), that form does not. The roots come from q and c/q, without
  * a second cancellation (host/reference/shapes.cpp does the same). */
-RAY_INLINE bool closestApproachRoots(float a, float halfB, float c, float discriminant, float* t0, float* t1) {
+static inline bool closestApproachRoots(float a, float halfB, float c, float discriminant, float* t0, float* t1) {
     if (!(discriminant >= 0.0f) || a == 0.0f) return false;
     float q = -(halfB + copysign(sqrt(discriminant), halfB));
     float r0 = q / a;
@@ -65,7 +65,7 @@ RAY_INLINE bool closestApproachRoots(float a, float halfB, float c, float discri
 
 /* Both roots of a t² + b t + c = 0 in ascending order (the cone's, whose a may be 0: then
  * the one root of the linear equation); false when there are none. */
-RAY_INLINE bool solveQuadratic(float a, float b, float c, float* t0, float* t1) {
+static inline bool solveQuadratic(float a, float b, float c, float* t0, float* t1) {
     if (a == 0.0f) {
         if (b == 0.0f) return false;
         *t0 = *t1 = -c / b;
@@ -76,7 +76,7 @@ RAY_INLINE bool solveQuadratic(float a, float b, float c, float* t0, float* t1) 
 }
 
 /* Keeps a candidate hit when it is the nearest so far in (0, best). */
-RAY_INLINE void considerHit(float t, int part, float3 normal, float* best, int* bestPart, float3* bestNormal) {
+static inline void considerHit(float t, int part, float3 normal, float* best, int* bestPart, float3* bestNormal) {
     if (t > 0.0f && t < *best) {
         *best = t;
         *bestPart = part;
@@ -87,7 +87,7 @@ RAY_INLINE void considerHit(float t, int part, float3 normal, float* best, int* 
 /* Slabs, as in the reference (host/reference/shapes.cpp): inside the cube the ray runs from the
  * largest entering to the smallest leaving plane distance. Faces are numbered as parts:
  * axis·2 for the +0.5 plane, axis·2 + 1 for the −0.5 plane. */
-RAY_INLINE void intersectCube(float3 o, float3 d, float* best, int* part, float3* normal) {
+static inline void intersectCube(float3 o, float3 d, float* best, int* part, float3* normal) {
     float tEnter = -RAY_INFINITY, tLeave = RAY_INFINITY;
     int enterFace = 0, leaveFace = 0;
     for (int axis = 0; axis < 3; ++axis) {
@@ -130,7 +130,7 @@ RAY_INLINE void intersectCube(float3 o, float3 d, float* best, int* part, float3
     considerHit(t, face, n, best, part, normal);
 }
 
-RAY_INLINE void intersectSphere(float3 o, float3 d, float* best, int* part, float3* normal) {
+static inline void intersectSphere(float3 o, float3 d, float* best, int* part, float3* normal) {
     float a = dot(d, d), halfB = dot(o, d);
     float3 f = o - (halfB / a) * d; /* the ray's closest approach to the centre */
     float t0, t1;
@@ -140,7 +140,7 @@ RAY_INLINE void intersectSphere(float3 o, float3 d, float* best, int* part, floa
 }
 
 /* A cap of radius 0.5 in the plane y = capY. */
-RAY_INLINE void intersectCap(float3 o, float3 d, float capY, int capPart, float* best, int* part, float3* normal) {
+static inline void intersectCap(float3 o, float3 d, float capY, int capPart, float* best, int* part, float3* normal) {
     if (d.y == 0.0f) return;
     float t = (capY - o.y) / d.y;
     float3 p = o + t * d;
@@ -149,14 +149,14 @@ RAY_INLINE void intersectCap(float3 o, float3 d, float capY, int capPart, float*
 }
 
 /* A root of the side surface counts when it lies between the caps. */
-RAY_INLINE void considerSideRoot(float3 o, float3 d, float t, int cone, float* best, int* part, float3* normal) {
+static inline void considerSideRoot(float3 o, float3 d, float t, int cone, float* best, int* part, float3* normal) {
     float3 p = o + t * d;
     if (p.y < -0.5f || p.y > 0.5f) return;
     float3 n = cone ? (float3)(p.x, 0.25f * (0.5f - p.y), p.z) : (float3)(p.x, 0.0f, p.z);
     considerHit(t, PART_SIDE, n, best, part, normal);
 }
 
-RAY_INLINE void intersectCylinder(float3 o, float3 d, float* best, int* part, float3* normal) {
+static inline void intersectCylinder(float3 o, float3 d, float* best, int* part, float3* normal) {
     float t0, t1;
     float a = d.x * d.x + d.z * d.z; /* 0 for a ray along the axis: the side is missed */
     float halfB = o.x * d.x + o.z * d.z;
@@ -172,7 +172,7 @@ RAY_INLINE void intersectCylinder(float3 o, float3 d, float* best, int* part, fl
 
 /* Side: x² + z² = ((0.5 − y) / 2)², the radius shrinking from 0.5 at the base to 0 at the
  * apex (0, 0.5, 0). */
-RAY_INLINE void intersectCone(float3 o, float3 d, float* best, int* part, float3* normal) {
+static inline void intersectCone(float3 o, float3 d, float* best, int* part, float3* normal) {
     float k = 0.5f - o.y; /* (0.5 − y) at the origin; along the ray it is k − t·d.y */
     float a = d.x * d.x + d.z * d.z - 0.25f * d.y * d.y;
     float b = 2.0f * (o.x * d.x + o.z * d.z) + 0.5f * k * d.y;
@@ -203,7 +203,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
  * Motion blur: at time t the instance is translated by t·motion (motions[index], world
  * space), which is the same as moving the ray's origin back by it. The host sets every
  * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
-RAY_INLINE void intersectPrimitive(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
+static inline void intersectPrimitive(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
                                __global const float4* motions, __global const RayPrimitive* prim, int index, Ray ray,
                                bool courseMeshes, Hit* hit) {
     float3 origin = ray.origin;
@@ -250,13 +250,13 @@ RAY_INLINE void intersectPrimitive(__global const RayWideBvhNode* nodes, __globa
  * the operand that is not NaN, which costs a compare-unordered and a blend per call on
  * CPUs; a select compiles to one vminps/vmaxps (the traversal ran ~25% faster on PoCL).
  * The slab test below never sees a NaN (safeInverse), so it uses these. */
-RAY_INLINE float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
-RAY_INLINE float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
+static inline float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
+static inline float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
 
 /* Slab distances to the four children of a wide node (cl/shared_types.h): the distance at
  * which the ray enters each child's box within (0, tMax), +infinity for a child it misses
  * and for an absent one. */
-RAY_INLINE float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
+static inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
                                   float tMax) {
     float4 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
     float4 ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y;
@@ -276,7 +276,7 @@ typedef struct {
     int count[4];
 } NodeChildren;
 
-RAY_INLINE NodeChildren testChildren(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
+static inline NodeChildren testChildren(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
                                  float tMax) {
     float4 entry = childEntryDistances(node, origin, inverseDirection, tMax);
     int4 index = node->index, count = node->count;
@@ -289,11 +289,11 @@ RAY_INLINE NodeChildren testChildren(__global const RayWideBvhNode* node, float3
 /* Whether a child whose entry distance is `entry` (childEntryDistances) is to be visited
  * when the nearest hit so far is at `limit`: one entered exactly there may hold a tie (see
  * Hit.order); +infinity is a miss even when nothing has been hit yet. */
-RAY_INLINE bool enteredBy(float entry, float limit) { return entry <= limit && entry < RAY_INFINITY; }
+static inline bool enteredBy(float entry, float limit) { return entry <= limit && entry < RAY_INFINITY; }
 
 /* 1/d with exact zeros replaced by a tiny signed value, so that no 0·∞ NaN reaches the
  * slab test (an empty child's ±1e30 bounds then give huge but ordered distances). */
-RAY_INLINE float3 safeInverse(float3 d) {
+static inline float3 safeInverse(float3 d) {
     const float tiny = 1e-20f;
     return (float3)(1.0f / (fabs(d.x) > tiny ? d.x : copysign(tiny, d.x)),
                     1.0f / (fabs(d.y) > tiny ? d.y : copysign(tiny, d.y)),
@@ -325,7 +325,7 @@ typedef struct {
  * them in the tree's order (cl/shared_types.h) and a node's children are in that order
  * too, absent ones last, so the range runs from the first leaf of the leftmost path to the
  * end of the last leaf of the rightmost. */
-RAY_INLINE int2 leafRange(__global const RayWideBvhNode* nodes, int root) {
+static inline int2 leafRange(__global const RayWideBvhNode* nodes, int root) {
     int node = root;
     while (nodes[node].index.x >= 0 && nodes[node].count.x == 0) node = nodes[node].index.x;
     if (nodes[node].index.x < 0) return (int2)(0, 0); /* an empty tree */
@@ -344,7 +344,7 @@ RAY_INLINE int2 leafRange(__global const RayWideBvhNode* nodes, int root) {
 /* A walk's fallback step: one leaf, entered at 0, holding every primitive under `root`
  * (BvhStack). Put in place of a node's children, it sends them through the walk's own leaf
  * loop, so that a GPU compiler, which inlines every call site, makes no second copy of it. */
-RAY_INLINE NodeChildren everyPrimitiveUnder(__global const RayWideBvhNode* nodes, int root) {
+static inline NodeChildren everyPrimitiveUnder(__global const RayWideBvhNode* nodes, int root) {
     int2 range = leafRange(nodes, root);
     NodeChildren all = {{range.y > range.x ? 0.0f : RAY_INFINITY, RAY_INFINITY, RAY_INFINITY, RAY_INFINITY},
                         {range.x, -1, -1, -1},
@@ -359,7 +359,7 @@ typedef struct {
     int count;
 } InnerChildren;
 
-RAY_INLINE void addInnerChild(InnerChildren* inner, int node, float entry, bool ordered) {
+static inline void addInnerChild(InnerChildren* inner, int node, float entry, bool ordered) {
     int i = inner->count++;
     while (ordered && i > 0 && inner->entry[i - 1] < entry) {
         inner->node[i] = inner->node[i - 1];
@@ -375,7 +375,7 @@ RAY_INLINE void addInnerChild(InnerChildren* inner, int node, float entry, bool 
  * by `limit` and push the others, or resume from the stack, skipping the nodes entered
  * beyond `limit` (a node entered exactly there may hold a tie: see Hit.order). Returns the
  * next node, or -1 when the walk is over. */
-RAY_INLINE int nextNode(const InnerChildren* inner, BvhStack* stack, float limit) {
+static inline int nextNode(const InnerChildren* inner, BvhStack* stack, float limit) {
     int next = -1;
     for (int i = 0; i < inner->count; ++i) {
         if (!enteredBy(inner->entry[i], limit)) continue;
@@ -399,7 +399,7 @@ RAY_INLINE int nextNode(const InnerChildren* inner, BvhStack* stack, float limit
 
 /* The distance beyond which traceBvh skips a box: the nearest hit so far, or none under
  * courseMeshes (see traceBvh). */
-RAY_INLINE float pruneDistance(const Hit* hit, bool courseMeshes) { return courseMeshes ? RAY_INFINITY : hit->t; }
+static inline float pruneDistance(const Hit* hit, bool courseMeshes) { return courseMeshes ? RAY_INFINITY : hit->t; }
 
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays, which visit children in node order: any occluder will do).

@@ -15,10 +15,10 @@ typedef struct {
     int count;
 } MediumStack;
 
-RAY_INLINE float currentIor(const MediumStack* media) { return media->count > 0 ? media->ior[media->count - 1] : 1.0f; }
+static inline float currentIor(const MediumStack* media) { return media->count > 0 ? media->ior[media->count - 1] : 1.0f; }
 
 /* The ior on the far side of a surface, and the stack the transmitted ray carries. */
-RAY_INLINE float iorBeyond(const MediumStack* media, bool entering, float materialIor, MediumStack* beyond) {
+static inline float iorBeyond(const MediumStack* media, bool entering, float materialIor, MediumStack* beyond) {
     *beyond = *media;
     if (entering) {
         if (beyond->count < RAY_MAX_MEDIA) beyond->count++;
@@ -31,13 +31,13 @@ RAY_INLINE float iorBeyond(const MediumStack* media, bool entering, float materi
 
 /* The ior on the near side: the medium the ray is in, or, for a ray leaving an object
  * that no entry recorded, the object's own. */
-RAY_INLINE float iorBefore(const MediumStack* media, bool entering, float materialIor) {
+static inline float iorBefore(const MediumStack* media, bool entering, float materialIor) {
     return (entering || media->count > 0) ? currentIor(media) : materialIor;
 }
 
 /* Snell's law for unit direction d meeting a surface whose unit normal n faces the ray,
  * from ior n1 into ior n2: false for total internal reflection. */
-RAY_INLINE bool refractDirection(float3 d, float3 n, float n1, float n2, float3* transmitted) {
+static inline bool refractDirection(float3 d, float3 n, float n1, float n2, float3* transmitted) {
     float eta = n1 / n2;
     float cosIncident = -dot(d, n);
     float k = 1.0f - eta * eta * (1.0f - cosIncident * cosIncident);
@@ -52,7 +52,7 @@ RAY_INLINE bool refractDirection(float3 d, float3 n, float n1, float n2, float3*
  * internal reflection, by the same test as refractDirection so that the two agree, and at
  * grazing incidence; 0 where n1 = n2. A negative cosIncident (a bump map tilting the
  * shading normal past the ray) counts as its magnitude; an ior <= 0 gives 1. */
-RAY_INLINE float fresnelReflectance(float cosIncident, float n1, float n2) {
+static inline float fresnelReflectance(float cosIncident, float n1, float n2) {
     if (n1 == n2) return 0.0f; /* no interface: the ray goes straight on */
     float eta = n1 / n2;
     float cosI = fabs(cosIncident);
@@ -78,7 +78,7 @@ RAY_INLINE float fresnelReflectance(float cosIncident, float n1, float n2) {
 #define RAY_DIM_AREA(light, cell, axis) \
     (RAY_DIM_AREA_BASE + 2u * ((uint)(light) * RAY_MAX_AREA_CELLS + (uint)(cell)) + (uint)(axis))
 
-RAY_INLINE float3 areaLightPoint(const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
+static inline float3 areaLightPoint(const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
     float3 d = light->direction.xyz;
     float3 helper = fabs(d.y) > 0.99f ? (float3)(0.0f, 0.0f, 1.0f) : (float3)(0.0f, 1.0f, 0.0f);
     float3 u = normalize(cross(helper, d));

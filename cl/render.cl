@@ -29,11 +29,11 @@ typedef struct {
 
 /* Where a frame's next spawned child goes: the first to `first`, which traceCameraRay
  * pushes at once, the second into the frame. */
-RAY_INLINE ChildRay* spawnedChild(Frame* frame, ChildRay* first) {
+static inline ChildRay* spawnedChild(Frame* frame, ChildRay* first) {
     return frame->childCount++ == 0 ? first : &frame->second;
 }
 
-RAY_INLINE bool anyAbove(float3 v, float threshold) {
+static inline bool anyAbove(float3 v, float threshold) {
     return v.x >= threshold || v.y >= threshold || v.z >= threshold;
 }
 
@@ -71,18 +71,18 @@ void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3
 
 /* Whether a branch of weight `weight` below this frame is traced: --threshold cuts it when
  * its path weight is below the threshold in every channel, and a zero weight is no branch. */
-RAY_INLINE bool branchTraced(const RayRenderParams* params, const Frame* frame, float3 weight) {
+static inline bool branchTraced(const RayRenderParams* params, const Frame* frame, float3 weight) {
     return anyAbove(frame->pathWeight * weight, params->limits.x) && anyAbove(weight, 1e-30f);
 }
 
 /* The surfaces refraction applies to (SPEC §4): those of transparent objects (Ot != 0). */
-RAY_INLINE bool refracts(int features, float3 transparent) {
+static inline bool refracts(int features, float3 transparent) {
     return (features & RAY_FEATURE_REFRACTION) && anyAbove(fabs(transparent), 1e-30f);
 }
 
 /* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the frame's ray meets a
  * transparent surface, from the medium it is in into the one beyond (cl/optics.cl). */
-RAY_INLINE float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
+static inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
     MediumStack beyond;
     float n1 = iorBefore(&frame->media, entering, materialIor);
     float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
@@ -96,7 +96,7 @@ RAY_INLINE float surfaceReflectance(const Frame* frame, float3 d, float3 normal,
  * inside (R = 1 under total internal reflection: the mirrored ray alone, as without
  * --fresnel). Both branches belong to refraction (--no-reflections keeps them) and
  * --threshold cuts each by its own weight, R or 1 − R times the path weight. */
-RAY_INLINE bool leavesTransparentObject(int features, bool entering, float3 transparent) {
+static inline bool leavesTransparentObject(int features, bool entering, float3 transparent) {
     return !entering && refracts(features, transparent);
 }
 
@@ -231,7 +231,7 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
  * (a/2 = the lens radius), the ray aimed where the pinhole ray meets the plane at depth
  * focallength along the look axis. --dof disk: a point of the lens disk picked by lens ∈
  * [0, 1)², the ray aimed at the point the pinhole ray reaches at the focal distance. */
-RAY_INLINE Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
+static inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
     float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
     float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
     float3 through = u * params->right.xyz + v * params->up.xyz + params->forward.xyz; /* at depth 1 */
@@ -255,7 +255,7 @@ RAY_INLINE Ray cameraRay(const RayRenderParams* params, float i, float j, float 
  * the sample is the mean of the RAY_LENS_GRID_SIDE² lens rays' clamped colors, one trace
  * site in a loop; --dof disk draws one lens point from dimensions 2 and 3 of the sample's
  * number (0 and 1 are the stratified jitter). */
-RAY_INLINE float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
+static inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
                           PixelTrace* counter) {
     uint k = counter->nextSample++;
     counter->sample = k;
@@ -279,15 +279,15 @@ RAY_INLINE float3 traceSample(const SceneBuffers* scene, const RayRenderParams* 
     return sum / (float)lensRays;
 }
 
-RAY_INLINE float largestChannel(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
+static inline float largestChannel(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
 /* Whether two samples differ by more than RAY_COURSE_AA_CONTRAST in some channel. */
-RAY_INLINE bool courseDiffers(float3 a, float3 b) {
+static inline bool courseDiffers(float3 a, float3 b) {
     return largestChannel(fabs(a - b)) > RAY_COURSE_AA_CONTRAST;
 }
 
 /* Which quadrants of a, b, c, d the course subdivides: bit 0 a, 1 b, 2 c, 3 d. */
-RAY_INLINE int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
+static inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
     int bits = 0;
     if (courseDiffers(a, b)) bits |= 1 | 2;
     if (courseDiffers(c, d)) bits |= 4 | 8;
@@ -333,7 +333,7 @@ typedef struct {
     float3 result;
 } PixelSampler;
 
-RAY_INLINE void startSampler(PixelSampler* s, const RayRenderParams* params) {
+static inline void startSampler(PixelSampler* s, const RayRenderParams* params) {
     s->level = 0;
     s->corner[0] = (float2)(0.0f);
     s->taken[0] = 0;
@@ -351,7 +351,7 @@ RAY_INLINE void startSampler(PixelSampler* s, const RayRenderParams* params) {
 /* The course's machine: the next sample position, or false when the pixel's value is
  * known (s->result). A level whose four samples are in is judged once; its quadrants to
  * refine are then entered one by one, and a finished level hands its mean to its parent. */
-RAY_INLINE bool nextCoursePosition(PixelSampler* s, float2* position) {
+static inline bool nextCoursePosition(PixelSampler* s, float2* position) {
     while (s->level >= 0) {
         int l = s->level;
         float size = 1.0f / (float)(1 << l);
@@ -388,7 +388,7 @@ RAY_INLINE bool nextCoursePosition(PixelSampler* s, float2* position) {
 
 /* The jittered modes: sample number s->count (its random numbers pick the jitter) in cell
  * `cell` of the side×side grid being sampled. */
-RAY_INLINE bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+static inline bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
     int cell = s->extra ? s->count - 4 : s->count;
     if (cell >= s->side * s->side) {
         bool refine = params->mode.x == RAY_AA_ADAPTIVE && params->mode.w > 4 && !s->extra &&
@@ -410,7 +410,7 @@ RAY_INLINE bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* par
 
 /* The position of the pixel's next sample, in [0, 1)², or false when the pixel is done
  * and its color is in s->result. */
-RAY_INLINE bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
     switch (params->mode.x) {
         case RAY_AA_COURSE: return nextCoursePosition(s, position);
         case RAY_AA_STRATIFIED:
@@ -424,7 +424,7 @@ RAY_INLINE bool nextSamplePosition(PixelSampler* s, const RayRenderParams* param
 
 /* Takes the color of the sample at the position nextSamplePosition gave: clamped, except
  * with --aa off, whose one sample is the pixel's unclamped color. */
-RAY_INLINE void addSample(PixelSampler* s, const RayRenderParams* params, float3 color) {
+static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color) {
     if (params->mode.x == RAY_AA_OFF) {
         s->result = color;
         s->count++;

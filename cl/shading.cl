@@ -23,16 +23,16 @@ typedef struct {
     float time;  /* its shutter time in [0, 1] (motion blur) */
 } PixelTrace;
 
-RAY_INLINE float fractional(float x) { return x - floor(x); }
+static inline float fractional(float x) { return x - floor(x); }
 
 /* u of the sphere, and of the sides of the cylinder and cone: grows left to right seen
  * from outside, seam on the +x side. */
-RAY_INLINE float aroundY(float3 p) {
+static inline float aroundY(float3 p) {
     return fractional(atan2(-p.z, p.x) / (2.0f * M_PI_F));
 }
 
 /* The cube's face mapping; the cylinder and cone caps use its ±y faces. */
-RAY_INLINE float2 cubeFaceUv(int face, float3 p) {
+static inline float2 cubeFaceUv(int face, float3 p) {
     switch (face) {
         case 0: return (float2)(0.5f - p.z, p.y + 0.5f); /* +x */
         case 1: return (float2)(p.z + 0.5f, p.y + 0.5f); /* -x */
@@ -43,7 +43,7 @@ RAY_INLINE float2 cubeFaceUv(int face, float3 p) {
     }
 }
 
-RAY_INLINE float2 surfaceUv(int type, int part, float3 p) {
+static inline float2 surfaceUv(int type, int part, float3 p) {
     switch (type) {
         case RAY_PRIM_CUBE: return cubeFaceUv(part, p);
         case RAY_PRIM_SPHERE:
@@ -58,7 +58,7 @@ RAY_INLINE float2 surfaceUv(int type, int part, float3 p) {
     }
 }
 
-RAY_INLINE float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
+static inline float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
     uchar4 c = scene->texels[info.x + row * info.y + column];
     return (float3)(c.x, c.y, c.z) * (1.0f / 255.0f);
 }
@@ -107,13 +107,13 @@ float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, flo
 /* Where a secondary or shadow ray starts: off the surface along the normal (facing the
  * side the ray leaves from), by an amount that grows with the coordinates' magnitude so
  * that float rounding of the hit point cannot put it back behind the surface. */
-RAY_INLINE float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
+static inline float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
     float scale = 1.0f + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
     return p + normal * (epsilon * scale);
 }
 
 /* Spot light falloff: 1 inside the inner cone, 0 outside the outer, smooth between. */
-RAY_INLINE float spotFactor(const RayLight* light, float3 towardLight) {
+static inline float spotFactor(const RayLight* light, float3 towardLight) {
     float cosTheta = dot(-towardLight, light->direction.xyz);
     float theta = acos(clamp(cosTheta, -1.0f, 1.0f));
     float outer = light->spot.z, inner = light->spot.w;
@@ -123,7 +123,7 @@ RAY_INLINE float spotFactor(const RayLight* light, float3 towardLight) {
     return 1.0f - (3.0f * x * x - 2.0f * x * x * x);
 }
 
-RAY_INLINE bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
+static inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
                      PixelTrace* counter) {
     counter->shadow++;
     Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */

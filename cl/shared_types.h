@@ -19,16 +19,6 @@
  * __OPENCL_VERSION__ (clang for AMD GCN and NVPTX defines only __OPENCL_C_VERSION__). */
 #if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #define RAY_OPENCL_C 1
-/* The kernel's small helpers. static: in OpenCL C (C99) a plain inline function has no
- * definition of its own, so a compiler that keeps a call (LLVM for AMD GCN and NVPTX, where
- * it judges inlining too costly) calls an undefined function: ptxas refused the kernel.
- * PoCL (which defines POCL_DEVICE_ADDRESS_BITS) keeps plain inline: there every helper is
- * inlined anyway, and its kernel ran chess 20% slower with static helpers (bench/ab.sh). */
-#ifdef POCL_DEVICE_ADDRESS_BITS
-#define RAY_INLINE inline
-#else
-#define RAY_INLINE static inline
-#endif
 #endif
 
 #ifndef RAY_OPENCL_C

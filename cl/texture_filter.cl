@@ -6,7 +6,7 @@
 #define MIN_FOOTPRINT_COS 0.01f
 
 /* Texture coordinate units per object unit; meshes carry theirs in uv2.z. */
-RAY_INLINE float uvDensity(const SceneBuffers* scene, int type, int part) {
+static inline float uvDensity(const SceneBuffers* scene, int type, int part) {
     switch (type) {
         case RAY_PRIM_SPHERE: return 2.0f / M_PI_F;
         case RAY_PRIM_TORUS: return 4.0f / M_PI_F;
@@ -30,7 +30,7 @@ float textureFootprint(const SceneBuffers* scene, const RayRenderParams* params,
 }
 
 /* Level k of a texture: max(1, width >> k) × max(1, height >> k) texels after levels 0..k−1. */
-RAY_INLINE int4 mipLevelInfo(int4 info, int level) {
+static inline int4 mipLevelInfo(int4 info, int level) {
     int offset = info.x, width = info.y, height = info.z;
     for (int k = 0; k < level; ++k) {
         offset += width * height;

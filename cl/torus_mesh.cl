@@ -8,7 +8,7 @@
 #define TORUS_MINOR 0.125f
 
 /* Derivative `order` (0 to 3) of the monic quartic s⁴ + c.w s³ + c.z s² + c.y s + c.x. */
-RAY_INLINE float quarticDerivative(float4 c, int order, float s) {
+static inline float quarticDerivative(float4 c, int order, float s) {
     switch (order) {
         case 0: return (((s + c.w) * s + c.z) * s + c.y) * s + c.x;
         case 1: return ((4.0f * s + 3.0f * c.w) * s + 2.0f * c.z) * s + c.y;
@@ -116,14 +116,14 @@ void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal) 
 
 /* The torus's v (SPEC §5): the angle around the tube / 2π, 0 on the outer equator,
  * growing upward on the outside. */
-RAY_INLINE float torusV(float3 p) {
+static inline float torusV(float3 p) {
     float radial = sqrt(p.x * p.x + p.z * p.z);
     float v = atan2(p.y, radial - TORUS_MAJOR) / (2.0f * M_PI_F);
     return v - floor(v);
 }
 
 /* Möller–Trumbore against one triangle (p0, e1 = p1 − p0, e2 = p2 − p0). */
-RAY_INLINE void intersectTriangle(__global const RayTriangle* triangle, int index, float3 o, float3 d, float* best,
+static inline void intersectTriangle(__global const RayTriangle* triangle, int index, float3 o, float3 d, float* best,
                               int* part, float3* normal, float2* barycentric) {
     float3 p0 = triangle->p0.xyz, e1 = triangle->e1.xyz, e2 = triangle->e2.xyz;
     float3 pv = cross(d, e2);
@@ -182,14 +182,14 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
 
 /* The shading normal of a mesh hit (object space): the corners' normals (the file's vn, or
  * the face normal where it gave none) interpolated at the hit. */
-RAY_INLINE float3 meshShadingNormal(__global const RayTriangleShading* shading, int triangle, float2 b) {
+static inline float3 meshShadingNormal(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
     float3 n = (1.0f - b.x - b.y) * s->n0.xyz + b.x * s->n1.xyz + b.y * s->n2.xyz;
     return dot(n, n) > 0.0f ? n : s->n0.xyz;
 }
 
 /* The texture coordinates of a mesh hit: the corners' vt interpolated, (0, 0) without. */
-RAY_INLINE float2 meshUv(__global const RayTriangleShading* shading, int triangle, float2 b) {
+static inline float2 meshUv(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
     return (1.0f - b.x - b.y) * s->uv01.xy + b.x * s->uv01.zw + b.y * s->uv2.xy;
 }
