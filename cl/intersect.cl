@@ -8,7 +8,6 @@
  * No fast-math here: the slab tests rely on IEEE infinities. */
 
 #define RAY_INFINITY INFINITY
-#define RAY_BVH_STACK 64
 
 typedef struct {
     float3 origin;
@@ -304,7 +303,7 @@ static inline float3 safeInverse(float3 d) {
  * node is skipped when a hit nearer than that has been found since it was pushed.
  *
  * A short stack: a wide node pushes up to 3 of its children, so a walk may need
- * 3 · RAY_BVH_STACK entries (1.5 KB) where a GPU gives a work-item a few hundred bytes of
+ * 3 · kBvhMaxDepth (host/accel/bvh.h) entries (1.5 KB) where a GPU gives a work-item a few hundred bytes of
  * fast memory. RAY_BVH_SHORT_STACK entries hold every walk of the bundled and course
  * scenes; a walk that would push more stops (overflowed) and then tests every primitive
  * under its root instead (everyPrimitiveUnder), which finds the same hit:
