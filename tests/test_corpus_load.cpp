@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <set>
 #include <string>
@@ -105,18 +104,17 @@ TEST_CASE("every course scene loads, or fails with a clear error", "[corpus]") {
     CHECK(otherImageWarnings.empty());
 }
 
-TEST_CASE("the deepest master recursion of the corpus loads quickly", "[corpus]") {
+// How long the load takes is bench/'s business (bench/bench.cpp renders recursiveSpheres10,
+// load included): a test asserts what the load builds, never a time.
+TEST_CASE("the deepest master recursion of the corpus flattens with shared materials", "[corpus]") {
     std::optional<fs::path> shared = ray::test::sharedDir();
     if (!shared) {
         ray::test::skip("../shared/cs123 is absent: the course corpus is not here");
         return;
     }
-    auto start = std::chrono::steady_clock::now();
     ray::Scene scene = ray::loadScene(*shared / "cs123" / "scenes" / "recursiveSpheres10.xml");
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    INFO("loaded " << scene.primitives.size() << " instances in " << seconds << " s");
+    INFO("loaded " << scene.primitives.size() << " instances");
     CHECK(scene.primitives.size() > 2'000'000);
     // Masters share the material of the element they come from.
     CHECK(scene.materials.size() < 100);
-    CHECK(seconds < 10);
 }
