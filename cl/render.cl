@@ -301,7 +301,7 @@ static inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
  * traceSample call (renderTile). A GPU compiler inlines every call: written as recursion-
  * free nested functions, the course's three levels alone held 84 copies of the trace.
  *
- * The course's adaptive antialiasing (README, Conventions, "Antialiasing";
+ * The course's adaptive antialiasing (docs/conventions.md, "Antialiasing";
  * host/reference/course_sampling.cpp): value(square, level) samples the centres of the
  * square's four quadrants a (top left), b (top right), c (bottom left), d (bottom right);
  * where level < 3, a quadrant whose sample differs from a horizontal or vertical

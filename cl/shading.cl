@@ -128,7 +128,7 @@ static inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 tow
     counter->shadow++;
     Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
     Hit blocker;
-    /* world t for every primitive, --course-meshes or not (README "Conventions", meshes) */
+    /* world t for every primitive, --course-meshes or not (docs/conventions.md, meshes) */
     return traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, shadowRay, distance, true,
                     false, &blocker);
 }

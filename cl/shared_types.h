@@ -82,7 +82,7 @@ struct alignas(16) int4 {
 /* The antialiasing thresholds (SPEC §3), one definition for both renderers
  * (host/render/render_settings.h): the course mode subdivides a quadrant whose sample differs
  * from a horizontal or vertical neighbour's by more than RAY_COURSE_AA_CONTRAST, 50 8-bit
- * levels, in some channel (README, Conventions, "Antialiasing");
+ * levels, in some channel (docs/conventions.md, "Antialiasing");
  * --aa adaptive adds its k×k pass where the first four spread by more than
  * RAY_ADAPTIVE_CONTRAST, a tenth of the range, well above the 8-bit step, so that the
  * flat regions of an image stay at four samples. */

@@ -1,4 +1,5 @@
-// Helpers shared by the libFuzzer targets (see fuzz/README.md and scripts/fuzz.sh).
+// Helpers shared by the libFuzzer targets (see scripts/fuzz.sh and docs/user-guide.md,
+// "Hostile input and limits").
 #pragma once
 
 #include <cstdlib>

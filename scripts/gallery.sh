@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Renders every bundled scene into docs/ for the README's gallery.
+# Renders every bundled scene into docs/ for the gallery, docs/gallery.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ray=${RAY:-build/ray}

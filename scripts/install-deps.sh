@@ -9,6 +9,7 @@ packages=(cmake make g++ pkg-config
           libexpat1-dev libtinyobjloader-dev libopenimageio-dev libpng-dev libjpeg-dev
           ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
           catch2 libcli11-dev nlohmann-json3-dev
+          doxygen   # the C++ API reference: docs/Doxyfile, tests/api_reference.sh
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-pil
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
           libcpp-httplib-dev chromium chromium-driver python3-selenium

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The installed library as a user meets it (README "Embedding ray"):
+# The installed library as a user meets it (docs/embedding.md, "Embedding ray: the C++ API"):
 #   - cmake --install into a fresh prefix;
 #   - libray.so's dynamic symbols are ray::api's only (nm -D --defined-only);
-#   - the README's C++ examples, taken from the README, build with
+#   - the C++ examples of docs/embedding.md, taken from it, build with
 #     `pkg-config --cflags --libs ray` and run with no LD_LIBRARY_PATH, in a folder where
 #     the examples' relative paths (scenes/...) lead to the repository's scenes.
 # Usage: installed_library.sh BUILD_DIR SOURCE_DIR WORK_DIR
@@ -30,20 +30,20 @@ for needed in 'ray::api::Scene::load(' 'ray::api::Renderer::render(' 'typeinfo f
 done
 echo "libray.so exports $(wc -l < "$work/exports.txt") symbols, all ray::api"
 
-# The README's C++ blocks, built as a user would, run without LD_LIBRARY_PATH.
+# The C++ blocks of docs/embedding.md, built as a user would, run without LD_LIBRARY_PATH.
 export PKG_CONFIG_PATH=$(dirname "$library")/pkgconfig
 flags=$(pkg-config --cflags --libs ray) || { fail "pkg-config --cflags --libs ray"; flags=""; }
 run=$work/run
 mkdir -p "$run" && ln -s "$source/scenes" "$run/scenes"
-blocks=$(bash "$source/tests/code_blocks.sh" cpp "$source/README.md" "$work/examples" cpp) || { echo "$blocks"; exit 1; }
+blocks=$(bash "$source/tests/code_blocks.sh" cpp "$source/docs/embedding.md" "$work/examples" cpp) || { echo "$blocks"; exit 1; }
 for block in $blocks; do
     program=${block%.cpp}
     # shellcheck disable=SC2086  # pkg-config's flags are words
     if ! c++ -Wall -Werror "$block" -o "$program" $flags 2> "$program.build.log"; then
-        fail "README's $(basename "$block") does not build with pkg-config:"; cat "$program.build.log"; continue
+        fail "docs/embedding.md's $(basename "$block") does not build with pkg-config:"; cat "$program.build.log"; continue
     fi
     if ! (cd "$run" && env -u LD_LIBRARY_PATH "$program") > "$program.out" 2> "$program.err"; then
-        fail "README's $(basename "$block") failed to run:"; cat "$program.err"
+        fail "docs/embedding.md's $(basename "$block") failed to run:"; cat "$program.err"
     else
         echo "$(basename "$block"): $(cat "$program.out")"
     fi

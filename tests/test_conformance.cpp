@@ -23,9 +23,9 @@ namespace {
 
 using Render = std::function<ray::Image(const ray::Scene&, const ray::RenderSettings&)>;
 
-// The PENDING.tsv rows ray matches (SPEC §4 refraction, §5 course texture filter, README
-// Conventions "Antialiasing": the course's per-quadrant subdivision; "Meshes": the course's
-// mesh distances, with the option below).
+// The PENDING.tsv rows ray matches (SPEC §4 refraction, §5 course texture filter,
+// docs/conventions.md "Antialiasing": the course's per-quadrant subdivision; "Meshes": the
+// course's mesh distances, with the option below).
 const std::vector<std::string> kMatchedPending = {"test_refract_refract.png", "test_fun_chess_lars.png",
                                                   "test_refract_refract_whitted.png", "test_mesh_pdiddy.png"};
 
@@ -33,14 +33,14 @@ const std::vector<std::string> kMatchedPending = {"test_refract_refract.png", "t
 // test_dof_dof (SPEC §3, the course's lens grid): ref 99.515% within 8/255, the kernel
 // 99.42%. The kernel's shortfall is not the lens: without it (--no-dof) the two renderers
 // already differ by more than 3/255 on 1.2% of the pixels, the float speckles of the
-// textured cubes' reflections in one another (README "Meshes and depth of field").
+// textured cubes' reflections in one another (docs/conventions.md, "Meshes and depth of field").
 const std::vector<std::string> kMatchedPendingByReference = {"test_dof_dof.png"};
 
 // Options added to a PENDING.tsv row's own (that file is the course's and is not edited
 // here): the conventions ray keeps as options, off by default, that a course render needs.
 // Used wherever a row is rendered, matched or not.
 const std::map<std::string, std::string> kExtraOptions = {
-    {"test_mesh_pdiddy.png", "--course-meshes"},  // README "Conventions", meshes
+    {"test_mesh_pdiddy.png", "--course-meshes"},  // docs/conventions.md, meshes
 };
 
 std::string optionsFor(const ray::test::ReferenceCase& c) {

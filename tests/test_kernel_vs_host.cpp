@@ -70,11 +70,12 @@ TEST_CASE("kernel matches host on a bump-mapped mesh with mirrored texture coord
 // the float cancellation in the sphere test (spotlight_on_cheese 42%, recursiveSpheres10
 // 76% of pixels within 3/255 before those fixes). A few scenes are chaotic at the pixel
 // level, where float and double legitimately pick different surfaces, and are held to a
-// lower share of close pixels. Measured with the course's per-quadrant subdivision (README,
-// Conventions, "Antialiasing"), which leaves quadrants that match their neighbours at one
-// sample, so that a flipped sample weighs up to 1/4 of a pixel rather than 1/64: 98.3, 96.2,
-// 94.3, 93.0, 89.3 and 96.5% (93.8, 96.0, 97.3, 98.2 and 97.8% for 10, 9, 8, 7 and the plane
-// with the earlier rule, which subdivided every quadrant of a busy square):
+// lower share of close pixels. Measured with the course's per-quadrant subdivision
+// (docs/conventions.md, "Antialiasing"), which leaves quadrants that match their
+// neighbours at one sample, so that a flipped sample weighs up to 1/4 of a pixel rather
+// than 1/64: 98.3, 96.2, 94.3, 93.0, 89.3 and 96.5% (93.8, 96.0, 97.3, 98.2 and 97.8% for
+// 10, 9, 8, 7 and the plane with the earlier rule, which subdivided every quadrant of a
+// busy square):
 const std::map<std::string, double> kChaoticScenes = {
     // sub-pixel spheres by the thousand: which one a ray meets depends on the last bits
     {"recursiveSpheres6.xml", 0.97},
@@ -175,7 +176,7 @@ TEST_CASE("kernel matches host with stratified sampling and depth of field", "[k
     }
 }
 
-// --course-meshes (README "Conventions", meshes): both renderers key mesh hits by
+// --course-meshes (docs/conventions.md, meshes): both renderers key mesh hits by
 // t·|M⁻¹d|, place the hit point there and shade meshes with face normals. The course's
 // pdiddy scene (a mesh scaled 3.5, so its hits move to 1/3.5 of their distance) with its
 // PENDING.tsv options, and the bundled vase.

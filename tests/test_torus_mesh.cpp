@@ -183,7 +183,7 @@ TEST_CASE("bump mapping: a flat map keeps the normal, a ramp tilts it by the doc
     CHECK(objectTangent(PrimitiveType::Cube, {0.5, 0, 0}, {1, 0, 0}).z == -1);
 }
 
-// --course-meshes (README "Conventions", meshes): closestHit keys a mesh hit by
+// --course-meshes (docs/conventions.md, meshes): closestHit keys a mesh hit by
 // t_obj = t·|M⁻¹d|/|d|. Boxes are pruned by tMax times a bound on t/t_obj, so the BVH must
 // find exactly the hits brute force finds; on the course's pdiddy scene (a mesh scaled 3.5
 // among trees and a floor) every mesh hit's t is its world t times that factor.

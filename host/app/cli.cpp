@@ -52,7 +52,7 @@ options:
                            off by default)
   --course-meshes          measure mesh hits as the course's solution did: distance along
                            the normalized object-space ray (t·|M⁻¹d|), hit point placed
-                           there, face normals (README "Conventions"; off by default)
+                           there, face normals (docs/conventions.md; off by default)
   --texture-filter F       nearest (default, as the course) | bilinear | trilinear |
                            course (bilinear with texel corners at integers, as the
                            course's renders made with its texture filter on)
@@ -72,7 +72,7 @@ exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure,
 
 across processes and machines (a build with MPI): mpirun [-q] -n N [--hostfile F] ray
 <scene.xml> ... renders one frame on N ranks, each on its own --device; rank 0 hands out
-the tiles, renders too and alone writes the image and the statistics (see README.md).
+the tiles, renders too and alone writes the image and the statistics (see docs/user-guide.md).
   --rank-timeout S         under mpirun: a rank that holds a tile S seconds is taken for
                            hung (default: from the tile times seen, at least 10 s); its
                            tiles go to the others. Exit 4: the image was written whole, but

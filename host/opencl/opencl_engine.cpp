@@ -205,7 +205,7 @@ struct DeviceSlot {
         cl::Kernel kernel;
         bool warm = false;  // a tile came back: the launch-time compile is behind it
         // The driver's CL_KERNEL_PRIVATE_MEM_SIZE: private memory a work-item (the GPU
-        // budget of README "The kernel on GPUs"; scripts/gpu_check.sh reports it).
+        // budget of docs/performance.md, "The kernel on GPUs"; scripts/gpu_check.sh reports it).
         uint64_t privateBytes = 0;
     };
     std::map<int, Program> programs;  // by maximum depth

@@ -25,7 +25,7 @@ bool courseDiffers(const Vec3& a, const Vec3& b) {
 }
 
 // value(square, level) for the square with top-left corner (x, y) and side size: the
-// course's rule (README, Conventions, "Antialiasing"). A quadrant is subdivided when its
+// course's rule (docs/conventions.md, "Antialiasing"). A quadrant is subdivided when its
 // sample differs from a horizontal or vertical neighbour's (not the diagonal one's).
 Vec3 courseValue(const PixelSampleFunction& sample, double x, double y, double size, int level,
                  CourseSampleCount& count) {

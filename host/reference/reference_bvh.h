@@ -64,7 +64,7 @@ class SceneIntersector {
 public:
     // Keeps a reference to scene.primitives: the scene must outlive the intersector.
     //
-    // courseMeshes (--course-meshes, README "Conventions", meshes): closestHit measures a
+    // courseMeshes (--course-meshes, docs/conventions.md, meshes): closestHit measures a
     // mesh instance's hit by the course's key t_obj = t·|M⁻¹d|/|d| (the distance along the
     // normalized object-space direction, M the object-to-world transform), compares it
     // with the other primitives' world t, returns it as the hit's t (so the hit point is

@@ -44,10 +44,10 @@ struct RenderSettings {
     // --fresnel (SPEC §4, off by default): the surfaces of transparent objects weight their
     // reflected and transmitted branches by the exact Fresnel reflectance R, ks·Or·R and
     // kt·Ot·(1 − R), and split a ray leaving the object into R inside and 1 − R out
-    // (README "Conventions", refraction). Needs refraction on.
+    // (docs/conventions.md, refraction). Needs refraction on.
     bool fresnel = false;
-    // --course-meshes (off by default): the course solution's mesh bug (README
-    // "Conventions", meshes): a mesh hit's distance is t_obj = t·|M⁻¹d| (along the
+    // --course-meshes (off by default): the course solution's mesh bug
+    // (docs/conventions.md, meshes): a mesh hit's distance is t_obj = t·|M⁻¹d| (along the
     // normalized object-space direction), compared with the other primitives' world t for
     // the nearest hit and placing the hit point at origin + t_obj·d; meshes are shaded
     // with face normals. Shadow rays keep world t.

@@ -1,5 +1,6 @@
-// A scene for ray's public API: loaded from a CS123 scenefile (a file or a string), or
-// built in code. Coordinates are world space, y up; colors are linear RGB in [0, 1].
+/// \file
+/// A scene for ray's public API: loaded from a CS123 scenefile (a file or a string), or
+/// built in code. Coordinates are world space, y up; colors are linear RGB in [0, 1].
 #pragma once
 
 #include <cstdint>
@@ -12,128 +13,158 @@
 
 namespace ray::api {
 
+/// A point, direction or RGB color.
 struct Vec3 {
+    ///@{
+    /// A coordinate, or a color channel (x red, y green, z blue).
     double x = 0, y = 0, z = 0;
+    ///@}
 };
 
-// The pinhole (or thin-lens) camera of SPEC §3.
+/// The pinhole (or thin-lens) camera of SPEC §3.
 struct Camera {
-    Vec3 position{5, 5, 5};
-    Vec3 look{-1, -1, -1};            // the viewing direction (need not be unit length)
-    Vec3 up{0, 1, 0};
-    double heightAngleDegrees = 45;   // the full vertical field of view
-    double aperture = 0;              // the lens diameter; 0 is a pinhole
-    double focalLength = 0;           // the distance in focus (with aperture > 0)
+    Vec3 position{5, 5, 5};           ///< the eye
+    Vec3 look{-1, -1, -1};            ///< the viewing direction (need not be unit length)
+    Vec3 up{0, 1, 0};                 ///< the direction that is up in the image
+    double heightAngleDegrees = 45;   ///< the full vertical field of view
+    double aperture = 0;              ///< the lens diameter; 0 is a pinhole
+    double focalLength = 0;           ///< the distance in focus (with aperture > 0)
 };
 
+/// The kinds of light: the scenefile's point, directional and spot lights, and area lights.
 enum class LightType { Point, Directional, Spot, Area };
 
+/// A light of SPEC §4 (names as in `<lightdata>`).
 struct Light {
-    LightType type = LightType::Point;
-    Vec3 color{1, 1, 1};
-    Vec3 attenuation{1, 0, 0};        // c1, c2, c3 of 1/(c1 + c2·d + c3·d²)
-    Vec3 position{3, 3, 3};           // point, spot, area (its centre)
-    Vec3 direction{0, 0, -1};         // directional, spot, area
-    double angleDegrees = 45;         // spot: half-angle of the cone
-    double penumbraDegrees = 0;       // spot: width of the soft band inside the cone
-    double width = 1, height = 1;     // area: the rectangle
+    LightType type = LightType::Point;  ///< which kind; each uses the fields marked for it
+    Vec3 color{1, 1, 1};                ///< the light's color (intensity per channel)
+    Vec3 attenuation{1, 0, 0};        ///< c1, c2, c3 of 1/(c1 + c2·d + c3·d²)
+    Vec3 position{3, 3, 3};           ///< point, spot, area (its centre)
+    Vec3 direction{0, 0, -1};         ///< directional, spot, area
+    double angleDegrees = 45;         ///< spot: half-angle of the cone
+    double penumbraDegrees = 0;       ///< spot: width of the soft band inside the cone
+    ///@{
+    /// area: the rectangle's width and height.
+    double width = 1, height = 1;
+    ///@}
 };
 
-// A texture or bump map on a material: a handle from Scene::addTexture*, repeated
-// repeatU × repeatV times over the surface. texture < 0: none.
+/// A texture or bump map on a material: a handle from Scene::addTexture*, repeated
+/// repeatU × repeatV times over the surface. texture < 0: none.
 struct TextureUse {
+    /// The handle from Scene::addTextureFromFile or addTextureFromPixels; < 0: none.
     int texture = -1;
+    ///@{
+    /// How many times the texture repeats over the surface, along u and along v.
     double repeatU = 1, repeatV = 1;
+    ///@}
 };
 
-// The material of SPEC §1 (names as in <object type="primitive">).
+/// The material of SPEC §1 (names as in `<object type="primitive">`).
 struct Material {
+    ///@{
+    /// A color of SPEC §1's lighting model, as in the scenefile's `<diffuse>`, `<ambient>`, ...
     Vec3 diffuse{1, 1, 1}, ambient{0, 0, 0}, specular{0, 0, 0};
     Vec3 reflective{0, 0, 0}, transparent{0, 0, 0}, emissive{0, 0, 0};
-    double shininess = 0;
-    double ior = 1;
-    double blend = 0;                 // the texture's weight against the diffuse color
+    ///@}
+    double shininess = 0;             ///< the specular exponent
+    double ior = 1;                   ///< the index of refraction of a transparent material
+    double blend = 0;                 ///< the texture's weight against the diffuse color
+    ///@{
+    /// The texture (its color, mixed by blend) and the bump map (a height field), if any.
     TextureUse texture, bumpMap;
+    ///@}
 };
 
+/// The unit shapes of SPEC §2, and a triangle mesh (Scene::addMesh).
 enum class Shape { Cube, Sphere, Cylinder, Cone, Torus, Mesh };
 
-// An affine object-to-world transform: a 3×4 row-major matrix (the last row of the 4×4
-// is 0 0 0 1). Compose with *: (a * b) applies b first, as nested transblocks do.
+/// An affine object-to-world transform: a 3×4 row-major matrix (the last row of the 4×4
+/// is 0 0 0 1). Compose with *: (a * b) applies b first, as nested transblocks do.
 struct Transform {
-    double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
-    static Transform translate(Vec3 t);
-    static Transform scale(Vec3 s);
-    static Transform rotate(Vec3 axis, double angleDegrees);
+    double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  ///< the matrix's first three rows
+    static Transform translate(Vec3 t);  ///< a translation by t
+    static Transform scale(Vec3 s);      ///< a scale by s.x, s.y, s.z along the axes
+    static Transform rotate(Vec3 axis, double angleDegrees);  ///< a rotation about axis (through the origin)
 };
+/// The composition of two transforms: a * b applies b first, then a.
 Transform operator*(const Transform& a, const Transform& b);
 
-// The global coefficients of SPEC §1 (<globaldata>).
+/// The global coefficients of SPEC §1 (`<globaldata>`).
 struct Globals {
+    ///@{
+    /// The ambient, diffuse, specular and transparent coefficients.
     double ka = 0.5, kd = 0.5, ks = 0.5, kt = 0.5;
+    ///@}
 };
 
 class Scene;
 
-// How a scenefile is read.
+/// How a scenefile is read.
 struct LoadOptions {
-    std::vector<std::filesystem::path> searchPaths;  // extra roots for textures and meshes
-    bool strict = false;                             // every warning becomes an InputError
-    bool loadTextures = true;                        // false: skip reading image files
+    std::vector<std::filesystem::path> searchPaths;  ///< extra roots for textures and meshes
+    bool strict = false;                             ///< every warning becomes an InputError
+    bool loadTextures = true;                        ///< false: skip reading image files
 };
 
 struct LoadResult;
 
-// A scene: what a Renderer renders. Copyable (a copy is independent) and movable.
+/// A scene: what a Renderer renders. Copyable (a copy is independent) and movable.
 class Scene {
 public:
-    Scene();  // empty: the default camera, no lights, no primitives
+    Scene();  ///< empty: the default camera, no lights, no primitives
     ~Scene();
-    Scene(const Scene&);
-    Scene& operator=(const Scene&);
-    Scene(Scene&&) noexcept;
-    Scene& operator=(Scene&&) noexcept;
+    Scene(const Scene&);  ///< an independent copy
+    Scene& operator=(const Scene&);  ///< makes this an independent copy
+    Scene(Scene&&) noexcept;  ///< takes the other's contents
+    Scene& operator=(Scene&&) noexcept;  ///< takes the other's contents
 
-    // Reads a scenefile. Throws InputError ("file:line: error: ...").
+    /// Reads a scenefile. Throws InputError ("file:line: error: ...").
     static LoadResult load(const std::filesystem::path& file, const LoadOptions& options = {});
-    // Reads scenefile XML from a string; `name` stands for the file in messages and is
-    // the folder relative texture and mesh paths are found from.
+    /// Reads scenefile XML from a string; `name` stands for the file in messages and is
+    /// the folder relative texture and mesh paths are found from.
     static LoadResult fromString(const std::string& xml, const std::filesystem::path& name = "scene.xml",
                                  const LoadOptions& options = {});
 
-    Camera camera() const;
+    Camera camera() const;  ///< the camera
+    /// Replaces the camera. Throws InputError for a camera the scenefile loader would refuse.
     void setCamera(const Camera& camera);
-    Globals globals() const;
+    Globals globals() const;  ///< the global coefficients
+    /// Replaces the global coefficients. Throws InputError for values the loader would refuse.
     void setGlobals(const Globals& globals);
 
+    /// Adds a light. Throws InputError for values the scenefile loader would refuse.
     void addLight(const Light& light);
-    // Returns the material's handle, for addPrimitive.
+    /// Returns the material's handle, for addPrimitive.
     int addMaterial(const Material& material);
-    // A texture from an image file (png, jpg, ...). Throws InputError when unreadable.
+    /// A texture from an image file (png, jpg, ...). Throws InputError when unreadable.
     int addTextureFromFile(const std::filesystem::path& file);
-    // A texture from memory: width × height RGB triples in [0, 1], row 0 at the top.
+    /// A texture from memory: width × height RGB triples in [0, 1], row 0 at the top.
     int addTextureFromPixels(int width, int height, const std::vector<float>& rgb);
-    // A triangle mesh: positions (x, y, z per vertex), triangles (three vertex indices
-    // each, counter-clockwise from the front), and optionally one normal and one (u, v)
-    // per vertex (empty: face normals, (0, 0)). Throws InputError for bad indices.
+    /// A triangle mesh: positions (x, y, z per vertex), triangles (three vertex indices
+    /// each, counter-clockwise from the front), and optionally one normal and one (u, v)
+    /// per vertex (empty: face normals, (0, 0)). Throws InputError for bad indices.
     int addMesh(const std::vector<float>& positions, const std::vector<uint32_t>& triangles,
                 const std::vector<float>& normals = {}, const std::vector<float>& uvs = {});
-    // Places a primitive (the unit shapes of SPEC §2; Shape::Mesh needs `mesh` from addMesh).
+    /// Places a primitive (the unit shapes of SPEC §2; Shape::Mesh needs `mesh` from addMesh).
     void addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh = -1);
 
-    size_t primitiveCount() const;
-    size_t lightCount() const;
+    size_t primitiveCount() const;  ///< the primitives placed (a scenefile's, flattened, and added ones)
+    size_t lightCount() const;  ///< the lights
 
+    /// \cond INTERNAL
     struct Impl;
     const Impl& impl() const { return *impl_; }
+    /// \endcond
 
 private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// A scene read from a scenefile, and the warnings reading it gave.
 struct LoadResult {
-    Scene scene;
-    std::vector<std::string> warnings;  // complete ("scene.xml:7: warning: ..."), in order
+    Scene scene;                        ///< the scene
+    std::vector<std::string> warnings;  ///< complete ("scene.xml:7: warning: ..."), in order
 };
 
 }  // namespace ray::api
