@@ -192,7 +192,7 @@ struct ManualClock {
 
 }  // namespace
 
-TEST_CASE("a worker past its tile's deadline is reported; dropped, its tiles go to the others", "[scheduler]") {
+TEST_CASE("a worker past its tile's deadline is reported, and once dropped its tiles go to the others", "[scheduler]") {
     ManualClock clock;
     Frame frame(64, 16, 16, clock.function());  // 4 tiles
     Scheduler& s = frame.scheduler;

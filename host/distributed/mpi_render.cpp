@@ -30,6 +30,7 @@
 #include "opencl/opencl_device.h"
 #include "opencl/opencl_engine.h"
 #include "render/tile_scheduler.h"
+#include "render/tile_side.h"
 
 namespace ray {
 
@@ -193,8 +194,15 @@ int agreeOnStart(const Failure& mine, const MpiSession& mpi) {
     return *first;
 }
 
-FrameOptions frameOptions(TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
+// The side of the frame's tiles: rank 0 cuts the image by it, every rank's devices check
+// their limits with it. Every rank computes the same from the same command line and scene.
+int tileSideOf(const Prepared& p) {
+    return frameTileSide(p.options.settings, *p.scene, /*cancellable=*/true, p.options.tileSize);
+}
+
+FrameOptions frameOptions(const Prepared& p, TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
     FrameOptions options;
+    options.tileSize = tileSideOf(p);
     options.tiles = &tiles;
     options.onTile = std::move(onTile);
     options.cancel = interruptFlag();
@@ -344,7 +352,7 @@ int runWorker(Prepared& p) {
     std::thread render([&] {
         try {
             OpenClEngine engine(*p.scene, p.devices);
-            FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) { outbox.push(tile); });
+            FrameOptions options = frameOptions(p, tiles, [&](const FinishedTile& tile) { outbox.push(tile); });
             frameStats = engine.renderFrame(p.scene->camera, p.options.settings, options).stats;
         } catch (...) {
             // Every device of this rank failed: rank 0 gives its tiles to the others.
@@ -482,7 +490,7 @@ void renderLocalShare(Prepared& p, RankTiles& ranks, LocalShare& share) {
                 continue;
             }
             RankZeroTiles tiles(ranks);
-            FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) {
+            FrameOptions options = frameOptions(p, tiles, [&](const FinishedTile& tile) {
                 if (ranks.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3)) ++share.tilesKept;
             });
             FrameResult round = engine.renderFrame(p.scene->camera, p.options.settings, options);
@@ -811,10 +819,7 @@ int runDistributedCommand(int argc, char** argv, const std::vector<std::string>&
     std::vector<std::string> hosts = hostsOfRanks(mpi);
     try {
         if (mpi.rank != 0) return runWorker(prepared);
-        const int side = prepared.options.tileSize > 0
-                             ? prepared.options.tileSize
-                             : cancellableTileSize(prepared.options.settings, *prepared.scene);
-        return Coordinator(prepared, mpi, side, std::move(hosts)).run();
+        return Coordinator(prepared, mpi, tileSideOf(prepared), std::move(hosts)).run();
     } catch (...) {
         abortAll(mpi.rank, describeFailure(std::current_exception()).message);
     }

@@ -16,8 +16,9 @@
 
 #include "core/memory_limits.h"
 #include "opencl/scene_packing.h"
-#include "render/renderer.h"
+#include "render/device_error.h"
 #include "render/tile_scheduler.h"
+#include "render/tile_side.h"
 
 namespace ray {
 
@@ -760,7 +761,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
         result.bytes = ByteImage(settings.width, settings.height);
     else
         result.image = Image(settings.width, settings.height);
-    const int side = std::max(8, options.tileSize > 0 ? options.tileSize : 128);
+    const int side = frameTileSide(settings, e.scene, options.cancel != nullptr, options.tileSize);
     auto frame = std::make_shared<Frame>();
     frame->options = &options;
     frame->source = options.tiles;

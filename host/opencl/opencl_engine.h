@@ -80,8 +80,9 @@ struct FinishedTile {
 };
 
 struct FrameOptions {
-    // Side of the square tiles; 0 picks 128 (short launches keep GPU watchdogs quiet and
-    // let progress move).
+    // Side of the square tiles; 0: render/tile_side.h frameTileSide picks it (smaller when the
+    // frame can be cancelled). With `tiles`, the side of the tiles it gives (for the
+    // device limits: a launch grows its buffers to the tile it gets).
     int tileSize = 0;
     // Work-group side: PoCL left alone picks groups of one work-item; 8x8 suits CPUs and GPUs.
     int workGroupSize = 8;
