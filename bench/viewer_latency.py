@@ -1,7 +1,7 @@
 """ray view latency: from a camera change (POST /view) to the first tile of the new frame
 and to its complete frame, as the server-sent event stream delivers them.
 Usage: python3 bench/viewer_latency.py RAY SCENE [--size 640x480] [--changes 5]
-The viewer renders through host/viewer/frame_source.h; see docs/user-guide.md ("The live viewer") for which renderer."""
+The viewer renders through host/render/frame_source.h; see docs/user-guide.md ("The live viewer") for which renderer."""
 import argparse
 import http.client
 import json

@@ -10,10 +10,10 @@
 #include <optional>
 #include <string>
 
+#include "devices/renderer.h"
 #include "opencl/opencl_device.h"
 #include "opencl/opencl_renderer.h"
 #include "reference/reference_renderer.h"
-#include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 

@@ -151,7 +151,7 @@ release_victim
 
 # The same with --rank-timeout 2, rank 2 stopping after 3 tiles: rank 0 names it after 2 s
 # (its tile late while the frame goes on, or, when the others have finished the frame by
-# then, its silence; which one depends on how soon rank 2 started: test_tile_dispatcher.cpp
+# then, its silence; which one depends on how soon rank 2 started: test_tile_scheduler.cpp
 # covers the late tile given to another rank).
 "$mpirun" -q --oversubscribe -n 2 "$ray" "${hung[@]}" --rank-timeout 2 -o "$out/late.png" : \
     -n 1 -x RAY_TEST_STOP_AFTER_TILES=3 "$ray" "${hung[@]}" --rank-timeout 2 -o "$out/late.png" 2> "$out/late.err" &

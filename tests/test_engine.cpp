@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <mutex>
 
+#include "devices/renderer.h"
 #include "opencl/opencl_engine.h"
 #include "opencl/opencl_renderer.h"
-#include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "kernel_comparison.h"
 #include "test_support.h"

@@ -6,10 +6,11 @@
 #include <atomic>
 #include <fstream>
 
+#include "devices/renderer.h"
 #include "kernel_comparison.h"
 #include "opencl/opencl_renderer.h"
 #include "reference/reference_renderer.h"
-#include "render/renderer.h"
+#include "render/tile_side.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 

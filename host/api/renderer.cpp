@@ -1,4 +1,4 @@
-// The public Renderer (include/ray/renderer.h) over render/renderer.h.
+// The public Renderer (include/ray/renderer.h) over devices/renderer.h and the OpenCL engine.
 #include "ray/renderer.h"
 
 #include <algorithm>
@@ -7,10 +7,10 @@
 #include "api/error_translation.h"
 #include "api/input_checks.h"
 #include "api/scene_impl.h"
+#include "devices/renderer.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
 #include "opencl/opencl_engine.h"
-#include "render/renderer.h"
 
 namespace ray::api {
 
@@ -100,9 +100,7 @@ FrameStats Renderer::Impl::renderOnEngine(float* rgb, const ProgressCallback& pr
     const ray::RenderSettings internalSettings = internal(settings);
     ray::FrameOptions options;
     options.progress = progress;
-    options.cancel = cancel;
-    // A cancellable frame uses smaller tiles, so that those in flight finish within a second.
-    if (cancel) options.tileSize = ray::cancellableTileSize(internalSettings, scene);
+    options.cancel = cancel;  // a cancellable frame has smaller tiles (render/tile_side.h frameTileSide)
     if (onTile)
         options.onTile = [&onTile](const ray::FinishedTile& tile) {
             onTile({tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.rgb});

@@ -1,6 +1,6 @@
 #include "app/cli.h"
 
-#include "render/renderer.h"
+#include "devices/renderer.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

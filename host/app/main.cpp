@@ -9,9 +9,9 @@
 #include "app/command_modules.h"
 #include "app/progress.h"
 #include "app/render_command.h"
+#include "devices/renderer.h"
 #include "distributed/mpi_launch.h"
 #include "explain/explain_command.h"
-#include "render/renderer.h"
 
 namespace {
 

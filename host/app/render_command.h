@@ -8,7 +8,7 @@
 #include <string>
 
 #include "app/cli.h"
-#include "render/renderer.h"
+#include "devices/renderer.h"
 #include "scene/scene.h"
 
 namespace ray {

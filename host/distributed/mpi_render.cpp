@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sched.h>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <unistd.h>
 
@@ -25,9 +27,10 @@
 #include "app/command_module_abi.h"
 #include "app/progress.h"
 #include "app/render_command.h"
-#include "distributed/tile_dispatcher.h"
 #include "opencl/opencl_device.h"
 #include "opencl/opencl_engine.h"
+#include "render/tile_scheduler.h"
+#include "render/tile_side.h"
 
 namespace ray {
 
@@ -191,8 +194,15 @@ int agreeOnStart(const Failure& mine, const MpiSession& mpi) {
     return *first;
 }
 
-FrameOptions frameOptions(TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
+// The side of the frame's tiles: rank 0 cuts the image by it, every rank's devices check
+// their limits with it. Every rank computes the same from the same command line and scene.
+int tileSideOf(const Prepared& p) {
+    return frameTileSide(p.options.settings, *p.scene, /*cancellable=*/true, p.options.tileSize);
+}
+
+FrameOptions frameOptions(const Prepared& p, TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
     FrameOptions options;
+    options.tileSize = tileSideOf(p);
     options.tiles = &tiles;
     options.onTile = std::move(onTile);
     options.cancel = interruptFlag();
@@ -342,7 +352,7 @@ int runWorker(Prepared& p) {
     std::thread render([&] {
         try {
             OpenClEngine engine(*p.scene, p.devices);
-            FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) { outbox.push(tile); });
+            FrameOptions options = frameOptions(p, tiles, [&](const FinishedTile& tile) { outbox.push(tile); });
             frameStats = engine.renderFrame(p.scene->camera, p.options.settings, options).stats;
         } catch (...) {
             // Every device of this rank failed: rank 0 gives its tiles to the others.
@@ -407,19 +417,54 @@ int runWorker(Prepared& p) {
 // ---------------------------------------------------------------------------------------
 // Rank 0: hands the tiles out, renders some, assembles the image.
 
-// Rank 0's own devices take their tiles straight from the dispatcher.
-class DispatcherTiles : public TileSource {
+// Rank 0's ranks and the image their tiles make: the frame's tile scheduler, whose
+// workers are the ranks, and the image each tile is pasted into as it is kept.
+class RankTiles {
 public:
-    explicit DispatcherTiles(TileDispatcher& dispatcher) : dispatcher_(dispatcher) {}
+    RankTiles(int width, int height, int side) : scheduler(TileGrid(width, height, side)), image_(width, height) {}
+
+    // A finished tile from `rank`: kept (true) unless another rank delivered it first.
+    // Throws std::invalid_argument for a rectangle that is no tile of the frame or a pixel
+    // count that does not match it (a protocol error).
+    bool deliver(int rank, const TileRect& rect, const float* rgb, size_t floatCount) {
+        const std::optional<int> index = scheduler.indexOf(rect);
+        if (!index)
+            throw std::invalid_argument("rank " + std::to_string(rank) + " delivered a tile at (" +
+                                        std::to_string(rect.x) + ", " + std::to_string(rect.y) +
+                                        ") that is not one of the frame's");
+        if (floatCount != rect.pixels() * 3)
+            throw std::invalid_argument("rank " + std::to_string(rank) + " delivered a tile with " +
+                                        std::to_string(floatCount) + " values for " + std::to_string(rect.pixels()) +
+                                        " pixels");
+        return scheduler.deliver(rank, *index, [&] { pasteTile(image_, rect, rgb); });
+    }
+    std::vector<TileRect> handOut(int rank, int count) {
+        std::vector<TileRect> tiles;
+        for (int index : scheduler.handOut(rank, count)) tiles.push_back(scheduler.tile(index));
+        return tiles;
+    }
+    // The finished image (call once complete(); unrendered tiles are black).
+    Image takeImage() { return std::move(image_); }
+
+    TileScheduler scheduler;
+
+private:
+    Image image_;  // written under the scheduler's lock (deliver's keep)
+};
+
+// Rank 0's own devices take their tiles straight from the ranks' scheduler.
+class RankZeroTiles : public TileSource {
+public:
+    explicit RankZeroTiles(RankTiles& ranks) : ranks_(ranks) {}
     bool next(TileRect& tile) override {
-        std::vector<TileRect> tiles = dispatcher_.handOut(0, 1);
+        std::vector<TileRect> tiles = ranks_.handOut(0, 1);
         if (tiles.empty()) return false;
         tile = tiles.front();
         return true;
     }
 
 private:
-    TileDispatcher& dispatcher_;
+    RankTiles& ranks_;
 };
 
 // Rank 0's own share, on its own thread: rounds of the engine until the frame is complete
@@ -435,24 +480,25 @@ struct LocalShare {
     std::string failure;  // every device of rank 0 failed
 };
 
-void renderLocalShare(Prepared& p, TileDispatcher& dispatcher, LocalShare& share) {
+void renderLocalShare(Prepared& p, RankTiles& ranks, LocalShare& share) {
+    TileScheduler& scheduler = ranks.scheduler;
     try {
         OpenClEngine engine(*p.scene, p.devices);
-        while (!share.stop && !interrupted() && !dispatcher.complete()) {
-            if (!dispatcher.anyToHandOut(0)) {
+        while (!share.stop && !interrupted() && !scheduler.complete()) {
+            if (!scheduler.anyToHandOut(0)) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
                 continue;
             }
-            DispatcherTiles tiles(dispatcher);
-            FrameOptions options = frameOptions(tiles, [&](const FinishedTile& tile) {
-                if (dispatcher.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3)) ++share.tilesKept;
+            RankZeroTiles tiles(ranks);
+            FrameOptions options = frameOptions(p, tiles, [&](const FinishedTile& tile) {
+                if (ranks.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3)) ++share.tilesKept;
             });
             FrameResult round = engine.renderFrame(p.scene->camera, p.options.settings, options);
             std::lock_guard lock(share.mutex);
             share.rounds.push_back(std::move(round.stats));
         }
     } catch (...) {
-        dispatcher.giveBack(0);
+        scheduler.giveBack(0);
         std::lock_guard lock(share.mutex);
         share.failure = describeFailure(std::current_exception()).message;
     }
@@ -494,10 +540,10 @@ constexpr double kDeadlineCheckSeconds = 0.1;
 class Coordinator {
 public:
     Coordinator(Prepared& p, const MpiSession& mpi, int tileSide, std::vector<std::string> hosts)
-        : p_(p), mpi_(mpi), dispatcher_(p.options.settings.width, p.options.settings.height, tileSide),
+        : p_(p), mpi_(mpi), ranks_(p.options.settings.width, p.options.settings.height, tileSide),
           rankStats_(size_t(mpi.size)), tilesPerRank_(size_t(mpi.size), 0), abandoned_(size_t(mpi.size), false),
           hosts_(std::move(hosts)), lastHeard_(size_t(mpi.size), Clock::now()) {
-        if (p.options.rankTimeout > 0) dispatcher_.setDeadline(p.options.rankTimeout);
+        if (p.options.rankTimeout > 0) scheduler_.setDeadline(p.options.rankTimeout);
     }
 
     int run() {
@@ -505,7 +551,7 @@ public:
         beginRendering();
         const auto start = Clock::now();
         LocalShare share;
-        std::thread local([&] { renderLocalShare(p_, dispatcher_, share); });
+        std::thread local([&] { renderLocalShare(p_, ranks_, share); });
         auto lastCheck = Clock::now();
         while (!interrupted()) {
             const bool handled = handleOneMessage();
@@ -514,7 +560,7 @@ public:
                 lastCheck = Clock::now();
             }
             if (handled) continue;
-            progress.update(dispatcher_.fractionDone());
+            progress.update(scheduler_.fractionDone());
             // Rank 0's share ends when the frame is complete or its devices all failed.
             if (share.done && everyWorkerAccountedFor()) break;
             idle();
@@ -526,8 +572,8 @@ public:
 
         RenderOutput result;
         result.interrupted = interrupted();
-        const bool complete = dispatcher_.complete();
-        result.image = dispatcher_.takeImage();
+        const bool complete = scheduler_.complete();
+        result.image = ranks_.takeImage();
         int code = 0;
         if (!result.interrupted && !complete) {
             std::cerr << "ray: every rank's OpenCL devices failed or stopped answering; rank 0: " << share.failure
@@ -567,17 +613,17 @@ private:
     // A worker holding a tile past its deadline, or silent for as long after the frame
     // was complete, is taken for hung: named, given no more tiles, its tiles to the others.
     void abandonUnresponsiveRanks() {
-        for (const TileDispatcher::Late& late : dispatcher_.lateRanks()) {
-            if (late.rank == 0 || rankStats_[size_t(late.rank)]) continue;
-            abandon(late.rank, "held its tile at (" + std::to_string(late.tile.x) + ", " + std::to_string(late.tile.y) +
+        for (const TileScheduler::Late& late : scheduler_.lateWorkers()) {
+            if (late.worker == 0 || rankStats_[size_t(late.worker)]) continue;
+            abandon(late.worker, "held its tile at (" + std::to_string(late.tile.x) + ", " + std::to_string(late.tile.y) +
                                    ") for " + formatSeconds(late.heldSeconds) + ", past its deadline of " +
                                    formatSeconds(late.deadlineSeconds));
         }
         // Once the image is complete, a worker holds no tile that counts, but its statistics
         // are due: it is silent too long when nothing came from it for a tile's deadline.
-        if (!dispatcher_.complete()) return;
+        if (!scheduler_.complete()) return;
         for (int r = 1; r < mpi_.size; ++r) {
-            const double limit = dispatcher_.deadline(r), silence = secondsSince(lastHeard_[size_t(r)]);
+            const double limit = scheduler_.deadline(r), silence = secondsSince(lastHeard_[size_t(r)]);
             if (!rankStats_[size_t(r)] && !abandoned_[size_t(r)] && silence > limit)
                 abandon(r, "sent nothing for " + formatSeconds(silence) + " (its deadline: " + formatSeconds(limit) +
                                "), and the image is complete without it");
@@ -586,7 +632,7 @@ private:
 
     void abandon(int rank, const std::string& why) {
         abandoned_[size_t(rank)] = true;
-        const int moved = dispatcher_.drop(rank);
+        const int moved = scheduler_.drop(rank);
         std::cerr << "ray: warning: " << nameOf(rank) << " does not answer: it " << why << "; it gets no more tiles ("
                   << moved << " of its tiles went to the other ranks; --rank-timeout sets the deadline)\n"
                   << std::flush;
@@ -640,7 +686,7 @@ private:
         int count = 0;
         MPI_Recv(&count, 1, MPI_INT, from, kRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         std::vector<int> values;
-        for (const TileRect& t : dispatcher_.handOut(from, std::clamp(count, 0, 1024)))
+        for (const TileRect& t : ranks_.handOut(from, std::clamp(count, 0, 1024)))
             values.insert(values.end(), {t.x, t.y, t.width, t.height});
         MPI_Send(values.data(), int(values.size()), MPI_INT, from, kTiles, MPI_COMM_WORLD);
         messages_ += 1;
@@ -660,7 +706,7 @@ private:
         const TileRect rect{header.x, header.y, header.width, header.height};
         const size_t floats = (size_t(bytes) - sizeof header) / sizeof(float);
         try {
-            if (dispatcher_.deliver(from, rect, buffer_.data() + kHeaderFloats, floats)) {
+            if (ranks_.deliver(from, rect, buffer_.data() + kHeaderFloats, floats)) {
                 // The rays of the tiles kept: those of a rank that failed later count too.
                 ++tilesPerRank_[size_t(from)];
                 workerRays_.primaryRays += header.primaryRays;
@@ -683,7 +729,7 @@ private:
         std::string failure = message.value("failure", "");
         if (failure.rfind("ray: ", 0) == 0) failure.erase(0, 5);
         if (!failure.empty()) {
-            const int givenBack = dispatcher_.giveBack(from);
+            const int givenBack = scheduler_.giveBack(from);
             dropWarnings_.push_back("rank " + std::to_string(from) + " dropped (" + std::to_string(givenBack) +
                                     " tiles given to the others): " + failure);
         }
@@ -713,7 +759,7 @@ private:
                        " OpenCL devices";
         DistributionStats& d = stats.distribution;
         d.ranks = mpi_.size;
-        d.tiles = dispatcher_.tileCount();
+        d.tiles = scheduler_.tileCount();
         d.tilesPerRank = tilesPerRank_;
         d.tilesPerRank[0] = share.tilesKept;
         d.messages = messages_;
@@ -724,7 +770,8 @@ private:
 
     Prepared& p_;
     const MpiSession& mpi_;
-    TileDispatcher dispatcher_;
+    RankTiles ranks_;
+    TileScheduler& scheduler_ = ranks_.scheduler;
     std::vector<std::optional<Json>> rankStats_;  // each worker's, once it finished; rank 0's at the end
     std::vector<int> tilesPerRank_;
     std::vector<std::string> dropWarnings_;  // workers whose devices all failed
@@ -772,10 +819,7 @@ int runDistributedCommand(int argc, char** argv, const std::vector<std::string>&
     std::vector<std::string> hosts = hostsOfRanks(mpi);
     try {
         if (mpi.rank != 0) return runWorker(prepared);
-        const int side = prepared.options.tileSize > 0
-                             ? prepared.options.tileSize
-                             : cancellableTileSize(prepared.options.settings, *prepared.scene);
-        return Coordinator(prepared, mpi, side, std::move(hosts)).run();
+        return Coordinator(prepared, mpi, tileSideOf(prepared), std::move(hosts)).run();
     } catch (...) {
         abortAll(mpi.rank, describeFailure(std::current_exception()).message);
     }

@@ -4,9 +4,9 @@
 // Every rank parses the command line and loads the scene (the same path on every host);
 // the ranks agree on the outcome before any rendering, so that a bad scene or option ends
 // every rank with one message, from rank 0, and exit code 2. Rank 0 then hands tiles out
-// on demand (tile_dispatcher.h) and renders too, so that -n 1 works; each rank renders the
-// tiles it is given on its own devices (--device, as in one process) through the OpenCL
-// engine, several in flight per device, and sends each finished tile to rank 0, which
+// on demand (render/tile_scheduler.h, whose workers are here the ranks) and renders too,
+// so that -n 1 works; each rank renders the tiles it is given on its own devices (--device,
+// as in one process) through the OpenCL engine, several in flight per device, and sends each finished tile to rank 0, which
 // alone writes the image, the progress and the statistics (per rank and device). Every
 // pixel is a function of its coordinates and the seed only: the image is byte-identical to
 // a one-process render.

@@ -16,7 +16,9 @@
 
 #include "core/memory_limits.h"
 #include "opencl/scene_packing.h"
-#include "render/renderer.h"
+#include "render/device_error.h"
+#include "render/tile_scheduler.h"
+#include "render/tile_side.h"
 
 namespace ray {
 
@@ -131,26 +133,6 @@ TestHooks testHooksFor(int deviceSlot) {
             hookValue("RAY_TEST_SLOW_BUILD", deviceSlot)};
 }
 
-// The engine's own tile source: the image cut into a grid of square tiles, row by row.
-class GridTiles : public TileSource {
-public:
-    GridTiles(int width, int height, int side) : grid_(width, height, side) {}
-    bool next(TileRect& tile) override {
-        std::lock_guard lock(mutex_);
-        if (nextIndex_ >= grid_.count()) return false;
-        tile = grid_.tile(nextIndex_++);
-        return true;
-    }
-
-private:
-    std::mutex mutex_;
-    TileGrid grid_;
-    int nextIndex_ = 0;
-};
-
-// A tile of a frame as the scheduler sees it.
-enum class TileState { Queued, InFlight, Done };
-
 // When a device that has tiles in flight counts as hung (see opencl_engine.h): no tile back
 // for kDeadlineFactor times the slowest tile seen, and at least kDeadlineFloorSeconds (a
 // machine busy with other work, a tile far heavier than those before it). A device's first
@@ -218,13 +200,22 @@ struct DeviceSlot {
 // open, or in source->next() while sourceCallers counts it: the engine closes the frame before
 // renderFrame returns, and a device thread that was left behind (hung, still building) then
 // touches nothing of the caller's.
+//
+// Which device renders which tile is the tile scheduler's (render/tile_scheduler.h), whose
+// workers are the devices, by slot index: tiles given back by a failed or hung device first,
+// copies of pending tiles at the end of the frame, the first result kept. The frame adds
+// what only a device has: its launches in flight, in order, and when it counts as hung.
 struct Frame {
     std::mutex mutex;
     std::condition_variable changed;
     bool closed = false;
     int sourceCallers = 0;  // device threads inside source->next()
     const FrameOptions* options = nullptr;
+    // Where the tiles come from: null, the scheduler's own grid; else admitted to the
+    // scheduler as the source gives them, until it has no more (sourceDone).
     TileSource* source = nullptr;
+    bool sourceDone = false;
+    std::optional<TileScheduler> scheduler;
     Image* image = nullptr;  // the frame: one of these two (FrameOptions::eightBit)
     ByteImage* bytes = nullptr;
     FrameStats* stats = nullptr;
@@ -236,12 +227,6 @@ struct Frame {
     size_t tilePixels = 0;
     size_t workGroupSize = 8;
 
-    std::vector<TileRect> tiles;
-    std::vector<TileState> state;
-    std::vector<int> devicesOn;  // devices rendering each tile now
-    std::deque<int> queue;       // tiles put back by a failed or hung device
-    bool sourceDone = false;
-    int done = 0;
     uint64_t pixelsDone = 0, pixelsTotal = 0;
     double slowestTileSeconds = 0;  // any device's, this frame, warm-up tiles aside
     double uploadSeconds = 0, buildSeconds = 0;
@@ -265,18 +250,7 @@ struct Frame {
     int devicesLeft = 0;               // preparing or rendering
 
     bool cancelled() const { return options->cancel && options->cancel->load(); }
-    // Every tile is Done (the queue may still name some: taken back, then answered late).
-    bool allDone() const { return sourceDone && done == int(tiles.size()); }
-
-    // The next tile put back and not answered since, if any.
-    std::optional<int> popQueued() {
-        while (!queue.empty()) {
-            int tile = queue.front();
-            queue.pop_front();
-            if (state[size_t(tile)] != TileState::Done) return tile;
-        }
-        return std::nullopt;
-    }
+    bool allDone() const { return scheduler->complete(); }
 
     // When the device counts as hung if no tile comes back: nothing while it has none in flight.
     std::optional<Clock::time_point> deadline(const Participant& p) const {
@@ -304,24 +278,12 @@ struct Frame {
         return true;
     }
 
-    // Puts the tiles the device holds back in the queue, unless another device has them too.
-    void takeBackTiles(Participant& p) {
-        for (const Flight& f : p.flights) {
-            const size_t t = size_t(f.tile);
-            if (state[t] == TileState::Done) continue;
-            if (--devicesOn[t] == 0) {
-                state[t] = TileState::Queued;
-                queue.push_back(f.tile);
-            }
-        }
-        p.flights.clear();
-    }
-
     // Ends the device's part after a failure; its tiles go to the others.
     void deviceFailed(int index) {
         Participant& p = devices[size_t(index)];
         if (p.part != Part::Preparing && p.part != Part::Rendering) return;
-        takeBackTiles(p);
+        scheduler->giveBack(index);
+        p.flights.clear();
         p.part = Part::Failed;
         --devicesLeft;
         changed.notify_all();
@@ -348,7 +310,8 @@ struct Frame {
             if (!another) continue;
             const Clock::time_point since = std::max(p.flights.front().launched, p.lastAnswer);
             dropped.push_back({int(i), std::chrono::duration<double>(now - since).count()});
-            takeBackTiles(p);
+            scheduler->drop(int(i));  // its tiles go to the others; its late answer still counts if first
+            p.flights.clear();
             p.part = Part::Hung;
             --devicesLeft;
             changed.notify_all();
@@ -413,13 +376,14 @@ private:
     // Under the frame's lock: the frame is open and this device still part of it.
     bool taking() const { return !frame_.closed && frame_.devices[size_t(index_)].part == Frame::Part::Rendering; }
 
-    // The next tile for this device: one put back, else a new one from the source, else
-    // (when this device is idle) one still pending on another device.
+    // The next tile for this device: one given back, else a fresh one (from the source when
+    // the frame has one), else (when this device is idle) a copy of one still pending on
+    // another device.
     std::optional<int> acquire() {
         std::unique_lock lock(frame_.mutex);
         if (!taking() || frame_.cancelled()) return std::nullopt;
-        if (auto queued = frame_.popQueued()) return take(*queued);
-        if (!frame_.sourceDone) {
+        if (auto tile = take(TileScheduler::Copies::None)) return tile;
+        if (frame_.source && !frame_.sourceDone) {
             ++frame_.sourceCallers;
             lock.unlock();
             TileRect rect;
@@ -428,38 +392,26 @@ private:
             --frame_.sourceCallers;
             frame_.changed.notify_all();
             if (more) {
-                frame_.tiles.push_back(rect);
-                frame_.state.push_back(TileState::Queued);
-                frame_.devicesOn.push_back(0);
-                return take(int(frame_.tiles.size()) - 1);
+                frame_.scheduler->admit(rect);
+            } else if (!frame_.sourceDone) {
+                frame_.sourceDone = true;
+                frame_.scheduler->closeAdmission();
             }
-            frame_.sourceDone = true;
-            if (auto queued = frame_.popQueued()) return take(*queued);
+            if (auto tile = take(TileScheduler::Copies::None)) return tile;
         }
         if (!inFlight_.empty()) return std::nullopt;
-        // End of the frame: duplicate the pending tile with the fewest devices on it.
-        int best = -1;
-        for (size_t t = 0; t < frame_.tiles.size(); ++t)
-            if (frame_.state[t] == TileState::InFlight &&
-                (best < 0 || frame_.devicesOn[t] < frame_.devicesOn[size_t(best)]))
-                best = int(t);
-        if (best < 0) return std::nullopt;
-        return take(best);
+        return take(TileScheduler::Copies::Allowed);  // the end of the frame
     }
 
-    int take(int tile) {
-        frame_.state[size_t(tile)] = TileState::InFlight;
-        ++frame_.devicesOn[size_t(tile)];
-        frame_.devices[size_t(index_)].flights.push_back({tile, Clock::now()});
-        return tile;
+    std::optional<int> take(TileScheduler::Copies copies) {
+        const std::vector<int> tiles = frame_.scheduler->handOut(index_, 1, copies);
+        if (tiles.empty()) return std::nullopt;
+        frame_.devices[size_t(index_)].flights.push_back({tiles.front(), Clock::now()});
+        return tiles.front();
     }
 
     void launch(cl::Kernel& kernel, int tile) {
-        TileRect rect;
-        {
-            std::lock_guard lock(frame_.mutex);
-            rect = frame_.tiles[size_t(tile)];
-        }
+        const TileRect rect = frame_.scheduler->tile(tile);
         const size_t group = frame_.workGroupSize;
         auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
         gpu::RayRenderParams params = frame_.params;
@@ -502,11 +454,7 @@ private:
     void finishOldest() {
         Launch l = inFlight_.front();
         l.event.wait();
-        TileRect rect;
-        {
-            std::lock_guard lock(frame_.mutex);
-            rect = frame_.tiles[size_t(l.tile)];
-        }
+        const TileRect rect = frame_.scheduler->tile(l.tile);
         const size_t n = size_t(rect.width) * size_t(rect.height);
         std::vector<cl_float4> rgba(n);
         std::vector<cl_uint4> rays(n);
@@ -535,7 +483,6 @@ private:
         if (p.flights.empty()) return;  // dropped as hung: its tiles were taken back
         Frame::Flight f = p.flights.front();
         p.flights.pop_front();
-        --frame_.devicesOn[size_t(f.tile)];
         if (!p.warm) {
             p.warm = true;  // the first tile also compiled the program for the launch: no measure
             auto found = slot_.programs.find(frame_.settings.maxDepth);
@@ -554,18 +501,18 @@ private:
         if (frame_.closed) return;
         answered(frame_.devices[size_t(index_)], now);
         frame_.changed.notify_all();  // for the engine's thread too: a device with no tile in flight
-        if (frame_.state[size_t(tile)] == TileState::Done) {
+        const TileRect& r = result.rect;
+        const bool first = frame_.scheduler->deliver(index_, tile, [&] {
+            if (frame_.bytes)
+                pasteTile(*frame_.bytes, r, result.rgb);
+            else
+                pasteTile(*frame_.image, r, result.rgb);
+        });
+        if (!first) {
             ++frame_.stats->duplicatesDropped;
             return;
         }
-        frame_.state[size_t(tile)] = TileState::Done;
-        ++frame_.done;
         ++finished_;
-        const TileRect& r = result.rect;
-        if (frame_.bytes)
-            pasteTile(*frame_.bytes, r, result.rgb);
-        else
-            pasteTile(*frame_.image, r, result.rgb);
         FrameStats& s = *frame_.stats;
         s.primaryRays += result.primaryRays;
         s.shadowRays += result.shadowRays;
@@ -814,11 +761,14 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
         result.bytes = ByteImage(settings.width, settings.height);
     else
         result.image = Image(settings.width, settings.height);
-    const int side = std::max(8, options.tileSize > 0 ? options.tileSize : 128);
-    GridTiles grid(settings.width, settings.height, side);
+    const int side = frameTileSide(settings, e.scene, options.cancel != nullptr, options.tileSize);
     auto frame = std::make_shared<Frame>();
     frame->options = &options;
-    frame->source = options.tiles ? options.tiles : &grid;
+    frame->source = options.tiles;
+    if (options.tiles)
+        frame->scheduler.emplace();
+    else
+        frame->scheduler.emplace(TileGrid(settings.width, settings.height, side));
     frame->image = options.eightBit ? nullptr : &result.image;
     frame->bytes = options.eightBit ? &result.bytes : nullptr;
     frame->stats = &stats;
@@ -873,7 +823,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
         }
         frame->closed = true;
         result.cancelled = frame->cancelled();
-        stats.tiles = frame->done;
+        stats.tiles = frame->scheduler->tilesDone();
         stats.uploadSeconds = frame->uploadSeconds;
         stats.kernelBuildSeconds = frame->buildSeconds;
         for (size_t i = 0; i < frame->devices.size(); ++i) {

@@ -14,9 +14,11 @@
 // context, queue, program and buffers. Each device starts on a frame as soon as its own scene
 // is uploaded and its own kernel built: a slow first build (a GPU driver's can take minutes)
 // holds back no other device. A device still building when the frame is done takes no part
-// in it and keeps building, for the next frame. Tiles come from one shared queue; each device
-// keeps a few in flight. When the queue is empty, an idle device renders again a tile still
-// pending on another; the first result wins and the duplicate is dropped. Every pixel is a
+// in it and keeps building, for the next frame. The devices are the workers of one tile
+// scheduler (render/tile_scheduler.h, the same that hands a distributed render's tiles to
+// its ranks); each device keeps a few tiles in flight. When no tile is left to hand out, an
+// idle device renders again a tile still pending on another; the first result wins and the
+// duplicate is dropped. Every pixel is a
 // pure function of its coordinates and the seed, so the image does not depend on which
 // device rendered a tile. A device that fails has its tiles put back in the queue and is
 // dropped with a warning naming it; the frame fails (DeviceError) only when no device is left.
@@ -58,8 +60,8 @@
 
 namespace ray {
 
-// Where a frame's tiles come from. The engine's own source cuts the image into a grid;
-// a distributed render hands tiles out from another process. Called from several device
+// Where a frame's tiles come from when they are not the engine's own grid of the image: a
+// distributed render hands tiles out from another process. Called from several device
 // threads at once: implementations are thread-safe. next() blocks until a tile is
 // available and returns false when there are no more for this frame.
 class TileSource {
@@ -78,8 +80,9 @@ struct FinishedTile {
 };
 
 struct FrameOptions {
-    // Side of the square tiles; 0 picks 128 (short launches keep GPU watchdogs quiet and
-    // let progress move).
+    // Side of the square tiles; 0: render/tile_side.h frameTileSide picks it (smaller when the
+    // frame can be cancelled). With `tiles`, the side of the tiles it gives (for the
+    // device limits: a launch grows its buffers to the tile it gets).
     int tileSize = 0;
     // Work-group side: PoCL left alone picks groups of one work-item; 8x8 suits CPUs and GPUs.
     int workGroupSize = 8;

@@ -16,9 +16,8 @@
 namespace ray {
 
 struct OpenClRenderOptions {
-    // Side of the square tiles: short launches keep GPU watchdogs quiet and let the
-    // progress bar move.
-    int tileSize = 128;
+    // Side of the square tiles; 0: render/tile_side.h frameTileSide picks it.
+    int tileSize = 0;
     // Work-group side. Left to the driver, PoCL picks groups of one work-item, whose
     // per-group overhead dominates; 8×8 suits CPUs and GPUs alike.
     int workGroupSize = 8;

@@ -7,11 +7,10 @@
 #include "app/cli.h"
 #include "app/command_module_abi.h"
 #include "app/render_command.h"
+#include "devices/renderer.h"
 #include "opencl/opencl_device.h"
-#include "render/renderer.h"
 #include "scene/file_search.h"
 #include "viewer/access_token.h"
-#include "viewer/opencl_frame_source.h"
 #include "viewer/viewer_server.h"
 
 namespace ray {
@@ -138,12 +137,7 @@ int runViewCommand(const std::vector<std::string>& args) {
                   << ", not only this machine: anyone who can reach it can use the viewer"
                   << (options.token.empty() ? "" : " if they learn its URL") << "\n";
     try {
-        std::unique_ptr<FrameSource> source;
-        if (isReferenceDevice(command.device))
-            source = std::make_unique<ReferenceFrameSource>();
-        else
-            source = std::make_unique<OpenClFrameSource>(selectOpenClDevices(command.device));
-        runViewer(options, std::move(source));
+        runViewer(options, makeFrameSource(command.device));
         return 0;
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";

@@ -21,7 +21,7 @@
 #include <string>
 
 #include "scene/scene_loader.h"
-#include "viewer/frame_source.h"
+#include "render/frame_source.h"
 
 namespace ray {
 

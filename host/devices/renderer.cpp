@@ -1,22 +1,16 @@
-#include "render/renderer.h"
+#include "devices/renderer.h"
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <ostream>
 
+#include "opencl/opencl_frame_source.h"
 #include "opencl/opencl_renderer.h"
+#include "reference/reference_frame_source.h"
 #include "reference/reference_renderer.h"
+#include "render/tile_side.h"
 
 namespace ray {
-
-int maxSamplesPerPixel(const RenderSettings& s) {
-    switch (s.antialias) {
-        case AntialiasMode::Off: return 1;
-        case AntialiasMode::Course: return 64;
-        default: return s.samples;
-    }
-}
 
 namespace {
 
@@ -37,27 +31,7 @@ RenderOutput renderOnReference(const RenderJob& job) {
     return out;
 }
 
-// A cancellable render's tiles hold at most this many samples (pixels x samples per
-// pixel): the tiles already queued must finish before it stops. Measured on PoCL (2 busy
-// cores, chess.xml 1024x768, depth 8, SIGINT to exit): 64x64 tiles at 4096 samples took
-// 8.5 s; with 64^3 samples a tile, 0.3-0.6 s at 64 and 4096 samples but 1.2 s at 256;
-// hence half that. chess.xml's samples trace about 2.5 rays each (a camera ray and the
-// shadow rays of its two point lights where it hits).
-constexpr double kCancellableTileSamples = 64 * 64 * 32;
-constexpr double kCalibrationRaysPerSample = 2.5;
-
 }  // namespace
-
-int cancellableTileSize(const RenderSettings& settings, const Scene& scene) {
-    // A sample that meets an area light traces k² shadow rays for it: count the samples by
-    // the rays they trace when that is more than the calibration scene's.
-    const int side = areaLightGridSide(settings);
-    double raysPerSample = 1;
-    for (const Light& light : scene.lights) raysPerSample += light.type == LightType::Area ? side * side : 1;
-    double weight = std::max(1.0, raysPerSample / kCalibrationRaysPerSample);
-    int tileSide = int(std::sqrt(kCancellableTileSamples / (maxSamplesPerPixel(settings) * weight)));
-    return std::clamp(tileSide / 8 * 8, 8, 64);
-}
 
 bool isDeviceSelection(const std::string& text) {
     if (text == "auto" || text == "cpu" || text == "gpu" || text == "all" || isReferenceDevice(text)) return true;
@@ -74,10 +48,7 @@ RenderOutput render(const RenderJob& job) {
         OpenClRenderOptions options;
         options.progress = job.progress;
         options.cancel = job.cancel;
-        // A cancellable render uses smaller tiles: the tiles already queued must finish
-        // before it stops, and at 128x128 with many samples that can take seconds.
-        if (job.cancel) options.tileSize = cancellableTileSize(job.settings, job.scene);
-        if (job.tileSize > 0) options.tileSize = job.tileSize;
+        options.tileSize = job.tileSize;  // 0: the engine's choice, smaller when cancellable
         // Every device of the selection ("all", "0,2") cooperates on the one frame.
         options.eightBit = job.eightBit;
         FrameResult frame = renderOpenClFrame(selectOpenClDevices(job.device), job.scene, job.settings, options, &out.stats);
@@ -94,6 +65,11 @@ RenderOutput render(const RenderJob& job) {
     out.stats.depth = job.settings.maxDepth;
     out.stats.samples = maxSamplesPerPixel(job.settings);
     return out;
+}
+
+std::unique_ptr<FrameSource> makeFrameSource(const std::string& device) {
+    if (isReferenceDevice(device)) return std::make_unique<ReferenceFrameSource>();
+    return std::make_unique<OpenClFrameSource>(selectOpenClDevices(device));
 }
 
 std::jthread startDeviceEarly(const std::string& device) {

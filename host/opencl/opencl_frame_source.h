@@ -1,5 +1,6 @@
-// The viewer's frames on OpenCL devices, through the persistent engine (opencl/opencl_engine.h):
-// the scene is packed and uploaded once, each camera or settings change only renders.
+// Frames on OpenCL devices through the frame interface (render/frame_source.h), by the
+// persistent engine (opencl_engine.h): the scene is packed and uploaded once, each camera or
+// settings change only renders.
 #pragma once
 
 #include <memory>
@@ -7,7 +8,7 @@
 
 #include "opencl/opencl_device.h"
 #include "opencl/opencl_engine.h"
-#include "viewer/frame_source.h"
+#include "render/frame_source.h"
 
 namespace ray {
 

@@ -1,25 +1,25 @@
-// Choosing a renderer (an OpenCL device or the host reference) and running it.
+// Choosing the renderers a device string names (auto | cpu | gpu | all | ref | indices) and
+// running them: a whole render (render, the ray command's), a frame source for frame after
+// frame (makeFrameSource, the viewer's), the drivers started early, the device list.
+//
+// The layer above the renderers (reference/, opencl/), below the entry points.
 #pragma once
 
 #include <atomic>
 #include <functional>
 #include <iosfwd>
-#include <stdexcept>
+#include <memory>
 #include <string>
 #include <thread>
 
 #include "image/image.h"
+#include "render/device_error.h"
+#include "render/frame_source.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
 #include "scene/scene.h"
 
 namespace ray {
-
-// A device or runtime failure (no OpenCL platform, a kernel that fails to build, a scene
-// too big for the device): the message says what happened and what to try instead.
-struct DeviceError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct RenderJob {
     const Scene& scene;
@@ -31,7 +31,7 @@ struct RenderJob {
     const std::atomic<bool>* cancel = nullptr;
     // The reference renderer tests every primitive for every ray (--no-bvh).
     bool referenceBruteForce = false;
-    // OpenCL tile side (--tile-size); 0: automatic.
+    // OpenCL tile side (--tile-size); 0: automatic (render/tile_side.h frameTileSide).
     int tileSize = 0;
     // Return the image as the 8-bit values an 8-bit file holds (RenderOutput::bytes), for
     // an output that is one: OpenCL devices keep only those, a quarter of the memory.
@@ -52,18 +52,13 @@ bool isDeviceSelection(const std::string& text);
 // "ref" or "reference": the host reference renderer rather than OpenCL devices.
 bool isReferenceDevice(const std::string& device);
 
-// The most samples a pixel takes with the settings' antialiasing (for the statistics).
-int maxSamplesPerPixel(const RenderSettings& settings);
-
 // Renders on the devices the job names; several ("all", a list) cooperate on the frame,
 // tile by tile (opencl/opencl_engine.h). Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);
 
-// The side of the square tiles of a cancellable render (RenderJob::cancel set), a multiple
-// of the 8x8 work-group from 8 to 64: small enough that the few tiles already queued when
-// it is cancelled finish within about a second on PoCL, given the samples per pixel and
-// the shadow rays of the scene's area lights.
-int cancellableTileSize(const RenderSettings& settings, const Scene& scene);
+// The frame source (render/frame_source.h) for the devices named: the reference renderer
+// for ref, else the OpenCL engine on the selected devices. Throws DeviceError.
+std::unique_ptr<FrameSource> makeFrameSource(const std::string& device);
 
 // Starts what a render on `device` will need on a thread of its own (the OpenCL drivers;
 // nothing for the reference), so that it overlaps the scene's load. The thread is joined

@@ -1,9 +1,11 @@
-// What the viewer asks of a renderer: one frame of a scene, reported band by band as it
-// is finished, stopped early when `cancel` is set.
+// One frame of a scene, as a renderer makes it for a caller that shows it as it comes: the
+// frame of a scene seen by a camera with settings, reported tile by tile as each is
+// finished, stopped early when `cancel` is set.
 //
-// A deliberately small seam: the reference renderer (ReferenceFrameSource, rows as bands)
-// and the OpenCL engine that packs the scene once and renders tiles on the selected devices
-// (OpenClFrameSource, viewer/opencl_frame_source.h) both implement it.
+// A deliberately small seam: the reference renderer (reference/reference_frame_source.h,
+// rows as tiles) and the OpenCL engine, which packs the scene once and renders tiles on the
+// selected devices (opencl/opencl_frame_source.h), both implement it; devices/renderer.h
+// makeFrameSource picks one from a device string. The viewer renders through it.
 #pragma once
 
 #include <atomic>
@@ -34,13 +36,6 @@ public:
                                  const std::function<void(const FrameTile&)>& onTile,
                                  const std::atomic<bool>& cancel) = 0;
     virtual std::string deviceName() const = 0;
-};
-
-class ReferenceFrameSource : public FrameSource {
-public:
-    uint64_t renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
-                         const std::function<void(const FrameTile&)>& onTile, const std::atomic<bool>& cancel) override;
-    std::string deviceName() const override { return "reference (host, double precision)"; }
 };
 
 }  // namespace ray

@@ -1,4 +1,4 @@
-#include "viewer/frame_source.h"
+#include "reference/reference_frame_source.h"
 
 #include "image/image.h"
 #include "reference/reference_renderer.h"

@@ -1,12 +1,12 @@
-#include "viewer/opencl_frame_source.h"
+#include "opencl/opencl_frame_source.h"
 
 #include "image/image.h"
-#include "render/renderer.h"
+#include "render/device_error.h"
 
 namespace ray {
 
 OpenClFrameSource::OpenClFrameSource(std::vector<OpenClDevice> devices) : devices_(std::move(devices)) {
-    if (devices_.empty()) throw DeviceError("no OpenCL device selected for the viewer; try --device ref");
+    if (devices_.empty()) throw DeviceError("no OpenCL device selected; try --device ref");
 }
 
 OpenClFrameSource::~OpenClFrameSource() = default;
@@ -24,9 +24,7 @@ uint64_t OpenClFrameSource::renderFrame(const std::shared_ptr<const Scene>& scen
         engine_ = std::make_unique<OpenClEngine>(*scene_, devices_);
     }
     FrameOptions options;
-    options.cancel = &cancel;
-    // Small tiles: the first one reaches the page soon, and a cancelled frame stops soon.
-    options.tileSize = cancellableTileSize(settings, *scene_);
+    options.cancel = &cancel;  // also makes the tiles small: the first one comes soon
     options.onTile = [&](const FinishedTile& finished) {
         const size_t samples = size_t(finished.rect.width) * size_t(finished.rect.height) * 3;
         onTile(FrameTile{finished.rect.x, finished.rect.y, finished.rect.width, finished.rect.height,
