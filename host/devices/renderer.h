@@ -1,6 +1,7 @@
 // Choosing the renderers a device string names (auto | cpu | gpu | all | ref | indices) and
-// running them: a whole render (render, the ray command's), a frame source for frame after
-// frame (makeFrameSource, the viewer's), the drivers started early, the device list.
+// running them: their frame source (makeFrameSource: the viewer's and the API's, frame after
+// frame), one frame through it (render, the ray command's), the drivers started early, the
+// device list.
 //
 // The layer above the renderers (reference/, opencl/), below the entry points.
 #pragma once
@@ -52,13 +53,15 @@ bool isDeviceSelection(const std::string& text);
 // "ref" or "reference": the host reference renderer rather than OpenCL devices.
 bool isReferenceDevice(const std::string& device);
 
-// Renders on the devices the job names; several ("all", a list) cooperate on the frame,
-// tile by tile (opencl/opencl_engine.h). Throws DeviceError, InputError.
+// One frame on the devices the job names, through their frame source (makeFrameSource);
+// several ("all", a list) cooperate on the frame, tile by tile (opencl/opencl_engine.h).
+// Throws DeviceError, InputError.
 RenderOutput render(const RenderJob& job);
 
 // The frame source (render/frame_source.h) for the devices named: the reference renderer
-// for ref, else the OpenCL engine on the selected devices. Throws DeviceError.
-std::unique_ptr<FrameSource> makeFrameSource(const std::string& device);
+// for ref (testing every primitive for every ray with referenceBruteForce, --no-bvh), else
+// the OpenCL engine on the selected devices. Throws DeviceError.
+std::unique_ptr<FrameSource> makeFrameSource(const std::string& device, bool referenceBruteForce = false);
 
 // Starts what a render on `device` will need on a thread of its own (the OpenCL drivers;
 // nothing for the reference), so that it overlaps the scene's load. The thread is joined

@@ -53,6 +53,7 @@
 
 #include "image/image.h"
 #include "opencl/opencl_device.h"
+#include "render/frame_source.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
 #include "render/tiles.h"
@@ -60,24 +61,7 @@
 
 namespace ray {
 
-// Where a frame's tiles come from when they are not the engine's own grid of the image: a
-// distributed render hands tiles out from another process. Called from several device
-// threads at once: implementations are thread-safe. next() blocks until a tile is
-// available and returns false when there are no more for this frame.
-class TileSource {
-public:
-    virtual ~TileSource() = default;
-    virtual bool next(TileRect& tile) = 0;
-};
-
-// One finished tile: its rectangle, its linear RGB (3 floats a pixel, row by row, width x
-// height), and its rays by kind.
-struct FinishedTile {
-    TileRect rect;
-    const float* rgb = nullptr;
-    uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
-    int device = 0;  // position of the device in the engine's selection
-};
+// TileSource (tiles admitted from elsewhere) and FinishedTile: render/frame_source.h.
 
 struct FrameOptions {
     // Side of the square tiles; 0: render/tile_side.h frameTileSide picks it (smaller when the

@@ -1,9 +1,40 @@
 #include "opencl/opencl_frame_source.h"
 
-#include "image/image.h"
 #include "render/device_error.h"
 
 namespace ray {
+
+namespace {
+
+FrameOptions engineOptions(const FrameRequest& request) {
+    FrameOptions options;
+    options.tileSize = request.tileSize;
+    options.progress = request.progress;
+    options.onTile = request.onTile;
+    options.cancel = request.cancel;  // a cancellable frame has smaller tiles (render/tile_side.h)
+    options.tiles = request.tiles;
+    options.eightBit = request.eightBit;
+    return options;
+}
+
+// The engine's statistics as every caller reads them (render/render_stats.h).
+RenderStats renderStatsOf(const FrameStats& frame, const std::vector<OpenClDevice>& devices) {
+    RenderStats stats;
+    for (const OpenClDevice& d : devices) stats.device += (stats.device.empty() ? "" : ", ") + d.description();
+    stats.primaryRays = frame.primaryRays;
+    stats.shadowRays = frame.shadowRays;
+    stats.secondaryRays = frame.secondaryRays;
+    stats.packSeconds = frame.packSeconds;
+    stats.bvhBuildSeconds = frame.bvhBuildSeconds;
+    stats.kernelBuildSeconds = frame.kernelBuildSeconds;
+    stats.uploadSeconds = frame.uploadSeconds;
+    stats.renderSeconds = frame.renderSeconds;
+    stats.devices = frame.devices;
+    stats.warnings = frame.warnings;
+    return stats;
+}
+
+}  // namespace
 
 OpenClFrameSource::OpenClFrameSource(std::vector<OpenClDevice> devices) : devices_(std::move(devices)) {
     if (devices_.empty()) throw DeviceError("no OpenCL device selected; try --device ref");
@@ -11,10 +42,8 @@ OpenClFrameSource::OpenClFrameSource(std::vector<OpenClDevice> devices) : device
 
 OpenClFrameSource::~OpenClFrameSource() = default;
 
-uint64_t OpenClFrameSource::renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                                        const RenderSettings& settings,
-                                        const std::function<void(const FrameTile&)>& onTile,
-                                        const std::atomic<bool>& cancel) {
+RenderedFrame OpenClFrameSource::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+                                        const RenderSettings& settings, const FrameRequest& request) {
     // A new scene (the file was saved) is packed and uploaded once; every other frame, a
     // camera or settings change, reuses what the engine holds. The scene is kept alive
     // here as long as the engine refers to it.
@@ -23,15 +52,13 @@ uint64_t OpenClFrameSource::renderFrame(const std::shared_ptr<const Scene>& scen
         scene_ = scene;
         engine_ = std::make_unique<OpenClEngine>(*scene_, devices_);
     }
-    FrameOptions options;
-    options.cancel = &cancel;  // also makes the tiles small: the first one comes soon
-    options.onTile = [&](const FinishedTile& finished) {
-        const size_t samples = size_t(finished.rect.width) * size_t(finished.rect.height) * 3;
-        onTile(FrameTile{finished.rect.x, finished.rect.y, finished.rect.width, finished.rect.height,
-                         quantize8(finished.rgb, samples)});
-    };
-    const FrameResult result = engine_->renderFrame(camera, settings, options);
-    return result.stats.primaryRays + result.stats.shadowRays + result.stats.secondaryRays;
+    FrameResult result = engine_->renderFrame(camera, settings, engineOptions(request));
+    RenderedFrame frame;
+    frame.image = std::move(result.image);
+    frame.bytes = std::move(result.bytes);
+    frame.stats = renderStatsOf(result.stats, devices_);
+    frame.cancelled = result.cancelled;
+    return frame;
 }
 
 std::string OpenClFrameSource::deviceName() const {

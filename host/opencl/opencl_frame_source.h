@@ -1,6 +1,6 @@
 // Frames on OpenCL devices through the frame interface (render/frame_source.h), by the
 // persistent engine (opencl_engine.h): the scene is packed and uploaded once, each camera or
-// settings change only renders.
+// settings change only renders. Every device of the selection cooperates on each frame.
 #pragma once
 
 #include <memory>
@@ -14,12 +14,13 @@ namespace ray {
 
 class OpenClFrameSource : public FrameSource {
 public:
-    // Throws DeviceError for an empty selection.
+    // Throws DeviceError for an empty selection. Nothing starts before the first frame.
     explicit OpenClFrameSource(std::vector<OpenClDevice> devices);
     ~OpenClFrameSource() override;
-    uint64_t renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera,
-                         const RenderSettings& settings, const std::function<void(const FrameTile&)>& onTile,
-                         const std::atomic<bool>& cancel) override;
+    // Throws DeviceError (build failure, device limits, out of memory, every device failed;
+    // devices dropped on the way are named in the stats' warnings) and InputError.
+    RenderedFrame render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+                         const RenderSettings& settings, const FrameRequest& request) override;
     std::string deviceName() const override;
 
 private:

@@ -1,5 +1,6 @@
 // Frames of the reference renderer (reference_renderer.h) through the frame interface
-// (render/frame_source.h), each row a tile as it is finished.
+// (render/frame_source.h), each row a tile as it is finished. It renders whole frames only
+// (no FrameRequest::tiles) and builds its BVH for every frame.
 #pragma once
 
 #include <memory>
@@ -11,9 +12,14 @@ namespace ray {
 
 class ReferenceFrameSource : public FrameSource {
 public:
-    uint64_t renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
-                         const std::function<void(const FrameTile&)>& onTile, const std::atomic<bool>& cancel) override;
+    // bruteForce: test every primitive for every ray (--no-bvh).
+    explicit ReferenceFrameSource(bool bruteForce = false) : bruteForce_(bruteForce) {}
+    RenderedFrame render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+                         const RenderSettings& settings, const FrameRequest& request) override;
     std::string deviceName() const override { return "reference (host, double precision)"; }
+
+private:
+    bool bruteForce_;
 };
 
 }  // namespace ray

@@ -41,6 +41,7 @@ struct RenderStats {
     uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
     double loadSeconds = 0, bvhBuildSeconds = 0, kernelBuildSeconds = 0, renderSeconds = 0;
     double uploadSeconds = 0;
+    double packSeconds = 0;  // OpenCL: packing the scene, when the frame (re)packed (the API's; not printed)
     // OpenCL: every device of the selection; the distributed render adds a rank to each.
     std::vector<DeviceStats> devices;
     std::vector<int> deviceRanks;  // parallel to devices when rendered through MPI, else empty

@@ -32,6 +32,8 @@ struct Camera {
     double heightAngleDegrees = 45;  // full vertical field of view
     double aperture = 0;             // diameter of the lens disk; 0 is a pinhole
     double focalLength = 0;          // distance to the plane in focus; 0 = unset
+
+    bool operator==(const Camera&) const = default;
 };
 
 enum class LightType { Point, Directional, Spot, Area };
