@@ -213,12 +213,12 @@ TEST_CASE("API: one renderer, three frames of a moving camera, each equal to a f
     }
 }
 
-TEST_CASE("API: the tile callback sees every pixel of an OpenCL frame once", "[api][kernel]") {
-    if (!haveCpuDevice()) {
-        ray::test::skip("no OpenCL CPU device");
-        return;
-    }
-    api::Renderer renderer(sphereSceneInCode(), "cpu");
+namespace {
+
+// Renders a frame of small() on `devices` and checks that its tiles cover every pixel once
+// and hold the frame's pixels.
+void checkTilesCoverTheFrameOnce(const std::string& devices) {
+    api::Renderer renderer(sphereSceneInCode(), devices);
     renderer.setSettings(small());
     std::vector<float> rgb(64 * 48 * 3);
     std::vector<int> covered(64 * 48, 0);
@@ -234,6 +234,20 @@ TEST_CASE("API: the tile callback sees every pixel of an OpenCL frame once", "[a
     });
     CHECK(fromTiles == rgb);  // the tiles hold the frame's pixels
     CHECK(std::all_of(covered.begin(), covered.end(), [](int n) { return n == 1; }));
+}
+
+}  // namespace
+
+TEST_CASE("API: the tile callback sees every pixel of an OpenCL frame once", "[api][kernel]") {
+    if (!haveCpuDevice()) {
+        ray::test::skip("no OpenCL CPU device");
+        return;
+    }
+    checkTilesCoverTheFrameOnce("cpu");
+}
+
+TEST_CASE("API: the reference renderer's rows are tiles that see every pixel once", "[api]") {
+    checkTilesCoverTheFrameOnce("ref");
 }
 
 TEST_CASE("API: cancellation, progress, and refused settings and buffers", "[api]") {

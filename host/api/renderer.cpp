@@ -10,7 +10,6 @@
 #include "devices/renderer.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
-#include "opencl/opencl_engine.h"
 
 namespace ray::api {
 
@@ -39,23 +38,22 @@ ray::RenderSettings internal(const Settings& s) {
     return r;
 }
 
-// The counts and timings both internal statistics (render/render_stats.h RenderStats, the
-// engine's FrameStats) name alike.
-template <class InternalStats>
-void copyCommonStats(const InternalStats& in, FrameStats& out) {
-    out.primaryRays = in.primaryRays;
-    out.shadowRays = in.shadowRays;
-    out.secondaryRays = in.secondaryRays;
-    out.bvhBuildSeconds = in.bvhBuildSeconds;
-    out.kernelBuildSeconds = in.kernelBuildSeconds;
-    out.renderSeconds = in.renderSeconds;
-}
-
-FrameStats external(const ray::RenderOutput& output) {
+FrameStats external(const ray::RenderedFrame& frame) {
     FrameStats stats;
-    copyCommonStats(output.stats, stats);
-    stats.device = output.stats.device;
-    stats.cancelled = output.interrupted;
+    const ray::RenderStats& in = frame.stats;
+    // OpenCL devices by index and name, as listDevices() numbers them; the reference by name.
+    for (const ray::DeviceStats& device : in.devices)
+        stats.device += (stats.device.empty() ? "" : ", ") + device.device;
+    if (in.devices.empty()) stats.device = in.device;
+    stats.primaryRays = in.primaryRays;
+    stats.shadowRays = in.shadowRays;
+    stats.secondaryRays = in.secondaryRays;
+    stats.bvhBuildSeconds = in.bvhBuildSeconds;
+    stats.kernelBuildSeconds = in.kernelBuildSeconds;
+    stats.renderSeconds = in.renderSeconds;
+    stats.packSeconds = in.packSeconds;
+    stats.uploadSeconds = in.uploadSeconds;
+    stats.cancelled = frame.cancelled;
     return stats;
 }
 
@@ -72,59 +70,23 @@ std::vector<Device> listDevices() {
 
 // Hidden: libray.so exports the public interface only (cmake/libray.map).
 struct __attribute__((visibility("hidden"))) Renderer::Impl {
-    ray::Scene scene;  // the engine keeps a reference to it: Impl never moves (unique_ptr)
+    // Shared with the frame source, which keeps what it prepared for it (the packed scene
+    // on OpenCL devices) from frame to frame; setCamera changes its camera only.
+    std::shared_ptr<ray::Scene> scene;
     std::string devices;
     Settings settings;
-    std::unique_ptr<ray::OpenClEngine> engine;  // OpenCL selections: made on the first frame
-
-    FrameStats renderOnReference(float* rgb, const ProgressCallback& progress, const std::atomic<bool>* cancel,
-                                 const TileCallback& onTile);
-    FrameStats renderOnEngine(float* rgb, const ProgressCallback& progress, const std::atomic<bool>* cancel,
-                              const TileCallback& onTile);
+    std::unique_ptr<ray::FrameSource> frames;  // devices/renderer.h makeFrameSource
 };
 
-FrameStats Renderer::Impl::renderOnReference(float* rgb, const ProgressCallback& progress,
-                                             const std::atomic<bool>* cancel, const TileCallback& onTile) {
-    const ray::RenderSettings internalSettings = internal(settings);
-    ray::RenderJob job{scene, internalSettings, devices, progress};
-    job.cancel = cancel;
-    ray::RenderOutput output = ray::render(job);
-    std::copy(output.image.rgb.begin(), output.image.rgb.end(), rgb);
-    if (onTile) onTile({0, 0, output.image.width, output.image.height, rgb});
-    return external(output);
-}
-
-FrameStats Renderer::Impl::renderOnEngine(float* rgb, const ProgressCallback& progress,
-                                          const std::atomic<bool>* cancel, const TileCallback& onTile) {
-    if (!engine) engine = std::make_unique<ray::OpenClEngine>(scene, ray::selectOpenClDevices(devices));
-    const ray::RenderSettings internalSettings = internal(settings);
-    ray::FrameOptions options;
-    options.progress = progress;
-    options.cancel = cancel;  // a cancellable frame has smaller tiles (render/tile_side.h frameTileSide)
-    if (onTile)
-        options.onTile = [&onTile](const ray::FinishedTile& tile) {
-            onTile({tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.rgb});
-        };
-    ray::FrameResult frame = engine->renderFrame(scene.camera, internalSettings, options);
-    std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
-    FrameStats stats;
-    for (const ray::DeviceStats& device : frame.stats.devices)
-        stats.device += (stats.device.empty() ? "" : ", ") + device.device;
-    copyCommonStats(frame.stats, stats);
-    stats.packSeconds = frame.stats.packSeconds;
-    stats.uploadSeconds = frame.stats.uploadSeconds;
-    stats.cancelled = frame.cancelled;
-    return stats;
-}
-
 Renderer::Renderer(const Scene& scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
-    impl_->scene = scene.impl().scene;
+    impl_->scene = std::make_shared<ray::Scene>(scene.impl().scene);
     impl_->devices = devices;
     if (!ray::isDeviceSelection(devices))
         throw InputError("error: the device selection must be auto, cpu, gpu, all, ref or an index from listDevices(), "
                          "not '" + devices + "'", "", 0);
-    // The selection is checked now, so that a bad one fails here rather than at the first frame.
-    if (!ray::isReferenceDevice(devices)) detail::translatingErrors([&] { ray::selectOpenClDevices(devices); });
+    // The devices are selected now, so that a bad selection fails here rather than at the
+    // first frame; nothing is packed or built before it.
+    impl_->frames = detail::translatingErrors([&] { return ray::makeFrameSource(devices); });
 }
 
 Renderer::~Renderer() = default;
@@ -136,10 +98,10 @@ const std::string& Renderer::devices() const { return impl_->devices; }
 void Renderer::setCamera(const Camera& camera) {
     ray::Camera internalCamera = detail::toInternal(camera);
     detail::checkCamera(internalCamera);
-    impl_->scene.camera = internalCamera;
+    impl_->scene->camera = internalCamera;
 }
 
-Camera Renderer::camera() const { return detail::toPublic(impl_->scene.camera); }
+Camera Renderer::camera() const { return detail::toPublic(impl_->scene->camera); }
 
 void Renderer::setSettings(const Settings& settings) {
     detail::checkSettings(settings);
@@ -157,9 +119,18 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
                              std::to_string(s.width) + "x" + std::to_string(s.height) + " frame needs " +
                              std::to_string(needed),
                          "", 0);
+    ray::FrameRequest request;
+    request.progress = progress;
+    request.cancel = cancel;  // a cancellable frame has smaller tiles (render/tile_side.h frameTileSide)
+    if (onTile)
+        request.onTile = [&onTile](const ray::FinishedTile& tile) {
+            onTile({tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.rgb});
+        };
     return detail::translatingErrors([&] {
-        return ray::isReferenceDevice(impl_->devices) ? impl_->renderOnReference(rgb, progress, cancel, onTile)
-                                           : impl_->renderOnEngine(rgb, progress, cancel, onTile);
+        const ray::RenderedFrame frame =
+            impl_->frames->render(impl_->scene, impl_->scene->camera, internal(impl_->settings), request);
+        std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
+        return external(frame);
     });
 }
 

@@ -92,8 +92,8 @@ struct Tile {
     const float* rgb = nullptr;             ///< its pixels; the pointer is valid during the callback only
 };
 /// Called once for each finished tile, one call at a time, from a worker thread (for a
-/// progressive display). The reference renderer ("ref") has no tiles: it calls it once,
-/// with the whole frame, at the end.
+/// progressive display). The reference renderer ("ref") renders by rows: each row is a
+/// tile, called as it is finished.
 using TileCallback = std::function<void(const Tile& tile)>;
 
 /// Renders one scene on one device selection, frame after frame.
