@@ -28,7 +28,7 @@
 #include "app/progress.h"
 #include "app/render_command.h"
 #include "opencl/opencl_device.h"
-#include "opencl/opencl_engine.h"
+#include "opencl/opencl_frame_source.h"
 #include "render/tile_scheduler.h"
 #include "render/tile_side.h"
 
@@ -109,7 +109,7 @@ struct MpiSession {
 struct Prepared {
     CliOptions options;
     std::filesystem::path output;  // rank 0
-    std::optional<Scene> scene;
+    std::shared_ptr<const Scene> scene;  // shared with each frame source that renders it
     std::vector<OpenClDevice> devices;
     double loadSeconds = 0;
     bool nothingToRender = false;  // --help, --version, --list-devices
@@ -148,7 +148,7 @@ Failure prepare(Prepared& p, const std::vector<std::string>& args, int rank) {
         CliOptions loadOptions = o;
         loadOptions.quiet = o.quiet || rank != 0;  // the scene's warnings once, from rank 0
         auto start = Clock::now();
-        p.scene.emplace(loadSceneFor(loadOptions));
+        p.scene = std::make_shared<const Scene>(loadSceneFor(loadOptions));
         p.loadSeconds = secondsSince(start);
         p.fingerprint = fingerprintOf(args, o.scene);
         checkImageFitsInMemory(o);
@@ -200,17 +200,24 @@ int tileSideOf(const Prepared& p) {
     return frameTileSide(p.options.settings, *p.scene, /*cancellable=*/true, p.options.tileSize);
 }
 
-FrameOptions frameOptions(const Prepared& p, TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
-    FrameOptions options;
-    options.tileSize = tileSideOf(p);
-    options.tiles = &tiles;
-    options.onTile = std::move(onTile);
-    options.cancel = interruptFlag();
-    return options;
+// A rank's frame (render/frame_source.h): the tiles admitted from `tiles`, each finished one
+// to `onTile`; the image the source assembles is not used (rank 0 pastes the kept tiles).
+FrameRequest frameRequest(const Prepared& p, TileSource& tiles, std::function<void(const FinishedTile&)> onTile) {
+    FrameRequest request;
+    request.tileSize = tileSideOf(p);
+    request.tiles = &tiles;
+    request.onTile = std::move(onTile);
+    request.cancel = interruptFlag();
+    return request;
+}
+
+// One frame of the rank's share on its own devices.
+RenderStats renderShare(OpenClFrameSource& frames, const Prepared& p, const FrameRequest& request) {
+    return frames.render(p.scene, p.scene->camera, p.options.settings, request).stats;
 }
 
 // A rank's statistics as rank 0 merges them: its devices' shares and set-up times.
-Json statsToMessage(const FrameStats& frame, double loadSeconds, const std::string& failure) {
+Json statsToMessage(const RenderStats& frame, double loadSeconds, const std::string& failure) {
     Json devices = Json::array();
     for (const DeviceStats& d : frame.devices)
         devices.push_back({{"device", d.device}, {"tiles", d.tiles}, {"pixels", d.pixels}, {"rays", d.rays},
@@ -346,14 +353,13 @@ int runWorker(Prepared& p) {
     RemoteTiles tiles;
     Outbox outbox;
     std::atomic<bool> rendered{false};
-    FrameStats frameStats;
+    RenderStats frameStats;
     std::string failure;
     beginRendering();
     std::thread render([&] {
         try {
-            OpenClEngine engine(*p.scene, p.devices);
-            FrameOptions options = frameOptions(p, tiles, [&](const FinishedTile& tile) { outbox.push(tile); });
-            frameStats = engine.renderFrame(p.scene->camera, p.options.settings, options).stats;
+            OpenClFrameSource frames(p.devices);
+            frameStats = renderShare(frames, p, frameRequest(p, tiles, [&](const FinishedTile& tile) { outbox.push(tile); }));
         } catch (...) {
             // Every device of this rank failed: rank 0 gives its tiles to the others.
             failure = describeFailure(std::current_exception()).message;
@@ -476,26 +482,26 @@ struct LocalShare {
     std::atomic<int> tilesKept{0};
     std::atomic<bool> stop{false};
     std::mutex mutex;
-    std::vector<FrameStats> rounds;
+    std::vector<RenderStats> rounds;
     std::string failure;  // every device of rank 0 failed
 };
 
 void renderLocalShare(Prepared& p, RankTiles& ranks, LocalShare& share) {
     TileScheduler& scheduler = ranks.scheduler;
     try {
-        OpenClEngine engine(*p.scene, p.devices);
+        OpenClFrameSource frames(p.devices);  // the scene packed once, for every round
         while (!share.stop && !interrupted() && !scheduler.complete()) {
             if (!scheduler.anyToHandOut(0)) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
                 continue;
             }
             RankZeroTiles tiles(ranks);
-            FrameOptions options = frameOptions(p, tiles, [&](const FinishedTile& tile) {
-                if (ranks.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3)) ++share.tilesKept;
-            });
-            FrameResult round = engine.renderFrame(p.scene->camera, p.options.settings, options);
+            RenderStats round = renderShare(frames, p, frameRequest(p, tiles, [&](const FinishedTile& tile) {
+                                                if (ranks.deliver(0, tile.rect, tile.rgb, tile.rect.pixels() * 3))
+                                                    ++share.tilesKept;
+                                            }));
             std::lock_guard lock(share.mutex);
-            share.rounds.push_back(std::move(round.stats));
+            share.rounds.push_back(std::move(round));
         }
     } catch (...) {
         scheduler.giveBack(0);
@@ -506,9 +512,9 @@ void renderLocalShare(Prepared& p, RankTiles& ranks, LocalShare& share) {
 }
 
 // One rank's statistics from the engine's rounds on rank 0: devices summed over rounds.
-FrameStats sumRounds(const std::vector<FrameStats>& rounds) {
-    FrameStats total;
-    for (const FrameStats& r : rounds) {
+RenderStats sumRounds(const std::vector<RenderStats>& rounds) {
+    RenderStats total;
+    for (const RenderStats& r : rounds) {
         total.primaryRays += r.primaryRays;
         total.shadowRays += r.shadowRays;
         total.secondaryRays += r.secondaryRays;
@@ -739,7 +745,7 @@ private:
     RenderStats collectStats(LocalShare& share) {
         RenderStats stats;
         std::lock_guard lock(share.mutex);
-        const FrameStats own = sumRounds(share.rounds);
+        const RenderStats own = sumRounds(share.rounds);
         rankStats_[0] = statsToMessage(own, p_.loadSeconds, share.failure);
         if (!share.failure.empty()) stats.warnings.push_back("rank 0 dropped: " + share.failure);
         for (size_t rank = 0; rank < rankStats_.size(); ++rank)

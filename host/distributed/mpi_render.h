@@ -6,7 +6,8 @@
 // every rank with one message, from rank 0, and exit code 2. Rank 0 then hands tiles out
 // on demand (render/tile_scheduler.h, whose workers are here the ranks) and renders too,
 // so that -n 1 works; each rank renders the tiles it is given on its own devices (--device,
-// as in one process) through the OpenCL engine, several in flight per device, and sends each finished tile to rank 0, which
+// as in one process) through the frame interface (render/frame_source.h, FrameRequest::tiles)
+// on the OpenCL engine, several in flight per device, and sends each finished tile to rank 0, which
 // alone writes the image, the progress and the statistics (per rank and device). Every
 // pixel is a function of its coordinates and the seed only: the image is byte-identical to
 // a one-process render.
