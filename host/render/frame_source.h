@@ -4,10 +4,10 @@
 // rows as tiles, whole frames only) and the OpenCL engine, which packs the scene once and
 // renders tiles on the selected devices (opencl/opencl_frame_source.h).
 // devices/renderer.h makeFrameSource picks one from a device string.
-// Used by the ray command and the API (both through devices/renderer.h render, or the source
-// itself), the viewer (8-bit tiles as they come, renderFrame below) and MPI's ranks (tiles
-// admitted one by one from rank 0, FrameRequest::tiles). Explain traces single pixels on
-// the reference renderer and renders no frame.
+// Used by every entry point that renders a frame: the ray command (devices/renderer.h
+// render), api::Renderer (frame after frame on one source), the viewer (8-bit tiles as they
+// come, renderFrame below) and MPI's ranks (tiles admitted from rank 0, FrameRequest::tiles).
+// Explain renders no frame: it traces single pixels on the reference renderer.
 //
 // A frame is: a scene seen by a camera with settings, reported tile by tile as each is
 // finished (linear float RGB), stopped early when the request's cancel flag is set, and
