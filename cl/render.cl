@@ -454,19 +454,19 @@ static inline void addSample(PixelSampler* s, const RayRenderParams* params, flo
 #endif
 
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
- * element y * tile width + x of the tile outputs. */
-__kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, __global const RayWideBvhNode* nodes,
-                         __global const RayPrimitive* primitives, __global const RayMaterial* materials,
-                         __global const RayLight* lights, __global const RayTexture* textures,
-                         __global const uchar4* texels, __global float4* tileColors, __global uint4* tileRayCounts,
-                         __global const RayTriangle* triangles, __global const RayTriangleShading* triangleShading,
-                         __global const float4* motions) {
+ * element y * tile width + x of the tile outputs. Its arguments: the launch parameters, the
+ * scene's buffers in the order of their list (cl/shared_types.h RAY_SCENE_BUFFERS), then the
+ * tile's outputs; the host numbers them so (host/opencl/kernel_arguments.h). */
+#define RAY_SCENE_BUFFER_PARAMETER(Type, name, what) __global const Type* name,
+#define RAY_SCENE_BUFFER_NAME(Type, name, what) name,
+__kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_PARAMETER)
+                                              __global float4* tileColors, __global uint4* tileRayCounts) {
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= params.tile.x || y >= params.tile.y) return;
     int i = params.image.z + x, j = params.image.w + y;
     if (i >= params.image.x || j >= params.image.y) return;
 
-    SceneBuffers scene = {nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions};
+    SceneBuffers scene = {RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_NAME)};
     PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u, 0u, 0.0f};
     PixelSampler sampler;
     startSampler(&sampler, &params);
@@ -480,3 +480,5 @@ __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, __global c
     tileColors[pixel] = (float4)(color, 1.0f);
     tileRayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);
 }
+#undef RAY_SCENE_BUFFER_PARAMETER
+#undef RAY_SCENE_BUFFER_NAME

@@ -1,16 +1,12 @@
 /* Texture mapping (SPEC §5) and the lighting model (SPEC §4). */
 
+/* The scene's buffers, one field each (cl/shared_types.h RAY_SCENE_BUFFERS), as renderTile
+ * receives them. */
+#define RAY_SCENE_BUFFER_FIELD(Type, name, what) __global const Type* name;
 typedef struct {
-    __global const RayWideBvhNode* nodes;
-    __global const RayPrimitive* primitives;
-    __global const RayMaterial* materials;
-    __global const RayLight* lights;
-    __global const RayTexture* textures;
-    __global const uchar4* texels;
-    __global const RayTriangle* triangles;
-    __global const RayTriangleShading* triangleShading;
-    __global const float4* motions; /* per primitive: world-space motion (motion blur) */
+    RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_FIELD)
 } SceneBuffers;
+#undef RAY_SCENE_BUFFER_FIELD
 
 /* What one work-item carries while it traces its pixel: rays counted by kind (summed on
  * the host from one record per pixel), and the number of the pixel's next sample, which

@@ -216,6 +216,15 @@ RAY_STRUCT(RayTexture) {
     int4 info;  /* offset in texels, width, height, mipmap level count (≥ 1) */
 } RAY_END_STRUCT(RayTexture);
 
+/* A texel of the texel buffer: red, green, blue, alpha (RGBA8), 4 bytes. */
+#ifndef RAY_OPENCL_C
+struct RayTexel {
+    uint8_t x = 0, y = 0, z = 0, w = 0;
+};
+#else
+typedef uchar4 RayTexel;
+#endif
+
 /* Everything else a launch needs: 176 bytes, passed by value. */
 RAY_STRUCT(RayRenderParams) {
     float4 eye;          /* camera position */
@@ -230,6 +239,40 @@ RAY_STRUCT(RayRenderParams) {
     int4 counts;         /* lights, primitives, nodes, seed */
     int4 tile;           /* tile width, tile height, unused, unused */
 } RAY_END_STRUCT(RayRenderParams);
+
+/* The scene's buffers: the one list of them, X(element type, name, what it holds), in the
+ * order of renderTile's parameters. Each entry becomes, on the host (C++, types in ray::gpu),
+ *  - a table of PackedScene (host/opencl/scene_packing.h): std::vector<TYPE> NAME, which
+ *    packScene fills; its visit in PackedScene::forEachBuffer, from which totalBytes, the
+ *    device limits (WHAT names the buffer in the message), the device's buffers, their
+ *    uploads and the kernel's arguments (host/opencl/kernel_arguments.h) all follow;
+ * and in the kernel (OpenCL C),
+ *  - a parameter of renderTile (cl/render.cl): __global const TYPE* NAME, after the launch
+ *    parameters and before the tile's outputs;
+ *  - a field of SceneBuffers (cl/shading.cl), which the kernel reads as scene->NAME.
+ * To add a buffer: an entry here (its type defined above, the same layout on both sides),
+ * code in packScene that fills it, and the kernel code that reads it. Nothing else lists
+ * the buffers. The kernel needs at least one element in each (OpenCL refuses empty
+ * buffers): an empty table is uploaded as one unused element. */
+#define RAY_SCENE_BUFFERS(X)                                                                     \
+    /* the four-wide BVH (host/accel/wide_bvh.h): the scene's nodes, then each mesh's */       \
+    X(RayWideBvhNode, nodes, "BVH nodes")                                                       \
+    /* in BVH order, then the csg objects' programs */                                          \
+    X(RayPrimitive, primitives, "primitives")                                                   \
+    X(RayMaterial, materials, "materials")                                                      \
+    X(RayLight, lights, "lights")                                                               \
+    /* one per Scene::images entry */                                                           \
+    X(RayTexture, textures, "texture records")                                                  \
+    /* every texture (and its mipmap levels) back to back */                                    \
+    X(RayTexel, texels, "textures")                                                             \
+    /* every mesh's triangles once, each mesh's in the order of its own BVH */                  \
+    X(RayTriangle, triangles, "mesh triangles")                                                 \
+    X(RayTriangleShading, triangleShading, "mesh normals and texture coordinates")              \
+    /* each primitive's world-space motion (.xyz), parallel to primitives, or empty when        \
+     * nothing moves: a buffer of its own rather than a fifth float4 in RayPrimitive, so that   \
+     * static scenes keep their 64-byte (one cache line) primitives, and the kernel reads a     \
+     * motion only for a ray whose time is not 0 */                                             \
+    X(float4, motions, "motions")
 
 #ifndef RAY_OPENCL_C
 }  /* namespace ray::gpu */

@@ -6,8 +6,12 @@
 
 #include <filesystem>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "devices/renderer.h"
+#include "opencl/kernel_arguments.h"
+#include "opencl/kernel_source.h"
 #include "opencl/opencl_engine.h"
 #include "opencl/opencl_renderer.h"
 #include "scene/scene_loader.h"
@@ -56,6 +60,28 @@ TEST_CASE("The engine packs and uploads once, and renders each frame as a fresh 
     CHECK(second.stats.uploadSeconds == 0);
     CHECK(second.image.rgb == renderFresh(*device, scene, moved, wider).rgb);
     CHECK(second.image.rgb != first.image.rgb);
+}
+
+TEST_CASE("renderTile declares its arguments where the engine sets them", "[engine][kernel]") {
+    auto device = ray::test::cpuDevice();
+    if (!device) return ray::test::skip("no OpenCL CPU device");
+    cl::Context context(device->device);
+    cl::Program program(context, ray::kernelProgramSource());
+    program.build({device->device}, "-cl-std=CL1.2 -cl-kernel-arg-info -DRAY_MAX_FRAMES=2");
+    cl::Kernel kernel(program, "renderTile");
+    auto nameOf = [&](cl_uint argument) { return std::string(kernel.getArgInfo<CL_KERNEL_ARG_NAME>(argument).c_str()); };
+
+    namespace argument = ray::kernel_argument;
+    REQUIRE(kernel.getInfo<CL_KERNEL_NUM_ARGS>() == argument::kCount);
+    CHECK(nameOf(argument::kParams) == "params");
+    std::vector<std::string> sceneBuffers;
+    ray::PackedScene().forEachBuffer(
+        [&](const auto&, ray::SceneBufferName buffer) { sceneBuffers.push_back(buffer.name); });
+    REQUIRE(sceneBuffers.size() == ray::kSceneBufferCount);
+    for (size_t i = 0; i < sceneBuffers.size(); ++i)
+        CHECK(nameOf(argument::kFirstSceneBuffer + cl_uint(i)) == sceneBuffers[i]);
+    CHECK(nameOf(argument::kTileColors) == "tileColors");
+    CHECK(nameOf(argument::kTileRayCounts) == "tileRayCounts");
 }
 
 TEST_CASE("The engine drops a failing device and fails only when none is left", "[engine][kernel]") {

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "core/memory_limits.h"
+#include "opencl/kernel_arguments.h"
 #include "opencl/scene_packing.h"
 #include "render/device_error.h"
 #include "render/tile_scheduler.h"
@@ -27,8 +28,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr size_t kTilesInFlight = 4;  // per device: it never idles between launches
-// renderTile's arguments for the launch's tile outputs (cl/render.cl).
-constexpr cl_uint kColorsArgument = 7, kCountsArgument = 8;
 
 Clock::duration inClockTicks(double seconds) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
@@ -40,22 +39,17 @@ std::string mebibytes(uint64_t bytes) { return std::to_string((bytes + (1 << 20)
 
 // Refuses, before any upload, a scene whose buffers exceed what the device allows.
 void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t tileBytes) {
-    struct Buffer {
-        const char* what;
-        size_t bytes;
-    };
-    const Buffer buffers[] = {{"BVH nodes", packed.nodes.size() * sizeof(gpu::RayWideBvhNode)},
-                              {"primitives", packed.primitives.size() * sizeof(gpu::RayPrimitive)},
-                              {"textures", packed.texels.size()},
-                              {"mesh triangles", packed.triangleShading.size() * sizeof(gpu::RayTriangleShading)},
-                              {"tile", tileBytes}};
     const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
-    for (const Buffer& b : buffers) {
-        if (b.bytes > device.maxAllocation)
-            throw DeviceError("the scene's " + std::string(b.what) + " need a " + mebibytes(b.bytes) +
+    auto checkAllocation = [&](const char* what, size_t bytes) {
+        if (bytes > device.maxAllocation)
+            throw DeviceError("the scene's " + std::string(what) + " need a " + mebibytes(bytes) +
                               " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
                               device.description() + " allows in one allocation" + advice);
-    }
+    };
+    packed.forEachBuffer([&](const auto& table, SceneBufferName name) {
+        checkAllocation(name.what, table.size() * sizeof(table[0]));
+    });
+    checkAllocation("tile", tileBytes);
     // Each launch in flight has its colors and ray counts: two buffers of tileBytes.
     uint64_t total = packed.totalBytes() + 2 * kTilesInFlight * uint64_t(tileBytes);
     if (total > device.globalMemory)
@@ -168,10 +162,11 @@ struct DeviceSlot {
     cl::CommandQueue queue;
     std::shared_ptr<const PackedScene> uploaded;  // what the scene's buffers hold (CPU devices read it in place)
     size_t checkedTilePixels = 0;  // the tile size checkDeviceLimits last passed with them
-    cl::Buffer nodes, primitives, materials, lights, textures, texels, triangles, triangleShading, motions;
+    // The scene's buffers, in the order of PackedScene::forEachBuffer (renderTile's).
+    std::array<cl::Buffer, kSceneBufferCount> sceneBuffers;
     // Lets go of the scene's buffers: before the packed tables they may use in place change.
     void releaseScene() {
-        nodes = primitives = materials = lights = textures = texels = triangles = triangleShading = motions = {};
+        sceneBuffers = {};
         uploaded.reset();
     }
     // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
@@ -429,9 +424,9 @@ private:
             out.pixels = pixels;
         }
         // Arguments are captured at enqueue time.
-        kernel.setArg(0, sizeof(params), &params);
-        kernel.setArg(kColorsArgument, out.colors);
-        kernel.setArg(kCountsArgument, out.counts);
+        kernel.setArg(kernel_argument::kParams, sizeof(params), &params);
+        kernel.setArg(kernel_argument::kTileColors, out.colors);
+        kernel.setArg(kernel_argument::kTileRayCounts, out.counts);
         Launch l{tile, output, {}};
         slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width), roundUp(rect.height)),
                                          cl::NDRange(group, group), hangHook(), &l.event);
@@ -558,15 +553,10 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     if (slot.uploaded != frame.packed) {
         slot.releaseScene();
         const bool inPlace = slot.device.isCpu;
-        slot.nodes = uploadBuffer(slot.context, packed.nodes, inPlace);
-        slot.primitives = uploadBuffer(slot.context, packed.primitives, inPlace);
-        slot.materials = uploadBuffer(slot.context, packed.materials, inPlace);
-        slot.lights = uploadBuffer(slot.context, packed.lights, inPlace);
-        slot.textures = uploadBuffer(slot.context, packed.textures, inPlace);
-        slot.texels = uploadBuffer(slot.context, packed.texels, inPlace);
-        slot.triangles = uploadBuffer(slot.context, packed.triangles, inPlace);
-        slot.triangleShading = uploadBuffer(slot.context, packed.triangleShading, inPlace);
-        slot.motions = uploadBuffer(slot.context, packed.motions, inPlace);  // one placeholder when nothing moves
+        size_t next = 0;
+        packed.forEachBuffer([&](const auto& table, SceneBufferName) {
+            slot.sceneBuffers[next++] = uploadBuffer(slot.context, table, inPlace);
+        });
         slot.uploaded = frame.packed;
         uploadSeconds = secondsSince(start);
     }
@@ -583,12 +573,9 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         found = slot.programs.emplace(depth, std::move(p)).first;
     }
     cl::Kernel& kernel = found->second.kernel;
-    // Arguments 1-11 in renderTile's order; the tile outputs are set at each launch.
-    const std::pair<cl_uint, const cl::Buffer*> args[] = {
-        {1, &slot.nodes},     {2, &slot.primitives}, {3, &slot.materials}, {4, &slot.lights},
-        {5, &slot.textures},  {6, &slot.texels},     {9, &slot.triangles}, {10, &slot.triangleShading},
-        {11, &slot.motions}};
-    for (const auto& [index, buffer] : args) kernel.setArg(index, *buffer);
+    // The scene's buffers; the launch parameters and the tile outputs are set at each launch.
+    for (size_t i = 0; i < kSceneBufferCount; ++i)
+        kernel.setArg(kernel_argument::kFirstSceneBuffer + cl_uint(i), slot.sceneBuffers[i]);
     std::lock_guard lock(frame.mutex);
     frame.uploadSeconds = std::max(frame.uploadSeconds, uploadSeconds);
     frame.buildSeconds = std::max(frame.buildSeconds, buildSeconds);

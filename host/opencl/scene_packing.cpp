@@ -29,6 +29,7 @@ static_assert(offsetof(gpu::RayMaterial, maps) == 112);
 static_assert(sizeof(gpu::RayLight) == 112);
 static_assert(offsetof(gpu::RayLight, area) == 96);
 static_assert(sizeof(gpu::RayTexture) == 16 && offsetof(gpu::RayTexture, info) == 0);
+static_assert(sizeof(gpu::RayTexel) == 4);  // OpenCL C's uchar4
 static_assert(sizeof(gpu::RayTriangle) == 48);
 static_assert(sizeof(gpu::RayTriangleShading) == 80);
 static_assert(offsetof(gpu::RayTriangleShading, uv2) == 64);
@@ -182,16 +183,17 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
 
 void appendTexels(const Image& image, PackedScene& packed) {
     for (size_t p = 0, n = size_t(image.width) * size_t(image.height); p < n; ++p) {
-        for (int c = 0; c < 3; ++c)
-            packed.texels.push_back(uint8_t(std::lround(std::clamp(image.rgb[p * 3 + size_t(c)], 0.0f, 1.0f) * 255.0f)));
-        packed.texels.push_back(255);
+        auto channel = [&](int c) {
+            return uint8_t(std::lround(std::clamp(image.rgb[p * 3 + size_t(c)], 0.0f, 1.0f) * 255.0f));
+        };
+        packed.texels.push_back({channel(0), channel(1), channel(2), 255});
     }
 }
 
 // Each image, followed by its mipmap levels when filtering is trilinear (texture_filtering.h).
 void packTextures(const Scene& scene, bool mipmaps, PackedScene& packed) {
     for (const Image& image : scene.images) {
-        int offset = int(packed.texels.size() / 4);
+        int offset = int(packed.texels.size());
         appendTexels(image, packed);
         int levelCount = 1;
         if (mipmaps && !image.empty()) {
@@ -226,10 +228,9 @@ void forEachSlice(size_t n, const Body& body) {
 }  // namespace
 
 size_t PackedScene::totalBytes() const {
-    return nodes.size() * sizeof(nodes[0]) + primitives.size() * sizeof(primitives[0]) +
-           materials.size() * sizeof(materials[0]) + lights.size() * sizeof(lights[0]) +
-           textures.size() * sizeof(textures[0]) + texels.size() + triangles.size() * sizeof(triangles[0]) +
-           triangleShading.size() * sizeof(triangleShading[0]) + motions.size() * sizeof(gpu::float4);
+    size_t bytes = 0;
+    forEachBuffer([&](const auto& table, SceneBufferName) { bytes += table.size() * sizeof(table[0]); });
+    return bytes;
 }
 
 PackedScene packScene(const Scene& scene, const RenderSettings& settings) {

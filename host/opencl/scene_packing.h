@@ -11,26 +11,38 @@
 
 namespace ray {
 
+// What a scene's buffer is called: its name in the kernel, and what it holds in words
+// (cl/shared_types.h RAY_SCENE_BUFFERS).
+struct SceneBufferName {
+    const char* name;  // "nodes"
+    const char* what;  // "BVH nodes"
+};
+
+// How many buffers the scene has: renderTile's scene parameters.
+#define RAY_COUNT_SCENE_BUFFER(Type, name, what) +1
+constexpr size_t kSceneBufferCount = 0 RAY_SCENE_BUFFERS(RAY_COUNT_SCENE_BUFFER);
+#undef RAY_COUNT_SCENE_BUFFER
+
+// The scene as the kernel reads it: a table for each of its buffers (cl/shared_types.h
+// RAY_SCENE_BUFFERS, which says what each holds), and what the packing keeps besides.
 struct PackedScene {
-    std::vector<gpu::RayWideBvhNode> nodes;  // the four-wide BVH (host/accel/wide_bvh.h)
-    std::vector<gpu::RayPrimitive> primitives;  // in BVH order
-    std::vector<gpu::RayMaterial> materials;
-    std::vector<gpu::RayLight> lights;
-    std::vector<gpu::RayTexture> textures;      // one per Scene::images entry
-    std::vector<uint8_t> texels;                // RGBA8, all textures back to back
-    // Meshes: every mesh's triangles once, each mesh's in the order of its own BVH, whose
-    // nodes follow the scene's in `nodes` (meshRoots[i]: mesh i's root node).
-    std::vector<gpu::RayTriangle> triangles;
-    std::vector<gpu::RayTriangleShading> triangleShading;
+#define RAY_SCENE_TABLE(Type, name, what) std::vector<gpu::Type> name;
+    RAY_SCENE_BUFFERS(RAY_SCENE_TABLE)
+#undef RAY_SCENE_TABLE
+    // meshRoots[i]: mesh i's root node in `nodes` (its BVH's nodes follow the scene's).
     std::vector<int> meshRoots;
-    // Motion blur: each primitive's world-space motion (.xyz), parallel to `primitives`,
-    // or empty when nothing in the scene moves. A buffer of its own rather than a fifth
-    // float4 in RayPrimitive: static scenes keep their 64-byte (one cache line)
-    // primitives, and the kernel reads a motion only for a ray whose time is not 0.
-    std::vector<gpu::float4> motions;
     double bvhBuildSeconds = 0;
 
-    size_t totalBytes() const;
+    // Calls visit(table, SceneBufferName) for each table, in the list's order: the order of
+    // renderTile's scene parameters.
+    template <class Visit>
+    void forEachBuffer(Visit&& visit) const {
+#define RAY_VISIT_SCENE_TABLE(Type, name, what) visit(name, SceneBufferName{#name, what});
+        RAY_SCENE_BUFFERS(RAY_VISIT_SCENE_TABLE)
+#undef RAY_VISIT_SCENE_TABLE
+    }
+
+    size_t totalBytes() const;  // of all the tables
 };
 
 // Builds the BVHs (the scene's over instances, one per mesh over its triangles) and packs

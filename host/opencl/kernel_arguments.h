@@ -1,0 +1,18 @@
+// renderTile's arguments (cl/render.cl), numbered as the kernel declares them: the launch
+// parameters, the scene's buffers in the order of their list (cl/shared_types.h
+// RAY_SCENE_BUFFERS), then the tile's outputs. Computed from the list, never numbered by hand.
+#pragma once
+
+#include <cstdint>
+
+#include "opencl/scene_packing.h"
+
+namespace ray::kernel_argument {
+
+constexpr uint32_t kParams = 0;                                   // RayRenderParams, by value
+constexpr uint32_t kFirstSceneBuffer = kParams + 1;               // then kSceneBufferCount of them
+constexpr uint32_t kTileColors = kFirstSceneBuffer + uint32_t(kSceneBufferCount);  // float4 a pixel
+constexpr uint32_t kTileRayCounts = kTileColors + 1;              // uint4 a pixel
+constexpr uint32_t kCount = kTileRayCounts + 1;
+
+}  // namespace ray::kernel_argument
