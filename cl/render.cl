@@ -48,12 +48,12 @@ void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3
     float3 transmitted;
     ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child->origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
         child->direction = transmitted;
+        child->origin = offsetAlongRay(p, -normal, transmitted, epsilon); /* start on the far side */
         child->media = beyond;
     } else {
-        child->origin = offsetFromSurface(p, normal, epsilon);
         child->direction = d - 2.0f * dot(d, normal) * normal;
+        child->origin = offsetAlongRay(p, normal, child->direction, epsilon);
         child->media = frame->media;
     }
     child->weight = weight;
@@ -63,8 +63,8 @@ void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3
 void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 weight,
                        float epsilon) {
     ChildRay* child = spawnedChild(frame, first);
-    child->origin = offsetFromSurface(p, normal, epsilon);
     child->direction = d - 2.0f * dot(d, normal) * normal;
+    child->origin = offsetAlongRay(p, normal, child->direction, epsilon);
     child->weight = weight;
     child->media = frame->media;
 }
