@@ -39,32 +39,33 @@ static inline bool anyAbove(float3 v, float threshold) {
 
 /* The kt·Ot branch (SPEC §4): the ray refracted by Snell's law into the medium beyond the
  * surface, or, under total internal reflection, the mirrored ray, which stays in the
- * medium it came from. normal faces the incoming direction d. */
-void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, bool entering,
-                       float materialIor, float3 weight, float epsilon) {
+ * medium it came from. normal (the shading normal) and surfaceNormal (the surface's own,
+ * before a bump map tilts it) face the incoming direction d. */
+void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
+                       bool entering, float materialIor, float3 weight, float epsilon) {
     MediumStack beyond;
     float n1 = iorBefore(&frame->media, entering, materialIor);
     float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
     float3 transmitted;
     ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child->origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
         child->direction = transmitted;
+        child->origin = offsetAlongRay(p, -surfaceNormal, transmitted, epsilon); /* start on the far side */
         child->media = beyond;
     } else {
-        child->origin = offsetFromSurface(p, normal, epsilon);
         child->direction = d - 2.0f * dot(d, normal) * normal;
+        child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
         child->media = frame->media;
     }
     child->weight = weight;
 }
 
 /* The mirrored ray (I_r), which stays in the medium it came from (traceCameraRay sets its time). */
-void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 weight,
-                       float epsilon) {
+void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
+                       float3 weight, float epsilon) {
     ChildRay* child = spawnedChild(frame, first);
-    child->origin = offsetFromSurface(p, normal, epsilon);
     child->direction = d - 2.0f * dot(d, normal) * normal;
+    child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
     child->weight = weight;
     child->media = frame->media;
 }
@@ -101,18 +102,20 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
 }
 
 void transmitFromInside(const RayRenderParams* params, Frame* frame, ChildRay* first, float3 d, float3 p,
-                        float3 normal, float materialIor) {
+                        float3 normal, float3 surfaceNormal, float materialIor) {
     if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
     if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
-        addRefractedChild(frame, first, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
+        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, (float3)(1.0f),
+                          params->limits.y);
         return;
     }
     float r = surfaceReflectance(frame, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
     if (branchTraced(params, frame, reflectWeight))
-        addReflectedChild(frame, first, d, p, normal, reflectWeight, params->limits.y);
+        addReflectedChild(frame, first, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
     if (branchTraced(params, frame, transmitWeight))
-        addRefractedChild(frame, first, d, p, normal, false, materialIor, transmitWeight, params->limits.y);
+        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, transmitWeight,
+                          params->limits.y);
 }
 
 /* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first). */
@@ -139,6 +142,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     /* The object normal points outward. Which side the ray meets is the surface's own: a
      * bump map tilts the shading normal, not the surface (host/reference/reference_renderer.cpp). */
     bool entering = dot(normal, ray.direction) < 0.0f;
+    float3 surfaceNormal = entering ? normal : -normal; /* facing the ray, before a bump map tilts it */
     if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) { /* bump maps follow the textures switch */
         hit.objectNormal = bumpedObjectNormal(
             scene, m.maps.y, uv, m.repeats.zw, objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
@@ -149,7 +153,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, frame, first, ray.direction, p, normal, m.specular.w);
+        transmitFromInside(params, frame, first, ray.direction, p, normal, surfaceNormal, m.specular.w);
         return;
     }
 
@@ -179,9 +183,9 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
         transmitWeight *= 1.0f - r;
     }
     if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, frame, reflectWeight))
-        addReflectedChild(frame, first, ray.direction, p, normal, reflectWeight, params->limits.y);
+        addReflectedChild(frame, first, ray.direction, p, normal, surfaceNormal, reflectWeight, params->limits.y);
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, frame, transmitWeight))
-        addRefractedChild(frame, first, ray.direction, p, normal, entering, m.specular.w, transmitWeight,
+        addRefractedChild(frame, first, ray.direction, p, normal, surfaceNormal, entering, m.specular.w, transmitWeight,
                           params->limits.y);
 }
 
