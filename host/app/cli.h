@@ -66,7 +66,7 @@ void addSwitch(CLI::App& app, const std::string& names, std::function<void()> ap
 
 // The options of RenderSettings that every command that traces takes, one for each entry
 // of the settings table (render/settings_table.h) but the positional width, height and
-// depth: --aa, --samples, ... --no-shadows ... --course-meshes, --texture-filter; and
+// depth (--aa, --samples, ..., --no-shadows, ..., --texture-filter); and
 // --search-path.
 void addRenderSettingOptions(CLI::App& app, RenderSettings& settings, std::vector<std::filesystem::path>& searchPaths);
 

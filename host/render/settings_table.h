@@ -57,7 +57,7 @@ struct SettingSpec {
 
 // Every render setting, in the order --help and the viewer list them.
 const std::vector<SettingSpec>& renderSettingsTable();
-// The entry named `name` ("course_meshes"), or null.
+// The entry named `name` ("area_samples"), or null.
 const SettingSpec* findSetting(std::string_view name);
 
 // A setting's value as front ends pass it: Integer int64_t, Number double, Switch bool,
