@@ -7,6 +7,7 @@
 #include "api/error_translation.h"
 #include "api/input_checks.h"
 #include "api/scene_impl.h"
+#include "api/settings_conversion.h"
 #include "devices/renderer.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
@@ -15,29 +16,6 @@
 namespace ray::api {
 
 namespace {
-
-ray::RenderSettings internal(const Settings& s) {
-    ray::RenderSettings r;
-    r.width = s.width;
-    r.height = s.height;
-    r.maxDepth = s.depth;
-    r.antialias = ray::AntialiasMode(int(s.antialias));  // same order: Off, Course, Stratified, Adaptive
-    r.samples = s.samples;
-    r.seed = s.seed;
-    r.areaSamples = s.areaSamples;
-    r.shutter = s.shutter;
-    r.weightThreshold = s.threshold;
-    r.shadows = s.shadows;
-    r.reflections = s.reflections;
-    r.refraction = s.refraction;
-    r.textures = s.textures;
-    r.depthOfField = s.depthOfField;
-    r.dofMode = ray::DofMode(int(s.dofMode));  // same order: Course, Disk
-    r.fresnel = s.fresnel;
-    r.courseMeshes = s.courseMeshes;
-    r.textureFilter = ray::TextureFilter(int(s.textureFilter));  // same order
-    return r;
-}
 
 // The counts and timings both internal statistics (render/render_stats.h RenderStats, the
 // engine's FrameStats) name alike.
@@ -85,7 +63,7 @@ struct __attribute__((visibility("hidden"))) Renderer::Impl {
 
 FrameStats Renderer::Impl::renderOnReference(float* rgb, const ProgressCallback& progress,
                                              const std::atomic<bool>* cancel, const TileCallback& onTile) {
-    const ray::RenderSettings internalSettings = internal(settings);
+    const ray::RenderSettings internalSettings = detail::toInternal(settings);
     ray::RenderJob job{scene, internalSettings, devices, progress};
     job.cancel = cancel;
     ray::RenderOutput output = ray::render(job);
@@ -97,7 +75,7 @@ FrameStats Renderer::Impl::renderOnReference(float* rgb, const ProgressCallback&
 FrameStats Renderer::Impl::renderOnEngine(float* rgb, const ProgressCallback& progress,
                                           const std::atomic<bool>* cancel, const TileCallback& onTile) {
     if (!engine) engine = std::make_unique<ray::OpenClEngine>(scene, ray::selectOpenClDevices(devices));
-    const ray::RenderSettings internalSettings = internal(settings);
+    const ray::RenderSettings internalSettings = detail::toInternal(settings);
     ray::FrameOptions options;
     options.progress = progress;
     options.cancel = cancel;  // a cancellable frame has smaller tiles (render/tile_side.h frameTileSide)
