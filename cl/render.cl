@@ -20,7 +20,6 @@ typedef struct {
  * frame keeps only the second: private memory is what a GPU has least of. */
 typedef struct {
     float3 color;          /* local shading plus the children folded in so far */
-    float3 pathWeight;     /* product of the weights from the camera ray to this one */
     float3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
     ChildRay second;       /* the second child, traced once the first's tree is folded in */
     MediumStack media;     /* the media this frame's ray travels through */
@@ -39,40 +38,43 @@ static inline bool anyAbove(float3 v, float threshold) {
 
 /* The kt·Ot branch (SPEC §4): the ray refracted by Snell's law into the medium beyond the
  * surface, or, under total internal reflection, the mirrored ray, which stays in the
- * medium it came from. normal faces the incoming direction d. */
-void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, bool entering,
-                       float materialIor, float3 weight, float epsilon) {
+ * medium it came from. normal (the shading normal) and surfaceNormal (the surface's own,
+ * before a bump map tilts it) face the incoming direction d. */
+void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
+                       bool entering, float materialIor, float3 weight, float epsilon) {
     MediumStack beyond;
     float n1 = iorBefore(&frame->media, entering, materialIor);
     float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
     float3 transmitted;
     ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child->origin = offsetFromSurface(p, -normal, epsilon); /* start on the far side */
         child->direction = transmitted;
+        child->origin = offsetAlongRay(p, -surfaceNormal, transmitted, epsilon); /* start on the far side */
         child->media = beyond;
     } else {
-        child->origin = offsetFromSurface(p, normal, epsilon);
         child->direction = d - 2.0f * dot(d, normal) * normal;
+        child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
         child->media = frame->media;
     }
     child->weight = weight;
 }
 
 /* The mirrored ray (I_r), which stays in the medium it came from (traceCameraRay sets its time). */
-void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 weight,
-                       float epsilon) {
+void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
+                       float3 weight, float epsilon) {
     ChildRay* child = spawnedChild(frame, first);
-    child->origin = offsetFromSurface(p, normal, epsilon);
     child->direction = d - 2.0f * dot(d, normal) * normal;
+    child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
     child->weight = weight;
     child->media = frame->media;
 }
 
-/* Whether a branch of weight `weight` below this frame is traced: --threshold cuts it when
- * its path weight is below the threshold in every channel, and a zero weight is no branch. */
-static inline bool branchTraced(const RayRenderParams* params, const Frame* frame, float3 weight) {
-    return anyAbove(frame->pathWeight * weight, params->limits.x) && anyAbove(weight, 1e-30f);
+/* Whether a branch of weight `weight` below a frame whose path weight (the product of the
+ * weights from the camera ray to it: pathWeightOf) is `pathWeight` is traced: --threshold
+ * cuts it when its path weight is below the threshold in every channel, and a zero weight
+ * is no branch. */
+static inline bool branchTraced(const RayRenderParams* params, float3 pathWeight, float3 weight) {
+    return anyAbove(pathWeight * weight, params->limits.x) && anyAbove(weight, 1e-30f);
 }
 
 /* The surfaces refraction applies to (SPEC §4): those of transparent objects (Ot != 0). */
@@ -100,24 +102,26 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
     return !entering && refracts(features, transparent);
 }
 
-void transmitFromInside(const RayRenderParams* params, Frame* frame, ChildRay* first, float3 d, float3 p,
-                        float3 normal, float materialIor) {
+void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 pathWeight, ChildRay* first, float3 d,
+                        float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
     if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
     if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
-        addRefractedChild(frame, first, d, p, normal, false, materialIor, (float3)(1.0f), params->limits.y);
+        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, (float3)(1.0f),
+                          params->limits.y);
         return;
     }
     float r = surfaceReflectance(frame, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
-    if (branchTraced(params, frame, reflectWeight))
-        addReflectedChild(frame, first, d, p, normal, reflectWeight, params->limits.y);
-    if (branchTraced(params, frame, transmitWeight))
-        addRefractedChild(frame, first, d, p, normal, false, materialIor, transmitWeight, params->limits.y);
+    if (branchTraced(params, pathWeight, reflectWeight))
+        addReflectedChild(frame, first, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
+    if (branchTraced(params, pathWeight, transmitWeight))
+        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, transmitWeight,
+                          params->limits.y);
 }
 
 /* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first). */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, Ray ray, ChildRay* first,
-                PixelTrace* counter) {
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight, Ray ray,
+                ChildRay* first, PixelTrace* counter) {
     frame->color = (float3)(0.0f);
     frame->childCount = 0;
     frame->nextChild = 0;
@@ -139,6 +143,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     /* The object normal points outward. Which side the ray meets is the surface's own: a
      * bump map tilts the shading normal, not the surface (host/reference/reference_renderer.cpp). */
     bool entering = dot(normal, ray.direction) < 0.0f;
+    float3 surfaceNormal = entering ? normal : -normal; /* facing the ray, before a bump map tilts it */
     if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) { /* bump maps follow the textures switch */
         hit.objectNormal = bumpedObjectNormal(
             scene, m.maps.y, uv, m.repeats.zw, objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
@@ -149,7 +154,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, frame, first, ray.direction, p, normal, m.specular.w);
+        transmitFromInside(params, frame, pathWeight, first, ray.direction, p, normal, surfaceNormal, m.specular.w);
         return;
     }
 
@@ -178,11 +183,20 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
         reflectWeight *= r;
         transmitWeight *= 1.0f - r;
     }
-    if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, frame, reflectWeight))
-        addReflectedChild(frame, first, ray.direction, p, normal, reflectWeight, params->limits.y);
-    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, frame, transmitWeight))
-        addRefractedChild(frame, first, ray.direction, p, normal, entering, m.specular.w, transmitWeight,
+    if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, pathWeight, reflectWeight))
+        addReflectedChild(frame, first, ray.direction, p, normal, surfaceNormal, reflectWeight, params->limits.y);
+    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
+        addRefractedChild(frame, first, ray.direction, p, normal, surfaceNormal, entering, m.specular.w, transmitWeight,
                           params->limits.y);
+}
+
+/* The path weight of frame `top`: the product of the weights from the camera ray to it,
+ * multiplied in the order the tree spawned them, so that it is the same to the bit as a
+ * product kept in each frame; recomputed, because private memory is what a GPU has least of. */
+static inline float3 pathWeightOf(const Frame* stack, int top) {
+    float3 weight = (float3)(1.0f);
+    for (int k = 1; k <= top; ++k) weight *= stack[k].weightInParent;
+    return weight;
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
@@ -192,7 +206,6 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
     Frame stack[RAY_MAX_FRAMES];
     int top = 0;
     stack[0].depth = 0;
-    stack[0].pathWeight = (float3)(1.0f);
     stack[0].weightInParent = (float3)(1.0f);
     stack[0].media.count = 0; /* the camera is in air */
     counter->primary++;
@@ -201,7 +214,7 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
-            shadeFrame(scene, params, frame, ray, &first, counter);
+            shadeFrame(scene, params, frame, pathWeightOf(stack, top), ray, &first, counter);
             pushed = false;
         }
         if (frame->nextChild < frame->childCount && top + 1 < RAY_MAX_FRAMES) {
@@ -209,7 +222,6 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
             Frame* child = &stack[top + 1];
             child->depth = frame->depth + 1;
             child->weightInParent = spawned->weight;
-            child->pathWeight = frame->pathWeight * spawned->weight;
             child->media = spawned->media;
             counter->secondary++;
             ray.origin = spawned->origin; /* ray.time stays: every ray of the tree sees the */
@@ -444,6 +456,23 @@ static inline void addSample(PixelSampler* s, const RayRenderParams* params, flo
     s->count++;
 }
 
+/* The color of pixel (i, j): every sample the antialiasing mode asks for, traced at the one
+ * trace site. A call on PoCL: there the work-group function runs the kernel for each
+ * work-item in a loop and keeps the private variables of the kernel's own body in arrays
+ * with an entry per work-item (the sampler, the ray tree's frames), whose addressing cost
+ * chess 3% more instructions than a call with its own stack frame. */
+static RAY_CALL_ON_POCL float3 renderPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j,
+                                           PixelTrace* counter) {
+    PixelSampler sampler;
+    startSampler(&sampler, params);
+    float2 position;
+    while (nextSamplePosition(&sampler, params, counter->pixel, &position)) {
+        float3 color = traceSample(scene, params, i, j, position.x, position.y, counter); /* the one trace site */
+        addSample(&sampler, params, color);
+    }
+    return sampler.result;
+}
+
 /* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
  * work-items in flight to hide memory latency. What does not fit spills to scratch, which
  * scripts/kernel_resources.py counts in the kernel's private memory. */
@@ -468,14 +497,7 @@ __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_
 
     SceneBuffers scene = {RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_NAME)};
     PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u, 0u, 0.0f};
-    PixelSampler sampler;
-    startSampler(&sampler, &params);
-    float2 position;
-    while (nextSamplePosition(&sampler, &params, counter.pixel, &position)) {
-        float3 color = traceSample(&scene, &params, i, j, position.x, position.y, &counter); /* the one trace site */
-        addSample(&sampler, &params, color);
-    }
-    float3 color = sampler.result;
+    float3 color = renderPixel(&scene, &params, i, j, &counter);
     int pixel = y * params.tile.x + x; /* the outputs hold this tile alone, row by row */
     tileColors[pixel] = (float4)(color, 1.0f);
     tileRayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);

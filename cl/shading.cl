@@ -100,12 +100,36 @@ float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, flo
     return sampleTextureLevel(scene, scene->textures[textureIndex].info, uv, repeats, bilinear);
 }
 
-/* Where a secondary or shadow ray starts: off the surface along the normal (facing the
- * side the ray leaves from), by an amount that grows with the coordinates' magnitude so
- * that float rounding of the hit point cannot put it back behind the surface. */
+/* How far off the surface a secondary or shadow ray starts: an amount that grows with the
+ * coordinates' magnitude so that float rounding of the hit point cannot put it back behind
+ * the surface. */
+static inline float surfaceClearance(float3 p, float epsilon) {
+    return epsilon * (1.0f + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z))));
+}
+
+/* Where a shadow ray starts: that clearance along the normal (facing the side the ray
+ * leaves from). */
 static inline float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
-    float scale = 1.0f + fmax(fabs(p.x), fmax(fabs(p.y), fabs(p.z)));
-    return p + normal * (epsilon * scale);
+    return p + normal * surfaceClearance(p, epsilon);
+}
+
+/* How far along its own direction a secondary ray may start, in clearances: the bound on
+ * what it can skip (a ray leaving at a grazing angle would otherwise start far away). */
+#define RAY_MAX_STEP_ALONG_RAY 10.0f
+
+/* Where a reflected or refracted ray leaving p along `direction` starts: the same clearance
+ * off the surface as offsetFromSurface gives (normal: the surface's own, not one a bump map
+ * tilts, facing the side the ray leaves from), reached by moving along the ray's own line
+ * as far as RAY_MAX_STEP_ALONG_RAY allows, the rest along the normal. A start moved along
+ * the normal alone shifts the ray sideways, clearance × tan θ where it meets the next
+ * surface, and that shift adds up from bounce to bounce: between the mirrored, textured
+ * cubes of the course's dof.xml (≈ 2 texels a bounce) it left 1.2% of the pixels off the
+ * reference renderer's by more than 3/255. */
+static inline float3 offsetAlongRay(float3 p, float3 normal, float3 direction, float epsilon) {
+    float clearance = surfaceClearance(p, epsilon);
+    float cosine = dot(direction, normal);
+    float along = cosine > 0.0f ? fmin(clearance / cosine, RAY_MAX_STEP_ALONG_RAY * clearance) : 0.0f;
+    return p + direction * along + normal * (clearance - along * cosine);
 }
 
 /* Spot light falloff: 1 inside the inner cone, 0 outside the outer, smooth between. */

@@ -155,11 +155,10 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
     BvhStack stack;
     stack.top = 0;
     stack.overflowed = false;
-    bool fallback = false; /* the stack overflowed: one more step, over every triangle */
-    int nodeIndex = root;
+    int next = root;
     do {
-        NodeChildren children =
-            fallback ? everyPrimitiveUnder(nodes, root) : testChildren(&nodes[nodeIndex], o, inverseDirection, *best);
+        NodeChildren children = next == RAY_WALK_EVERY_PRIMITIVE ? everyPrimitiveUnder(nodes, root)
+                                                                 : testChildren(&nodes[next], o, inverseDirection, *best);
         InnerChildren inner;
         inner.count = 0;
         for (int c = 0; c < 4; ++c) {
@@ -172,12 +171,8 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
                 addInnerChild(&inner, first, children.entry[c], true);
             }
         }
-        nodeIndex = fallback ? -1 : nextNode(&inner, &stack, *best);
-        if (stack.overflowed && !fallback) { /* every triangle instead (cl/intersect.cl BvhStack) */
-            fallback = true;
-            nodeIndex = root;
-        }
-    } while (nodeIndex >= 0);
+        next = afterOverflow(nextNode(&inner, &stack, *best), &stack); /* cl/intersect.cl BvhStack */
+    } while (next != -1);
 }
 
 /* The shading normal of a mesh hit (object space): the corners' normals (the file's vn, or

@@ -148,14 +148,6 @@ long long integerOption(const std::string& name, const py::handle& value) {
     return result;
 }
 
-// Narrowed to int; a value beyond int is out of every range the API takes.
-int intOption(const std::string& name, const py::handle& value) {
-    const long long result = integerOption(name, value);
-    if (result < std::numeric_limits<int>::min() || result > std::numeric_limits<int>::max())
-        throw py::value_error(name + " " + std::to_string(result) + " is out of range");
-    return int(result);
-}
-
 double realOption(const std::string& name, const py::handle& value) {
     const bool number = PyFloat_Check(value.ptr()) || PyIndex_Check(value.ptr()) || py::hasattr(value, "__float__");
     if (isBool(value) || PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr()) || !number)
@@ -173,81 +165,48 @@ std::string textOption(const std::string& name, const py::handle& value) {
     return py::str(value);
 }
 
-uint32_t seedOption(const py::handle& value) {
-    const long long seed = integerOption("seed", value);
-    if (seed < 0 || seed > std::numeric_limits<uint32_t>::max())
-        throw py::value_error("seed must be between 0 and " + std::to_string(std::numeric_limits<uint32_t>::max()) +
-                              ", not " + std::to_string(seed));
-    return uint32_t(seed);
+// The render options: the settings the C++ API describes (ray's settings table), each
+// value's type checked here as Python checks its own, its range and choice by the API.
+const std::vector<api::SettingDescription>& renderOptions() {
+    static const std::vector<api::SettingDescription> options = api::describeSettings();
+    return options;
 }
-
-api::Antialias antialias(const std::string& name, const py::handle& value) {
-    return enumFromName<api::Antialias>(textOption(name, value),
-                                        {{"off", api::Antialias::Off},
-                                         {"course", api::Antialias::Course},
-                                         {"stratified", api::Antialias::Stratified},
-                                         {"adaptive", api::Antialias::Adaptive}},
-                                        "aa");
-}
-
-api::DofMode dofMode(const std::string& name, const py::handle& value) {
-    return enumFromName<api::DofMode>(textOption(name, value),
-                                      {{"course", api::DofMode::Course}, {"disk", api::DofMode::Disk}}, "dof_mode");
-}
-
-api::TextureFilter textureFilter(const std::string& name, const py::handle& value) {
-    return enumFromName<api::TextureFilter>(textOption(name, value),
-                                            {{"nearest", api::TextureFilter::Nearest},
-                                             {"bilinear", api::TextureFilter::Bilinear},
-                                             {"trilinear", api::TextureFilter::Trilinear}},
-                                            "texture_filter");
-}
-
-// Each option: its keyword and how it sets Settings (the command line's switches, named
-// as Python names keywords).
-using OptionSetter = void (*)(api::Settings&, const std::string& name, const py::handle& value);
-using S = api::Settings;
-using V = const py::handle&;
-using N = const std::string&;
-const std::pair<const char*, OptionSetter> kOptions[] = {
-    {"width", [](S& s, N n, V v) { s.width = intOption(n, v); }},
-    {"height", [](S& s, N n, V v) { s.height = intOption(n, v); }},
-    {"depth", [](S& s, N n, V v) { s.depth = intOption(n, v); }},
-    {"aa", [](S& s, N n, V v) { s.antialias = antialias(n, v); }},
-    {"samples", [](S& s, N n, V v) { s.samples = intOption(n, v); }},
-    {"seed", [](S& s, N, V v) { s.seed = seedOption(v); }},
-    {"area_samples", [](S& s, N n, V v) { s.areaSamples = intOption(n, v); }},
-    {"shutter", [](S& s, N n, V v) { s.shutter = realOption(n, v); }},
-    {"threshold", [](S& s, N n, V v) { s.threshold = realOption(n, v); }},
-    {"shadows", [](S& s, N n, V v) { s.shadows = boolOption(n, v); }},
-    {"reflections", [](S& s, N n, V v) { s.reflections = boolOption(n, v); }},
-    {"refraction", [](S& s, N n, V v) { s.refraction = boolOption(n, v); }},
-    {"textures", [](S& s, N n, V v) { s.textures = boolOption(n, v); }},
-    {"dof", [](S& s, N n, V v) { s.depthOfField = boolOption(n, v); }},
-    {"dof_mode", [](S& s, N n, V v) { s.dofMode = dofMode(n, v); }},
-    {"fresnel", [](S& s, N n, V v) { s.fresnel = boolOption(n, v); }},
-    {"course_meshes", [](S& s, N n, V v) { s.courseMeshes = boolOption(n, v); }},
-    {"texture_filter", [](S& s, N n, V v) { s.textureFilter = textureFilter(n, v); }},
-};
 
 std::string optionNames() {
     std::string names;
-    for (const auto& [option, set] : kOptions) names += (names.empty() ? "" : ", ") + std::string(option);
+    for (const api::SettingDescription& option : renderOptions()) names += (names.empty() ? "" : ", ") + option.name;
     return names;
 }
 
 [[noreturn]] void unknownOption(const std::string& name) {
     py::list known;
-    for (const auto& [option, set] : kOptions) known.append(option);
+    for (const api::SettingDescription& option : renderOptions()) known.append(option.name);
     py::list close = py::module_::import("difflib").attr("get_close_matches")(name, known, 1);
     std::string hint = close.empty() ? "" : "; did you mean '" + std::string(py::str(close[0])) + "'?";
     throw py::type_error("unknown render option '" + name + "'" + hint + " (the options are " + optionNames() + ")");
 }
 
+api::SettingValue optionValue(const api::SettingDescription& option, const py::handle& value) {
+    using Kind = api::SettingDescription::Kind;
+    switch (option.kind) {
+        case Kind::Integer: return int64_t(integerOption(option.name, value));
+        case Kind::Number: return realOption(option.name, value);
+        case Kind::Switch: return boolOption(option.name, value);
+        case Kind::Choice: return textOption(option.name, value);
+    }
+    unknownOption(option.name);
+}
+
+const api::SettingDescription* findOption(const std::string& name) {
+    for (const api::SettingDescription& option : renderOptions())
+        if (name == option.name) return &option;
+    return nullptr;
+}
+
 void setOption(api::Settings& s, const std::string& name, const py::handle& value) {
-    for (const auto& [option, set] : kOptions)
-        if (name == option) return set(s, name, value);
-    unknownOption(name);
+    const api::SettingDescription* option = findOption(name);
+    if (!option) unknownOption(name);
+    api::setSetting(s, name, optionValue(*option, value));
 }
 
 // The options over `s`. Width and height come together: one alone would keep the other
@@ -439,9 +398,9 @@ std::string sceneRepr(const PyScene& s) {
 
 std::string rendererRepr(const api::Renderer& r) {
     const api::Settings& s = r.settings();
-    static const char* const kAntialias[] = {"off", "course", "stratified", "adaptive"};
+    const std::vector<std::string>& antialiasNames = findOption("aa")->choices;  // in the enum's order
     return "<cs123ray.Renderer device='" + r.devices() + "', " + std::to_string(s.width) + " x " +
-           std::to_string(s.height) + ", depth " + std::to_string(s.depth) + ", aa='" + kAntialias[int(s.antialias)] +
+           std::to_string(s.height) + ", depth " + std::to_string(s.depth) + ", aa='" + antialiasNames.at(int(s.antialias)) +
            "'>";
 }
 

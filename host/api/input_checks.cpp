@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "api/camera_conversion.h"
+#include "api/settings_conversion.h"
 #include "render/render_settings.h"
 #include "scene/parameter_rules.h"
 
@@ -18,13 +19,6 @@ namespace {
 template <class Value>
 void checkRule(std::string_view name, const Value& value, const NumberRule& rule) {
     if (std::optional<RuleBroken> broken = brokenRule(name, value, rule)) badInput(broken->sentence());
-}
-
-// Settings are integers and fractions with plain limits: "width must be between 1 and
-// 16384, not 0", without a "what it means" half.
-void checkRange(std::string_view name, double value, double low, double high) {
-    if (std::optional<RuleBroken> broken = brokenRule(name, value, NumberRule{low, true, high, true, ""}))
-        badInput(broken->problem);
 }
 
 }  // namespace
@@ -54,14 +48,7 @@ void checkCamera(const ray::Camera& camera) {
         badInput(broken->sentence());
 }
 
-void checkSettings(const Settings& s) {
-    checkRange("width", s.width, 1, kMaxImageSide);
-    checkRange("height", s.height, 1, kMaxImageSide);
-    checkRange("depth", s.depth, 0, kMaxDepth);
-    checkRange("samples", s.samples, 1, kMaxSamples);
-    checkRange("area samples", s.areaSamples, 1, kMaxAreaSamples);
-    checkRange("shutter", s.shutter, 0, 1);
-    checkRange("threshold", s.threshold, 0, 1);
-}
+// The conversion checks each value against the table as it goes.
+void checkSettings(const Settings& s) { toInternal(s); }
 
 }  // namespace ray::api::detail

@@ -15,7 +15,7 @@ namespace ray::api::detail {
 void checkMaterial(const Material& material);
 void checkLight(const Light& light);
 void checkCamera(const ray::Camera& camera);
-// Sizes 1..16384, depth 0..64, ... (render/render_settings.h: the command line's limits).
+// The settings table's ranges and choices (render/settings_table.h), as the command line's.
 void checkSettings(const Settings& settings);
 
 }  // namespace ray::api::detail

@@ -7,6 +7,7 @@
 #include "api/error_translation.h"
 #include "api/input_checks.h"
 #include "api/scene_impl.h"
+#include "api/settings_conversion.h"
 #include "devices/renderer.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
@@ -14,29 +15,6 @@
 namespace ray::api {
 
 namespace {
-
-ray::RenderSettings internal(const Settings& s) {
-    ray::RenderSettings r;
-    r.width = s.width;
-    r.height = s.height;
-    r.maxDepth = s.depth;
-    r.antialias = ray::AntialiasMode(int(s.antialias));  // same order: Off, Course, Stratified, Adaptive
-    r.samples = s.samples;
-    r.seed = s.seed;
-    r.areaSamples = s.areaSamples;
-    r.shutter = s.shutter;
-    r.weightThreshold = s.threshold;
-    r.shadows = s.shadows;
-    r.reflections = s.reflections;
-    r.refraction = s.refraction;
-    r.textures = s.textures;
-    r.depthOfField = s.depthOfField;
-    r.dofMode = ray::DofMode(int(s.dofMode));  // same order: Course, Disk
-    r.fresnel = s.fresnel;
-    r.courseMeshes = s.courseMeshes;
-    r.textureFilter = ray::TextureFilter(int(s.textureFilter));  // same order
-    return r;
-}
 
 FrameStats external(const ray::RenderedFrame& frame) {
     FrameStats stats;
@@ -128,7 +106,7 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
         };
     return detail::translatingErrors([&] {
         const ray::RenderedFrame frame =
-            impl_->frames->render(impl_->scene, impl_->scene->camera, internal(impl_->settings), request);
+            impl_->frames->render(impl_->scene, impl_->scene->camera, detail::toInternal(impl_->settings), request);
         std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
         return external(frame);
     });

@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 #include "devices/renderer.h"
+#include "render/settings_table.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -11,24 +12,11 @@
 
 namespace ray {
 
-const char* const kUsageText = R"(usage: ray <scene.xml> [<width> <height>] [<depth>] [options]
+namespace {
 
-Renders a CS123 scenefile. Defaults: 1024 768, depth 4, output <scene name>.png here.
-
-options:
-  -o, --output FILE        output image; the format follows the extension
+// The render command's own options; the render settings' follow from the table.
+const char* const kRenderOptionsHelp = R"(  -o, --output FILE        output image; the format follows the extension
                            (png, jpg, tif, ppm: 8-bit; exr, hdr: float, unclamped)
-  --aa MODE                antialiasing: off | course (default; the course's adaptive
-                           4..64 samples) | stratified | adaptive
-  --samples N              samples per pixel for stratified/adaptive (default 16)
-  --seed N                 seed of the stochastic sampling (default 0)
-  --area-samples N         point samples per area light, a jittered k×k grid with
-                           k = floor(sqrt(N)) (default 16, at most 1024)
-  --shutter T              motion blur: the shutter stays open over the fraction T of the
-                           scene's <motion> (0..1; default 1, the whole motion; 0 renders
-                           the scene at rest). Every camera sample takes its own time
-  --threshold T            stop a reflected/refracted branch whose weight is below T
-                           in every channel (default 1/256)
   --device D               auto (default: a GPU, else a CPU OpenCL device) | cpu | gpu |
                            all | ref (the host reference renderer) | an index from
                            --list-devices | a list of indices (0,2); several devices
@@ -38,34 +26,19 @@ options:
   --no-bvh                 with --device ref: test every primitive for every ray instead
                            of searching the reference renderer's BVH (slow: the plainest
                            oracle, for checking that BVH and for timing against it)
-  --search-path DIR        also look for textures and meshes under DIR (repeatable;
-                           RAY_SEARCH_PATH=dir1:dir2 does the same)
   --strict                 treat every warning as an error
-  --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
-                           switch a feature off (the course's test settings)
-  --dof MODE               depth of field for cameras with an aperture: course (default;
-                           each sample averages 25 rays from a 5x5 grid of lens points,
-                           as the course renders it) | disk (one random lens point a
-                           sample: a smooth blur with --aa stratified and many samples)
-  --fresnel                weight the reflection and transmission of transparent objects
-                           by exact Fresnel, reflections kept inside the object (SPEC §4;
-                           off by default)
-  --course-meshes          measure mesh hits as the course's solution did: distance along
-                           the normalized object-space ray (t·|M⁻¹d|), hit point placed
-                           there, face normals (docs/conventions.md; off by default)
-  --texture-filter F       nearest (default, as the course) | bilinear | trilinear |
-                           course (bilinear with texel corners at integers, as the
-                           course's renders made with its texture filter on)
   --quiet                  no progress and no warnings
   --stats                  print rays traced, Mrays/s and timings on stderr
-  --stats-json FILE        write the same statistics as JSON
+  --stats-json FILE        write the same statistics as JSON (with every render setting)
   --max-primitives N       refuse scenes that flatten to more than N primitive
                            instances (default 50000000; memory is checked as well)
   --partial                on Ctrl-C (SIGINT) or SIGTERM, write the part rendered so far
                            (unrendered pixels black) instead of nothing
   -h, --help               this text
   --version                the version
+)";
 
+const char* const kRenderExitHelp = R"(
 exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure,
              130 interrupted by SIGINT, 143 by SIGTERM (the output file is left as it was,
              unless --partial)
@@ -79,8 +52,25 @@ the tiles, renders too and alone writes the image and the statistics (see docs/u
                            a rank stopped answering and the job was ended without it
 )";
 
-int parseInt(const std::string& text, const std::string& what, int lo, int hi) {
-    int value = 0;
+std::string defaultText(const char* name) {
+    const SettingSpec* spec = findSetting(name);
+    const SettingValue value = settingValue(RenderSettings{}, *spec);
+    return std::to_string(std::get<int64_t>(value));
+}
+
+std::string composeUsage() {
+    return "usage: ray <scene.xml> [<width> <height>] [<depth>] [options]\n\nRenders a CS123 scenefile. Defaults: " +
+           defaultText("width") + " " + defaultText("height") + ", depth " + defaultText("depth") +
+           ", output <scene name>.png here.\n\noptions:\n" + kRenderOptionsHelp + renderSettingsHelp() +
+           kRenderExitHelp;
+}
+
+}  // namespace
+
+const std::string kUsageText = composeUsage();
+
+int64_t parseWhole(const std::string& text, const std::string& what, int64_t lo, int64_t hi) {
+    int64_t value = 0;
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
     if (ec == std::errc() && end == text.data() + text.size()) {
         if (value >= lo && value <= hi) return value;
@@ -88,6 +78,10 @@ int parseInt(const std::string& text, const std::string& what, int lo, int hi) {
         throw UsageError(what + " must be a whole number, not '" + text + "'");
     }
     throw UsageError(what + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", not " + text);
+}
+
+int parseInt(const std::string& text, const std::string& what, int lo, int hi) {
+    return int(parseWhole(text, what, lo, hi));
 }
 
 namespace {
@@ -119,39 +113,23 @@ double parseDoubleBetween(const std::string& text, const std::string& what, doub
 
 namespace {
 
-AntialiasMode parseAntialias(const std::string& text) {
-    if (text == "off") return AntialiasMode::Off;
-    if (text == "course") return AntialiasMode::Course;
-    if (text == "stratified") return AntialiasMode::Stratified;
-    if (text == "adaptive") return AntialiasMode::Adaptive;
-    throw UsageError("--aa must be off, course, stratified or adaptive, not '" + text + "'");
-}
-
-DofMode parseDofMode(const std::string& text) {
-    if (text == "course") return DofMode::Course;
-    if (text == "disk") return DofMode::Disk;
-    throw UsageError("--dof must be course or disk, not '" + text + "'");
-}
-
-TextureFilter parseTextureFilter(const std::string& text) {
-    if (text == "nearest") return TextureFilter::Nearest;
-    if (text == "bilinear") return TextureFilter::Bilinear;
-    if (text == "trilinear") return TextureFilter::Trilinear;
-    if (text == "course") return TextureFilter::Course;
-    throw UsageError("--texture-filter must be nearest, bilinear, trilinear or course, not '" + text + "'");
-}
-
 void validateDevice(const std::string& text) {
     if (!isDeviceSelection(text))
         throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
                          text + "'");
 }
 
+// A positional ([<width> <height>] [<depth>]) into its setting, in the table's range.
+void applyPositional(const std::string& text, const char* name, RenderSettings& s) {
+    const SettingSpec& spec = *findSetting(name);
+    setSetting(s, spec, parseWhole(text, name, int64_t(spec.minimum), int64_t(spec.maximum)), name);
+}
+
 // "a lone number after the scene is the depth": said whenever that number is refused, since
 // a width alone (ray scene.xml 640) is the usual slip.
 void applyLoneDepth(const std::string& value, RenderSettings& s) {
     try {
-        s.maxDepth = parseInt(value, "depth", 0, kMaxDepth);
+        applyPositional(value, "depth", s);
     } catch (const UsageError& e) {
         throw UsageError(std::string(e.what()) +
                          " (a lone number after the scene is the recursion depth, as in the course's "
@@ -176,11 +154,11 @@ void applySizeAndDepth(const std::vector<std::string>& values, RenderSettings& s
             applyLoneDepth(values[0], s);
             break;
         case 3:
-            s.maxDepth = parseInt(values[2], "depth", 0, kMaxDepth);
+            applyPositional(values[2], "depth", s);
             [[fallthrough]];
         case 2:
-            s.width = parseInt(values[0], "width", 1, kMaxImageSide);
-            s.height = parseInt(values[1], "height", 1, kMaxImageSide);
+            applyPositional(values[0], "width", s);
+            applyPositional(values[1], "height", s);
             break;
         default:
             throw UsageError("too many arguments: '" + values[3] + "' (after the scene: [<width> <height>] [<depth>])");
@@ -195,34 +173,121 @@ void addSwitch(CLI::App& app, const std::string& names, std::function<void()> ap
     app.add_flag_callback(names, std::move(apply));
 }
 
+namespace {
+
+// One table entry's text into its value, with ray's messages ("--aa must be off, course,
+// stratified or adaptive, not 'x'"; "--samples must be between 1 and 4096, not 0").
+SettingValue parseSettingValue(const SettingSpec& spec, const std::string& text) {
+    const std::string option = spec.optionName();
+    switch (spec.kind()) {
+        case SettingKind::Integer:
+            return parseWhole(text, option, int64_t(spec.minimum), int64_t(spec.maximum));
+        case SettingKind::Number:
+            return parseDoubleBetween(text, option, spec.minimum, spec.maximum);
+        case SettingKind::Choice:
+            if (!spec.choiceNamed(text))
+                throw UsageError(option + " must be " + choiceNames(spec, ", ", " or ") + ", not '" + text + "'");
+            return text;
+        case SettingKind::Switch:
+            break;
+    }
+    throw UsageError(option + " is a switch: it takes no value");
+}
+
+void addSettingOption(CLI::App& app, const SettingSpec& spec, RenderSettings& s) {
+    const std::string option = spec.optionName();
+    if (spec.kind() == SettingKind::Switch) {
+        // The switch names the change from the default: --no-shadows, --fresnel.
+        const bool switchedTo = !std::get<bool>(settingValue(RenderSettings{}, spec));
+        addSwitch(app, option, [&s, &spec, switchedTo] { setSetting(s, spec, switchedTo, spec.optionName()); });
+        return;
+    }
+    addValueOption(app, option,
+                   [&s, &spec](const std::string& v) { setSetting(s, spec, parseSettingValue(spec, v), spec.optionName()); });
+}
+
+// What --help says of a setting after its name: the table's help with its default, range
+// or choices.
+std::string settingDescription(const SettingSpec& spec) {
+    const SettingValue fallback = settingValue(RenderSettings{}, spec);
+    std::string text(spec.help);
+    switch (spec.kind()) {
+        case SettingKind::Integer:
+        case SettingKind::Number: {
+            const double value = std::holds_alternative<int64_t>(fallback) ? double(std::get<int64_t>(fallback))
+                                                                          : std::get<double>(fallback);
+            return text + " (" + formatSettingNumber(spec.minimum) + ".." + formatSettingNumber(spec.maximum) +
+                   "; default " + formatSettingNumber(value) + ")";
+        }
+        case SettingKind::Switch:
+            return std::get<bool>(fallback) ? text : text + " (off by default)";
+        case SettingKind::Choice: {
+            text += ":";
+            for (size_t i = 0; i < spec.choices.size(); ++i) {
+                const SettingChoice& choice = spec.choices[i];
+                const bool isDefault = std::get<std::string>(fallback) == choice.name;
+                std::string note = isDefault ? "default" : "";
+                if (!choice.note.empty()) note += (isDefault ? "; " : "") + std::string(choice.note);
+                text += std::string(i > 0 ? " |" : "") + " " + std::string(choice.name) + (note.empty() ? "" : " (" + note + ")");
+            }
+            return text;
+        }
+    }
+    return text;
+}
+
+constexpr size_t kHelpNameColumn = 2, kHelpTextColumn = 27, kHelpWidth = 92;
+
+// "  --aa MODE                antialiasing: ...", the text wrapped under its column.
+std::string helpEntry(const std::string& names, const std::string& text) {
+    std::string out;
+    std::string line = std::string(kHelpNameColumn, ' ') + names;
+    if (line.size() + 1 > kHelpTextColumn) {  // a long name: the text starts on the next line
+        out = line + "\n";
+        line.clear();
+    }
+    line.resize(kHelpTextColumn, ' ');
+    bool lineEmpty = true;
+    std::istringstream words(text);
+    for (std::string word; words >> word;) {
+        if (!lineEmpty && line.size() + 1 + word.size() > kHelpWidth) {
+            out += line + "\n";
+            line = std::string(kHelpTextColumn, ' ');
+            lineEmpty = true;
+        }
+        line += (lineEmpty ? "" : " ") + word;
+        lineEmpty = false;
+    }
+    return out + line + "\n";
+}
+
+}  // namespace
+
 void addRenderSettingOptions(CLI::App& app, RenderSettings& s, std::vector<std::filesystem::path>& searchPaths) {
-    addValueOption(app, "--aa", [&](const std::string& v) { s.antialias = parseAntialias(v); });
-    addValueOption(app, "--samples", [&](const std::string& v) { s.samples = parseInt(v, "--samples", 1, kMaxSamples); });
-    addValueOption(app, "--area-samples",
-                   [&](const std::string& v) { s.areaSamples = parseInt(v, "--area-samples", 1, kMaxAreaSamples); });
-    addValueOption(app, "--seed", [&](const std::string& v) { s.seed = uint32_t(parseInt(v, "--seed", 0, 2147483647)); });
-    addValueOption(app, "--shutter", [&](const std::string& v) { s.shutter = parseDoubleBetween(v, "--shutter", 0, 1); });
-    addValueOption(app, "--threshold",
-                   [&](const std::string& v) { s.weightThreshold = parseDoubleBetween(v, "--threshold", 0, 1); });
+    for (const SettingSpec& spec : renderSettingsTable())
+        if (!spec.positional) addSettingOption(app, spec, s);
     app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
         for (const std::string& dir : dirs) searchPaths.emplace_back(dir);
     })->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-    addSwitch(app, "--no-shadows", [&] { s.shadows = false; });
-    addSwitch(app, "--no-reflections", [&] { s.reflections = false; });
-    addSwitch(app, "--no-refraction", [&] { s.refraction = false; });
-    addSwitch(app, "--no-textures", [&] { s.textures = false; });
-    addSwitch(app, "--no-dof", [&] { s.depthOfField = false; });
-    addValueOption(app, "--dof", [&](const std::string& v) { s.dofMode = parseDofMode(v); });
-    addSwitch(app, "--fresnel", [&] { s.fresnel = true; });
-    addSwitch(app, "--course-meshes", [&] { s.courseMeshes = true; });
-    addValueOption(app, "--texture-filter", [&](const std::string& v) { s.textureFilter = parseTextureFilter(v); });
+}
+
+std::string renderSettingsHelp() {
+    std::string help = "\nrender settings (ray, ray explain and ray view take the same):\n";
+    for (const SettingSpec& spec : renderSettingsTable()) {
+        if (spec.positional) continue;
+        const std::string names = spec.optionName() + (spec.valueName.empty() ? "" : " " + std::string(spec.valueName));
+        help += helpEntry(names, settingDescription(spec));
+    }
+    return help + helpEntry("--search-path DIR", "also look for textures and meshes under DIR (repeatable; "
+                                                 "RAY_SEARCH_PATH=dir1:dir2 does the same)");
 }
 
 namespace {
 
 // The option table of the render command. Each option is one line: its names, and what its
-// value does to the options (the converters above keep ray's messages). To add an option,
-// add a line here and its entry in kUsageText. CLI11 does the matching: names, values,
+// value does to the options (the converters above keep ray's messages). The render
+// settings come from the table (render/settings_table.h); an option of the render command
+// alone is a line here and its entry in kRenderOptionsHelp. CLI11 does the matching: names, values,
 // repeats, unknown options.
 void addOptions(CLI::App& app, CliOptions& options) {
     auto set = [](bool& target) { return [&target] { target = true; }; };

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <cstdint>
 #include <optional>
 #include <functional>
 #include <string>
@@ -49,22 +50,29 @@ CliOptions parseCommandLine(const std::vector<std::string>& args);
 // The output file for the options: --output, or the scene's name with .png here.
 std::filesystem::path outputPathFor(const CliOptions& options);
 
-extern const char* const kUsageText;
+// ray --help: the render command's options, then the render settings' (renderSettingsHelp).
+extern const std::string kUsageText;
 
 // What the subcommands share with the render command: ray's value parsers (each message
 // names the option and what it takes), the render settings' options, and CLI11 with its
 // errors put in ray's words. Each throws UsageError.
 int parseInt(const std::string& text, const std::string& what, int lo, int hi);
+int64_t parseWhole(const std::string& text, const std::string& what, int64_t lo, int64_t hi);
 double parseDoubleBetween(const std::string& text, const std::string& what, double lo, double hi);
 
 // An option with a value, parsed by `apply` (CLI11 only matches the names), and a switch.
 void addValueOption(CLI::App& app, const std::string& names, std::function<void(const std::string&)> apply);
 void addSwitch(CLI::App& app, const std::string& names, std::function<void()> apply);
 
-// The options of RenderSettings that every command that traces takes: --aa, --samples,
-// --seed, --area-samples, --shutter, --threshold, --no-shadows ... --no-dof, --fresnel,
-// --course-meshes, --texture-filter, --search-path.
+// The options of RenderSettings that every command that traces takes, one for each entry
+// of the settings table (render/settings_table.h) but the positional width, height and
+// depth (--aa, --samples, ..., --no-shadows, ..., --texture-filter); and
+// --search-path.
 void addRenderSettingOptions(CLI::App& app, RenderSettings& settings, std::vector<std::filesystem::path>& searchPaths);
+
+// Those options' part of --help, generated from the table: names, help, defaults, ranges
+// and choices, as "\nrender settings ...:\n  --aa MODE   antialiasing: ...\n".
+std::string renderSettingsHelp();
 
 // The course's [<width> <height>] [<depth>] after the scene: a lone number is the depth.
 void applySizeAndDepth(const std::vector<std::string>& values, RenderSettings& settings);

@@ -129,7 +129,7 @@ int finishRender(const RenderOutput& result, const std::filesystem::path& output
     writeRendered(result, output);
     if (!options.quiet) std::cerr << "wrote " << output.string() << "\n";
     if (options.stats) printStats(result.stats, std::cerr);
-    if (!options.statsJson.empty()) writeStatsJson(result.stats, options.statsJson);
+    if (!options.statsJson.empty()) writeStatsJson(result.stats, options.settings, options.statsJson);
     return 0;
 }
 

@@ -14,32 +14,22 @@ namespace ray {
 
 namespace {
 
-const char* const kExplainUsage = R"(usage: ray explain <scene.xml> <x> <y> [<width> <height>] [<depth>] [options]
+const char* const kExplainIntro = R"(usage: ray explain <scene.xml> <x> <y> [<width> <height>] [<depth>] [options]
 
 Prints the tree of rays of pixel (x, y) (0, 0 at the top left) as the reference renderer
 traces it: every ray, hit, light term and branch not traced, with the term each number is
 in the lighting equation. The image is as `ray` would render it: the same size and depth
-arguments (default 1024 768, depth 4; a lone number after the pixel is the depth) and the
-same options.
+arguments (the same defaults; a lone number after the pixel is the depth) and the same
+render settings.
 
 options:
   --json FILE              also write the tree as JSON to FILE
-  --aa MODE                off | course (default) | stratified | adaptive
-  --samples N              samples per pixel for stratified/adaptive (default 16)
-  --seed N                 seed of the stochastic sampling (default 0)
-  --area-samples N         point samples per area light (default 16, at most 1024)
-  --shutter T              motion blur: fraction of the scene's <motion> (0..1; default 1)
-  --threshold T            stop a branch whose weight is below T (default 1/256)
-  --no-shadows, --no-reflections, --no-refraction, --no-textures, --no-dof
-                           switch a feature off (the course's test settings)
-  --fresnel                exact Fresnel weights on transparent surfaces
-  --course-meshes          mesh hits as the course's solution measured them
-  --texture-filter F       nearest (default) | bilinear | trilinear | course
-  --search-path DIR        also look for textures and meshes under DIR (repeatable)
   -h, --help               this text
-
-exit status: 0 success, 2 bad input or arguments
 )";
+
+std::string explainUsage() {
+    return kExplainIntro + renderSettingsHelp() + "\nexit status: 0 success, 2 bad input or arguments\n";
+}
 
 struct ExplainOptions {
     std::filesystem::path scene;
@@ -52,7 +42,7 @@ struct ExplainOptions {
 };
 
 void defineOptions(CLI::App& app, ExplainOptions& o) {
-    app.set_help_flag();  // kExplainUsage instead of CLI11's
+    app.set_help_flag();  // explainUsage() instead of CLI11's
     addSwitch(app, "-h,--help", [&] { o.help = true; });
     addValueOption(app, "--json", [&](const std::string& v) {
         if (v.empty()) throw UsageError("--json needs a file name");
@@ -92,13 +82,11 @@ int explain(const ExplainOptions& o) {
 int runExplainCommand(const std::vector<std::string>& args) {
     CLI::App app{"ray explain", "ray explain"};
     ExplainOptions options;
-    options.settings.width = 1024;
-    options.settings.height = 768;
     defineOptions(app, options);
     try {
         parseArguments(app, args);
         if (options.help) {
-            std::cout << kExplainUsage;
+            std::cout << explainUsage();
             return 0;
         }
         finishSettings(options);

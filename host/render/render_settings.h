@@ -26,6 +26,9 @@ enum class TextureFilter { Nearest, Bilinear, Trilinear, Course };
 // along the pinhole ray; a smooth blur under a stochastic --aa with many samples.
 enum class DofMode { Course, Disk };
 
+// The defaults here are the only ones: the settings table (render/settings_table.h), which
+// gives each member a front end sets its name, range or choices and help, reads them off
+// RenderSettings{} for --help, the viewer and the API's checks.
 struct RenderSettings {
     int width = 1024;
     int height = 768;
@@ -64,7 +67,7 @@ struct RenderSettings {
     double shutter = 1;
 };
 
-// Limits on what the command line and the API accept (each refused with a message naming it).
+// Limits on what the command line and the API accept (the settings table's ranges).
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxDepth = 64;
 constexpr int kMaxSamples = 4096;

@@ -1,6 +1,7 @@
 #include "render/render_stats.h"
 
 #include "core/atomic_file.h"
+#include "render/settings_table.h"
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -53,7 +54,7 @@ void printStats(const RenderStats& s, std::ostream& out) {
     }
 }
 
-std::string statsToJson(const RenderStats& s) {
+std::string statsToJson(const RenderStats& s, const RenderSettings& settings) {
     // ordered_json keeps the keys in the order written here, the order scripts have seen.
     nlohmann::ordered_json json;
     json["width"] = s.width;
@@ -97,11 +98,15 @@ std::string statsToJson(const RenderStats& s) {
         device["kernel_private_bytes"] = d.kernelPrivateBytes;
         json["devices"].push_back(device);
     }
+    // Every render setting the frame was made with, by its table name (the Python keywords).
+    for (const SettingSpec& spec : renderSettingsTable())
+        json["settings"][std::string(spec.name)] =
+            std::visit([](const auto& value) { return nlohmann::ordered_json(value); }, settingValue(settings, spec));
     return json.dump(2) + "\n";
 }
 
-void writeStatsJson(const RenderStats& stats, const std::filesystem::path& file) {
-    writeFileAtomically(file, statsToJson(stats));
+void writeStatsJson(const RenderStats& stats, const RenderSettings& settings, const std::filesystem::path& file) {
+    writeFileAtomically(file, statsToJson(stats, settings));
 }
 
 }  // namespace ray

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "render/render_settings.h"
+
 namespace ray {
 
 // One OpenCL device's share of a frame rendered on several.
@@ -53,8 +55,10 @@ struct RenderStats {
 };
 
 void printStats(const RenderStats& stats, std::ostream& out);
-std::string statsToJson(const RenderStats& stats);
+// The statistics, then "settings": every render setting by its table name
+// (render/settings_table.h), as the frame was made.
+std::string statsToJson(const RenderStats& stats, const RenderSettings& settings);
 // Written atomically (core/atomic_file.h). Throws FileWriteError (a std::runtime_error).
-void writeStatsJson(const RenderStats& stats, const std::filesystem::path& file);
+void writeStatsJson(const RenderStats& stats, const RenderSettings& settings, const std::filesystem::path& file);
 
 }  // namespace ray

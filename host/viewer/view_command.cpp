@@ -17,33 +17,35 @@ namespace ray {
 
 namespace {
 
-const char* const kViewUsage = R"(usage: ray view <scene.xml> [options]
+const char* const kViewIntro = R"(usage: ray view <scene.xml> [options]
 
 A live viewer in the browser: drag to orbit, shift-drag to pan, wheel to zoom, click a pixel
 to explain it. Saving the scene reloads it. Each change is drawn at once with one sample a
-pixel, then, once the view rests, with the antialiasing of `ray` (the course's), the image
-`ray <scene.xml> <width> <height>` makes of that view.
+pixel, then, once the view rests, with the antialiasing of --aa (by default the course's, as
+`ray`), the image `ray <scene.xml> <width> <height>` makes of that view. The render
+settings below set the view's first state; the page changes them.
 
 options:
-  --port N          TCP port (0: any free one; default 8123). A port in use is refused
-  --bind ADDRESS    address to listen on (default 127.0.0.1; anything else exposes the
-                    viewer to the network)
-  --no-token        open to anyone who can reach the port. By default the printed URL
-                    holds a random access token (kept in a cookie after the first visit)
-                    and every request without it gets 403, so that other users of the
-                    machine cannot use the viewer
-  --width N, --height N
-                    image size (8..2048; default 640 480)
-  --depth N         recursion depth (0..16; default 4)
-  --aa MODE         antialiasing of the view at rest: course (default, as ray) | off
-  --device D        auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene packed
-                    once; ref: the reference renderer
-  --search-path DIR also look for textures and meshes under DIR (repeatable)
-  -h, --help        this text
-
-exit status: 0 stopped, 2 bad input or arguments, 3 the port is in use or the server or
-             device cannot start
+  --port N                 TCP port (0: any free one; default 8123). A port in use is
+                           refused
+  --bind ADDRESS           address to listen on (default 127.0.0.1; anything else exposes
+                           the viewer to the network)
+  --no-token               open to anyone who can reach the port. By default the printed
+                           URL holds a random access token (kept in a cookie after the
+                           first visit) and every request without it gets 403, so that
+                           other users of the machine cannot use the viewer
+  --width N, --height N    image size (8..2048; default 640 480)
+  --depth N                recursion depth (0..16; default 4)
+  --device D               auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene
+                           packed once; ref: the reference renderer
+  -h, --help               this text
 )";
+
+std::string viewUsage() {
+    return kViewIntro + renderSettingsHelp() +
+           "\nexit status: 0 stopped, 2 bad input or arguments, 3 the port is in use or the server or\n"
+           "             device cannot start\n";
+}
 
 struct ViewCommand {
     ViewerOptions options;
@@ -56,7 +58,7 @@ struct ViewCommand {
 
 void defineOptions(CLI::App& app, ViewCommand& c) {
     RenderSettings& s = c.options.settings;
-    app.set_help_flag();  // kViewUsage instead of CLI11's
+    app.set_help_flag();  // viewUsage() instead of CLI11's
     addSwitch(app, "-h,--help", [&] { c.help = true; });
     addValueOption(app, "--port", [&](const std::string& v) { c.options.port = parseInt(v, "--port", 0, 65535); });
     addValueOption(app, "--bind", [&](const std::string& v) {
@@ -68,20 +70,13 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
     addValueOption(app, "--height",
                    [&](const std::string& v) { s.height = parseInt(v, "--height", kMinViewSide, kMaxViewSide); });
     addValueOption(app, "--depth", [&](const std::string& v) { s.maxDepth = parseInt(v, "--depth", 0, kMaxViewDepth); });
-    addValueOption(app, "--aa", [&](const std::string& v) {
-        if (v == "off") s.antialias = AntialiasMode::Off;
-        else if (v == "course") s.antialias = AntialiasMode::Course;
-        else throw UsageError("--aa of ray view must be course or off, not '" + v + "'");
-    });
     addValueOption(app, "--device", [&](const std::string& v) {
         if (!isDeviceSelection(v))
             throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
                              v + "'");
         c.device = v;
     });
-    app.add_option_function<std::vector<std::string>>("--search-path", [&](const std::vector<std::string>& dirs) {
-        for (const std::string& dir : dirs) c.searchPaths.emplace_back(dir);
-    })->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    addRenderSettingOptions(app, s, c.searchPaths);
     app.add_option("scene", c.positionals);
 }
 
@@ -116,14 +111,13 @@ int runViewCommand(const std::vector<std::string>& args) {
     ViewCommand command;
     command.options.settings.width = 640;
     command.options.settings.height = 480;
-    // The view at rest is refined to the CLI's antialiasing; while the camera moves, frames
-    // take one sample a pixel (viewer_server.h).
-    command.options.settings.antialias = RenderSettings{}.antialias;
+    // The view at rest is refined to --aa (the CLI's default unless given); while the
+    // camera moves, frames take one sample a pixel (viewer_server.h).
     defineOptions(app, command);
     try {
         parseArguments(app, args);
         if (command.help) {
-            std::cout << kViewUsage;
+            std::cout << viewUsage();
             return 0;
         }
         finishOptions(command);

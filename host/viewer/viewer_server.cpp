@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "explain/explanation_report.h"
+#include "render/settings_table.h"
 #include "viewer/access_token.h"
 #include "viewer/viewer_page.h"
 
@@ -75,7 +76,54 @@ struct View {
     RenderSettings settings;
 };
 
-// A view request from the page: camera and the switches. Throws on anything malformed.
+// The viewer lays out these table entries itself: the size and depth within its own
+// limits, and depth of field as one control, "dof": off, or --dof's course | disk.
+bool viewerOwnControl(std::string_view name) {
+    return name == "width" || name == "height" || name == "depth" || name == "dof" || name == "dof_mode";
+}
+
+// A JSON value as the table takes it; throws on another JSON type.
+SettingValue settingValueFrom(const json& j, const SettingSpec& spec) {
+    switch (spec.kind()) {
+        case SettingKind::Switch: return j.get<bool>();
+        case SettingKind::Choice: return j.get<std::string>();
+        case SettingKind::Integer:
+            if (!j.is_number_integer()) throw std::invalid_argument(std::string(spec.name) + " must be a whole number");
+            return j.get<int64_t>();
+        case SettingKind::Number: return j.get<double>();
+    }
+    throw std::invalid_argument(std::string(spec.name) + " was not understood");
+}
+
+json settingJson(const RenderSettings& settings, const SettingSpec& spec) {
+    return std::visit([](const auto& value) { return json(value); }, settingValue(settings, spec));
+}
+
+const char* dofControl(const RenderSettings& s) {
+    if (!s.depthOfField) return "off";
+    return s.dofMode == DofMode::Disk ? "disk" : "course";
+}
+
+// What the page builds its controls from: every setting of the table it does not lay out
+// itself, with its kind, default, range or choices and help.
+json settingControlsJson() {
+    json controls = json::array();
+    for (const SettingSpec& spec : renderSettingsTable()) {
+        if (viewerOwnControl(spec.name)) continue;
+        static const char* const kKinds[] = {"integer", "number", "switch", "choice"};
+        json control{{"name", spec.name}, {"kind", kKinds[int(spec.kind())]}, {"help", spec.help},
+                     {"default", settingJson(RenderSettings{}, spec)}};
+        if (spec.kind() == SettingKind::Integer || spec.kind() == SettingKind::Number) {
+            control["min"] = spec.minimum;
+            control["max"] = spec.maximum;
+        }
+        for (const SettingChoice& choice : spec.choices) control["choices"].push_back(choice.name);
+        controls.push_back(control);
+    }
+    return controls;
+}
+
+// A view request from the page: camera and the settings. Throws on anything malformed.
 View parseView(const std::string& body, const View& current) {
     json j = json::parse(body);
     if (!j.is_object()) throw std::invalid_argument("not an object");
@@ -89,26 +137,23 @@ View parseView(const std::string& body, const View& current) {
     s.width = intIn(j, "width", kMinViewSide, kMaxViewSide, s.width);
     s.height = intIn(j, "height", kMinViewSide, kMaxViewSide, s.height);
     s.maxDepth = intIn(j, "depth", 0, kMaxViewDepth, s.maxDepth);
-    for (auto [key, flag] : {std::pair{"shadows", &s.shadows}, std::pair{"reflections", &s.reflections},
-                             std::pair{"refraction", &s.refraction}, std::pair{"textures", &s.textures},
-                             std::pair{"fresnel", &s.fresnel}, std::pair{"course_meshes", &s.courseMeshes}})
-        if (j.contains(key)) *flag = j[key].get<bool>();
-    if (j.contains("aa")) {
-        std::string aa = j["aa"].get<std::string>();
-        if (aa == "off") s.antialias = AntialiasMode::Off;
-        else if (aa == "course") s.antialias = AntialiasMode::Course;
-        else throw std::invalid_argument("aa must be off or course");
-    }
-    if (j.contains("dof")) {  // depth of field: off, or --dof's course | disk
+    for (const SettingSpec& spec : renderSettingsTable())
+        if (!viewerOwnControl(spec.name) && j.contains(spec.name))
+            setSetting(s, spec, settingValueFrom(j[spec.name], spec), spec.name);
+    if (j.contains("dof")) {
         std::string dof = j["dof"].get<std::string>();
         if (dof != "off" && dof != "course" && dof != "disk") throw std::invalid_argument("dof must be off, course or disk");
         s.depthOfField = dof != "off";
-        if (dof != "off") s.dofMode = dof == "disk" ? DofMode::Disk : DofMode::Course;
+        if (dof != "off") setSetting(s, *findSetting("dof_mode"), dof, "dof");
     }
     return view;
 }
 
-const char* antialiasName(AntialiasMode mode) { return mode == AntialiasMode::Off ? "off" : "course"; }
+std::string antialiasName(AntialiasMode mode) {
+    RenderSettings settings;
+    settings.antialias = mode;
+    return std::get<std::string>(settingValue(settings, *findSetting("aa")));
+}
 
 // What a frame is: the view (request number) and scene (reload number) it shows, and
 // whether it is the quick preview of a change or the view at rest, refined.
@@ -139,18 +184,15 @@ public:
 
     json state() {
         std::lock_guard lock(mutex_);
-        return {{"scene", options_.scene.filename().string()}, {"device", source_->deviceName()},
-                {"position", vecJson(view_.camera.position)}, {"look", vecJson(view_.camera.look)},
-                {"up", vecJson(view_.camera.up)}, {"width", view_.settings.width},
-                {"height", view_.settings.height}, {"depth", view_.settings.maxDepth},
-                {"shadows", view_.settings.shadows}, {"reflections", view_.settings.reflections},
-                {"refraction", view_.settings.refraction}, {"textures", view_.settings.textures},
-                {"fresnel", view_.settings.fresnel}, {"course_meshes", view_.settings.courseMeshes},
-                {"aa", antialiasName(view_.settings.antialias)},
-                {"dof", !view_.settings.depthOfField                  ? "off"
-                        : view_.settings.dofMode == DofMode::Disk ? "disk"
-                                                                  : "course"},
-                {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_}};
+        json state{{"scene", options_.scene.filename().string()}, {"device", source_->deviceName()},
+                   {"position", vecJson(view_.camera.position)}, {"look", vecJson(view_.camera.look)},
+                   {"up", vecJson(view_.camera.up)}, {"width", view_.settings.width},
+                   {"height", view_.settings.height}, {"depth", view_.settings.maxDepth},
+                   {"dof", dofControl(view_.settings)}, {"error", sceneError_}, {"view", requested_},
+                   {"scene_version", sceneVersion_}};
+        for (const SettingSpec& spec : renderSettingsTable())
+            if (!viewerOwnControl(spec.name)) state[std::string(spec.name)] = settingJson(view_.settings, spec);
+        return state;
     }
 
     // A new view: the frame in flight is cancelled and the latest request alone is rendered.
@@ -441,6 +483,9 @@ void defineRoutes(httplib::Server& server, Session& session) {
     server.Get("/", [](const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-store");
         response.set_content(kViewerPage, "text/html; charset=utf-8");
+    });
+    server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {
+        response.set_content(settingControlsJson().dump(), "application/json");
     });
     server.Get("/state", [&](const httplib::Request&, httplib::Response& response) {
         response.set_content(session.state().dump(), "application/json");

@@ -2,12 +2,16 @@
 // embedded at build time), the frame tile by tile as server-sent events, camera and
 // settings changes, the scene file watched, and "explain this pixel".
 //
-// Only five routes exist (/, /state, /view, /events, /explain); nothing is ever read from
+// Only six routes exist (/, /settings, /state, /view, /events, /explain); nothing is ever read from
 // disk for a request, so no path can reach a file. Every request must carry the access
 // token (viewer/access_token.h) unless the viewer was started with --no-token: without it
 // the answer is 403, whatever the path. Request bodies are capped, every number is
 // range-checked, and each change cancels the frame in flight: the renderer works on the
 // latest request only.
+//
+// The page builds its setting controls from /settings, which the server makes from the
+// settings table (render/settings_table.h): every render setting but the size, depth and
+// depth of field, which the page lays out itself.
 //
 // Frames: a change is first rendered with one sample a pixel (quick, while the camera
 // moves); once the view has rested for a moment it is rendered again with the antialiasing

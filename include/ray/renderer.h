@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "ray/errors.h"
@@ -20,13 +21,14 @@ namespace ray::api {
 /// they differ.
 enum class Antialias { Off, Course, Stratified, Adaptive };
 /// How textures are read (`--texture-filter`): the nearest texel, the four nearest, or
-/// mipmaps.
-enum class TextureFilter { Nearest, Bilinear, Trilinear };
+/// mipmaps; Course: bilinear with texel corners at integer coordinates, as the course's renders.
+enum class TextureFilter { Nearest, Bilinear, Trilinear, Course };
 /// Depth of field (docs/conventions.md, "Beyond the course"): Course, the course's 5×5 lens
 /// grid (SPEC §3); Disk, one random point of the lens disk a sample.
 enum class DofMode { Course, Disk };
 
-/// What to render: the same switches as the command line (see docs/user-guide.md, "Using it").
+/// What to render: the same switches as the command line (see docs/user-guide.md, "Using it");
+/// each is also settable by name (setSetting), as `ray --help` and describeSettings() list them.
 struct Settings {
     ///@{
     /// The image's size in pixels (1..16384 each).
@@ -48,6 +50,33 @@ struct Settings {
     bool courseMeshes = false;              ///< --course-meshes: mesh hits as the course's renderer finds them
     TextureFilter textureFilter = TextureFilter::Nearest;  ///< `--texture-filter`
 };
+
+/// A setting by name, for front ends that take settings as text or dynamic values (the
+/// Python module's keywords): the name is the command line's option with underscores
+/// ("course_meshes" for --course-meshes and Settings::courseMeshes; "dof" for depth of
+/// field on or off, "dof_mode" for --dof).
+struct SettingDescription {
+    /// What values the setting takes: a whole number, a number, on/off, or one of named choices.
+    enum class Kind { Integer, Number, Switch, Choice };
+    std::string name;                  ///< the keyword: the command line's option with underscores
+    Kind kind = Kind::Switch;          ///< what values it takes
+    ///@{
+    /// The range of an Integer or Number setting, both ends included.
+    double minimum = 0, maximum = 0;
+    ///@}
+    std::vector<std::string> choices;  ///< a Choice's names, in the order of the enum's values
+    std::string help;                  ///< a phrase, as `ray --help` shows it
+};
+
+/// Every setting of Settings, in the order `ray --help` lists them.
+std::vector<SettingDescription> describeSettings();
+
+/// A setting's value: Integer int64_t, Number double (or int64_t), Switch bool, Choice its name.
+using SettingValue = std::variant<bool, int64_t, double, std::string>;
+
+/// Sets the setting `name` in `settings`. Throws InputError for an unknown name, a value of
+/// another kind, a value out of range or a name that is not one of the choices.
+void setSetting(Settings& settings, const std::string& name, const SettingValue& value);
 
 /// An OpenCL device, as `ray --list-devices` numbers them.
 struct Device {

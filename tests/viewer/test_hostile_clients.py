@@ -149,6 +149,22 @@ try:
     assert status == 400, status
     case("dof modes", "off, disk and course set through /view and reported by /state; another name refused")
 
+    # The page's controls come from the settings table: every antialiasing mode, and the
+    # settings beyond the switches, each set through /view within its range.
+    status, controls = viewer.json("GET", "/settings")
+    assert status == 200, status
+    by_name = {c["name"]: c for c in controls}
+    assert by_name["aa"]["choices"] == ["off", "course", "stratified", "adaptive"], by_name["aa"]
+    assert by_name["samples"]["kind"] == "integer" and by_name["samples"]["max"] == 4096, by_name["samples"]
+    for aa in ("stratified", "adaptive", "off", "course"):
+        viewer.request("POST", "/view", f'{{"aa": "{aa}", "samples": 4}}'.encode())
+        status, state = viewer.json("GET", "/state")
+        assert status == 200 and state["aa"] == aa and state["samples"] == 4, state
+    for body in (b'{"samples": 0}', b'{"samples": 2.5}', b'{"shutter": "x"}', b'{"texture_filter": "sharp"}'):
+        status, _ = viewer.request("POST", "/view", body)
+        assert status == 400, (body, status)
+    case("settings from the table", "/settings lists every aa mode; aa and samples round-trip; out of range refused")
+
     # Clients that connect and never read (nor send).
     sockets = []
     for _ in range(50):
