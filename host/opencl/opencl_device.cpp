@@ -20,7 +20,7 @@
 
 #include "core/atomic_file.h"
 #include "opencl/kernel_source.h"
-#include "render/renderer.h"
+#include "render/device_error.h"
 
 namespace ray {
 namespace fs = std::filesystem;

@@ -16,7 +16,7 @@
 
 #include "core/memory_limits.h"
 #include "opencl/scene_packing.h"
-#include "render/renderer.h"
+#include "render/device_error.h"
 
 namespace ray {
 

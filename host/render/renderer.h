@@ -9,17 +9,12 @@
 #include <thread>
 
 #include "image/image.h"
+#include "render/device_error.h"
 #include "render/render_settings.h"
 #include "render/render_stats.h"
 #include "scene/scene.h"
 
 namespace ray {
-
-// A device or runtime failure (no OpenCL platform, a kernel that fails to build, a scene
-// too big for the device): the message says what happened and what to try instead.
-struct DeviceError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct RenderJob {
     const Scene& scene;
