@@ -9,7 +9,7 @@
 #include "app/command_modules.h"
 #include "app/progress.h"
 #include "app/render_command.h"
-#include "distributed/mpi_launch.h"
+#include "app/mpi_launch.h"
 #include "explain/explain_command.h"
 #include "render/renderer.h"
 
