@@ -5,7 +5,7 @@
 
 #include "image/image.h"
 #include "ray/errors.h"
-#include "render/renderer.h"
+#include "render/device_error.h"
 #include "scene/scene.h"
 
 namespace ray::api::detail {

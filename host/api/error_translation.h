@@ -1,4 +1,4 @@
-// The internal exceptions (scene/scene.h InputError, render/renderer.h DeviceError,
+// The internal exceptions (scene/scene.h InputError, render/device_error.h DeviceError,
 // image/image.h ImageError) as the public API's (include/ray/errors.h).
 #pragma once
 
