@@ -53,6 +53,13 @@ struct alignas(16) int4 {
 #define RAY_PRIM_MESH 5
 #define RAY_PRIM_CSG 6 /* info: (RAY_PRIM_CSG, material of the first operand, program start, program length) */
 
+/* The torus of SPEC §2: a ring of major radius RAY_TORUS_MAJOR_RADIUS around the y axis, in
+ * the xz plane, swept by a circle of radius RAY_TORUS_MINOR_RADIUS. Both renderers and the
+ * scene's bounds (host/scene/scene_primitives.cpp) read them from here; floats whose values
+ * are exact in double too. */
+#define RAY_TORUS_MAJOR_RADIUS 0.375f
+#define RAY_TORUS_MINOR_RADIUS 0.125f
+
 /* Constructive solid geometry (host/scene/csg.h, cl/csg.cl). A csg object's postfix program
  * is a run of records in the primitive buffer, after the primitives the BVH indexes (so no
  * BVH leaf names them): an operand step is the operand's own RayPrimitive (info.x a

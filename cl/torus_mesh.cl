@@ -4,8 +4,8 @@
  * No fast-math here either: the root isolation and the slab tests rely on exact IEEE
  * comparisons. */
 
-#define TORUS_MAJOR 0.375f
-#define TORUS_MINOR 0.125f
+#define TORUS_MAJOR RAY_TORUS_MAJOR_RADIUS
+#define TORUS_MINOR RAY_TORUS_MINOR_RADIUS
 
 /* Derivative `order` (0 to 3) of the monic quartic s⁴ + c.w s³ + c.z s² + c.y s + c.x. */
 static inline float quarticDerivative(float4 c, int order, float s) {

@@ -4,7 +4,8 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-add_library(libray SHARED $<TARGET_OBJECTS:rayobjects>)
+list(TRANSFORM RAY_LIBRARY_LAYERS REPLACE "(.+)" "$<TARGET_OBJECTS:\\1>" OUTPUT_VARIABLE RAY_LIBRARY_OBJECTS)
+add_library(libray SHARED ${RAY_LIBRARY_OBJECTS})
 set_target_properties(libray PROPERTIES
   OUTPUT_NAME ray EXPORT_NAME ray VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR})
 target_include_directories(libray PUBLIC

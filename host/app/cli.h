@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/usage_error.h"
 #include "render/render_settings.h"
 
 namespace CLI {
@@ -37,11 +38,6 @@ struct CliOptions {
     bool referenceBruteForce = false;
     bool help = false;
     bool version = false;
-};
-
-// Thrown for bad arguments; the message says what is wrong and what to do.
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
 };
 
 // Parses argv (argv[0] excluded). Throws UsageError.

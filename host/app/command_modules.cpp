@@ -7,7 +7,7 @@
 #include "app/command_module_abi.h"
 #include "app/render_command.h"
 #include "core/module_loader.h"
-#include "distributed/mpi_launch.h"
+#include "app/mpi_launch.h"
 
 namespace ray {
 

@@ -9,8 +9,8 @@
 #include "app/command_modules.h"
 #include "app/progress.h"
 #include "app/render_command.h"
+#include "app/mpi_launch.h"
 #include "devices/renderer.h"
-#include "distributed/mpi_launch.h"
 #include "explain/explain_command.h"
 
 namespace {

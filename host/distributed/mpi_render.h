@@ -21,7 +21,7 @@
 // message loop while the engine renders on other threads.
 //
 // All of it is the module libray_mpi.so, the only code of ray linked with Open MPI: main()
-// opens it only when launchedByMpirun() (mpi_launch.h) and calls its entry point,
+// opens it only when launchedByMpirun() (app/mpi_launch.h) and calls its entry point,
 // ray_mpi_main (app/command_module_abi.h), which runs runDistributedCommand.
 #pragma once
 

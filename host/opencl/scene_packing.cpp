@@ -9,7 +9,8 @@
 #include <thread>
 
 #include "accel/wide_bvh.h"
-#include "reference/texture_filtering.h"
+#include "image/mipmap.h"
+#include "render/texture_footprint.h"
 
 namespace ray {
 
@@ -190,7 +191,7 @@ void appendTexels(const Image& image, PackedScene& packed) {
     }
 }
 
-// Each image, followed by its mipmap levels when filtering is trilinear (texture_filtering.h).
+// Each image, followed by its mipmap levels when filtering is trilinear (image/mipmap.h).
 void packTextures(const Scene& scene, bool mipmaps, PackedScene& packed) {
     for (const Image& image : scene.images) {
         int offset = int(packed.texels.size());

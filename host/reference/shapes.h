@@ -11,6 +11,7 @@
 
 #include "core/math.h"
 #include "scene/scene.h"
+#include "shared_types.h"
 
 namespace ray {
 
@@ -34,11 +35,12 @@ std::optional<ShapeHit> intersectSphere(const Vec3& origin, const Vec3& directio
 std::optional<ShapeHit> intersectCylinder(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 std::optional<ShapeHit> intersectCone(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 // The torus of SPEC §2: the ring of major radius kTorusMajorRadius around the y axis, in
-// the xz plane, swept by a circle of radius kTorusMinorRadius. Normal from the nearest
+// the xz plane, swept by a circle of radius kTorusMinorRadius (cl/shared_types.h, shared
+// with the kernel and the scene's bounds). Normal from the nearest
 // point of the ring; u as the sphere's around y, v = the angle around the tube / 2π,
 // measured from the outer equator and growing upward on the outside (v up as seen from
 // outside, as SPEC §5 asks of every mapping).
-constexpr double kTorusMajorRadius = 0.375, kTorusMinorRadius = 0.125;
+constexpr double kTorusMajorRadius = RAY_TORUS_MAJOR_RADIUS, kTorusMinorRadius = RAY_TORUS_MINOR_RADIUS;
 std::optional<ShapeHit> intersectTorus(const Vec3& origin, const Vec3& direction, double tMin, double tMax);
 
 // Dispatches on the type. Meshes are not unit primitives: they return no hit here (the

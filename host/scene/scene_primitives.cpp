@@ -1,6 +1,6 @@
 #include "scene/scene.h"
 
-#include "reference/shapes.h"  // the torus radii, for its bounds
+#include "shared_types.h"  // the torus radii, for its bounds
 
 namespace ray {
 
@@ -19,8 +19,8 @@ const char* primitiveTypeName(PrimitiveType type) {
 
 void fitObjectBox(PrimitiveInstance& instance, const std::vector<TriangleMesh>& meshes) {
     if (instance.type == PrimitiveType::Torus) {
-        instance.objectLo = {-kTorusMajorRadius - kTorusMinorRadius, -kTorusMinorRadius,
-                             -kTorusMajorRadius - kTorusMinorRadius};
+        constexpr double ringRadius = RAY_TORUS_MAJOR_RADIUS, tubeRadius = RAY_TORUS_MINOR_RADIUS;
+        instance.objectLo = {-ringRadius - tubeRadius, -tubeRadius, -ringRadius - tubeRadius};
         instance.objectHi = -1 * instance.objectLo;
     } else if (instance.type == PrimitiveType::Mesh) {
         instance.objectLo = meshes[size_t(instance.mesh)].boundsLo;

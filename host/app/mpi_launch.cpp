@@ -1,4 +1,4 @@
-#include "distributed/mpi_launch.h"
+#include "app/mpi_launch.h"
 
 #include <cstdlib>
 #include <initializer_list>
