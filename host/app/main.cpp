@@ -54,7 +54,7 @@ int run(const CliOptions& options) {
     job.tileSize = options.tileSize;
     job.eightBit = !isFloatFormat(output);
     beginRendering();
-    RenderOutput result = render(job);
+    RenderedFrame result = render(job);
     progress.finish();
     result.stats.loadSeconds = loadSeconds;
     return finishRender(result, output, options);

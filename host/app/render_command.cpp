@@ -103,7 +103,7 @@ void checkImageFitsInMemory(const CliOptions& options) {
 namespace {
 
 // The image of a render: 8-bit when the render kept it so (RenderJob::eightBit).
-void writeRendered(const RenderOutput& result, const std::filesystem::path& output) {
+void writeRendered(const RenderedFrame& result, const std::filesystem::path& output) {
     if (!result.bytes.empty())
         writeImage(result.bytes, output);
     else
@@ -112,9 +112,9 @@ void writeRendered(const RenderOutput& result, const std::filesystem::path& outp
 
 }  // namespace
 
-int finishRender(const RenderOutput& result, const std::filesystem::path& output, const CliOptions& options) {
+int finishRender(const RenderedFrame& result, const std::filesystem::path& output, const CliOptions& options) {
     for (const std::string& warning : result.stats.warnings) std::cerr << "ray: warning: " << warning << "\n";
-    if (result.interrupted) {
+    if (result.cancelled) {
         // The output file is left as it was, or with --partial gets what was rendered
         // (unrendered pixels black).
         if (options.partial) {

@@ -47,6 +47,6 @@ void checkImageFitsInMemory(const CliOptions& options);
 
 // After the render: prints the devices' warnings, writes the image (or after an interrupt
 // the partial image with --partial, else nothing), the statistics; returns the exit code.
-int finishRender(const RenderOutput& result, const std::filesystem::path& output, const CliOptions& options);
+int finishRender(const RenderedFrame& result, const std::filesystem::path& output, const CliOptions& options);
 
 }  // namespace ray

@@ -17,21 +17,17 @@ bool isDeviceSelection(const std::string& text) {
     return std::all_of(text.begin(), text.end(), [](char c) { return c == ',' || (c >= '0' && c <= '9'); });
 }
 
-RenderOutput render(const RenderJob& job) {
+RenderedFrame render(const RenderJob& job) {
     FrameRequest request;
     request.progress = job.progress;
     request.cancel = job.cancel;
     request.tileSize = job.tileSize;  // 0: frameTileSide, smaller when cancellable
     request.eightBit = job.eightBit;
     // Every device of the selection ("all", "0,2") cooperates on the one frame.
-    RenderedFrame frame = makeFrameSource(job.device, job.referenceBruteForce)
+    RenderedFrame out = makeFrameSource(job.device, job.referenceBruteForce)
                               ->render(borrowedScene(job.scene), job.scene.camera, job.settings, request);
-    RenderOutput out;
-    out.image = std::move(frame.image);
-    out.bytes = std::move(frame.bytes);
-    out.stats = std::move(frame.stats);
     // Read again now: a Ctrl-C after the frame's last tile still interrupts the command.
-    out.interrupted = frame.cancelled || (job.cancel && job.cancel->load());
+    out.cancelled = out.cancelled || (job.cancel && job.cancel->load());
     out.stats.width = job.settings.width;
     out.stats.height = job.settings.height;
     out.stats.depth = job.settings.maxDepth;

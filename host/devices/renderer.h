@@ -28,23 +28,17 @@ struct RenderJob {
     std::string device = "auto";  // auto | cpu | gpu | all | ref | <index> | <index>,<index>...
     std::function<void(double)> progress;
     // Set to true (e.g. from a signal handler) to stop early: the render returns within
-    // about a second with RenderOutput::interrupted set and unrendered pixels black.
+    // about a second with RenderedFrame::cancelled set and unrendered pixels black.
     const std::atomic<bool>* cancel = nullptr;
     // The reference renderer tests every primitive for every ray (--no-bvh).
     bool referenceBruteForce = false;
     // OpenCL tile side (--tile-size); 0: automatic (render/tile_side.h frameTileSide).
     int tileSize = 0;
-    // Return the image as the 8-bit values an 8-bit file holds (RenderOutput::bytes), for
+    // Return the image as the 8-bit values an 8-bit file holds (RenderedFrame::bytes), for
     // an output that is one: OpenCL devices keep only those, a quarter of the memory.
     bool eightBit = false;
 };
 
-struct RenderOutput {
-    Image image;      // unless RenderJob::eightBit (then empty)
-    ByteImage bytes;  // with RenderJob::eightBit (else empty)
-    RenderStats stats;
-    bool interrupted = false;  // stopped by RenderJob::cancel: the image is partial
-};
 
 // Whether text is a device selection: auto, cpu, gpu, all, ref (or reference), or a
 // device index, or a list of indices such as 0,2.
@@ -56,7 +50,7 @@ bool isReferenceDevice(const std::string& device);
 // One frame on the devices the job names, through their frame source (makeFrameSource);
 // several ("all", a list) cooperate on the frame, tile by tile (opencl/opencl_engine.h).
 // Throws DeviceError, InputError.
-RenderOutput render(const RenderJob& job);
+RenderedFrame render(const RenderJob& job);
 
 // The frame source (render/frame_source.h) for the devices named: the reference renderer
 // for ref (testing every primitive for every ray with referenceBruteForce, --no-bvh), else

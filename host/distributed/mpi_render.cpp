@@ -576,12 +576,12 @@ public:
         progress.finish();
         const double renderSeconds = secondsSince(start);
 
-        RenderOutput result;
-        result.interrupted = interrupted();
+        RenderedFrame result;
+        result.cancelled = interrupted();
         const bool complete = scheduler_.complete();
         result.image = ranks_.takeImage();
         int code = 0;
-        if (!result.interrupted && !complete) {
+        if (!result.cancelled && !complete) {
             std::cerr << "ray: every rank's OpenCL devices failed or stopped answering; rank 0: " << share.failure
                       << "\n";
             code = kExitRuntime;
@@ -594,7 +594,7 @@ public:
                 code = reportFailure(std::current_exception());
             }
         }
-        if (result.interrupted) leaveInterrupted();
+        if (result.cancelled) leaveInterrupted();
         std::vector<int> silent;
         for (int r = 1; r < mpi_.size; ++r) {
             if (rankStats_[size_t(r)]) MPI_Send(&code, 1, MPI_INT, r, kEnd, MPI_COMM_WORLD);
