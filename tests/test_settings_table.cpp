@@ -9,6 +9,7 @@
 #include "app/cli.h"
 #include "render/render_stats.h"
 #include "render/settings_table.h"
+#include "scene/parameter_rules.h"
 
 namespace {
 
@@ -36,7 +37,7 @@ SettingValue otherValue(const SettingSpec& spec) {
 // The value as the command line writes it.
 std::string optionText(const SettingValue& value) {
     if (const int64_t* whole = std::get_if<int64_t>(&value)) return std::to_string(*whole);
-    if (const double* real = std::get_if<double>(&value)) return ray::formatSettingNumber(*real);
+    if (const double* real = std::get_if<double>(&value)) return ray::formatNumber(*real);
     return std::get<std::string>(value);
 }
 

@@ -2,6 +2,7 @@
 
 #include "devices/renderer.h"
 #include "render/settings_table.h"
+#include "scene/parameter_rules.h"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -85,12 +86,6 @@ int parseInt(const std::string& text, const std::string& what, int lo, int hi) {
 }
 
 namespace {
-
-std::string formatNumber(double value) {
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
 
 double parseDouble(const std::string& text, const std::string& what) {
     try {
@@ -216,8 +211,8 @@ std::string settingDescription(const SettingSpec& spec) {
         case SettingKind::Number: {
             const double value = std::holds_alternative<int64_t>(fallback) ? double(std::get<int64_t>(fallback))
                                                                           : std::get<double>(fallback);
-            return text + " (" + formatSettingNumber(spec.minimum) + ".." + formatSettingNumber(spec.maximum) +
-                   "; default " + formatSettingNumber(value) + ")";
+            return text + " (" + formatNumber(spec.minimum) + ".." + formatNumber(spec.maximum) +
+                   "; default " + formatNumber(value) + ")";
         }
         case SettingKind::Switch:
             return std::get<bool>(fallback) ? text : text + " (off by default)";

@@ -1,5 +1,7 @@
 #include "render/settings_table.h"
 
+#include "scene/parameter_rules.h"
+
 #include <cmath>
 #include <sstream>
 #include <type_traits>
@@ -92,8 +94,8 @@ const char* kindWord(SettingKind kind) {
 
 void checkRange(const SettingSpec& spec, double value, std::string_view label) {
     if (!(value >= spec.minimum && value <= spec.maximum))
-        throw SettingError(std::string(label) + " must be between " + formatSettingNumber(spec.minimum) + " and " +
-                           formatSettingNumber(spec.maximum) + ", not " + formatSettingNumber(value));
+        throw SettingError(std::string(label) + " must be between " + formatNumber(spec.minimum) + " and " +
+                           formatNumber(spec.maximum) + ", not " + formatNumber(value));
 }
 
 double numberFrom(const SettingSpec& spec, const SettingValue& value, std::string_view label) {
@@ -196,13 +198,6 @@ void checkSettingRanges(const RenderSettings& settings) {
         checkRange(spec, kind == SettingKind::Integer ? double(std::get<int64_t>(value)) : std::get<double>(value),
                    spec.name);
     }
-}
-
-std::string formatSettingNumber(double value) {
-    std::ostringstream out;
-    if (value == std::floor(value) && std::fabs(value) < 1e15) out << int64_t(value);
-    else out << value;
-    return out.str();
 }
 
 std::string choiceNames(const SettingSpec& spec, std::string_view separator, std::string_view lastSeparator) {

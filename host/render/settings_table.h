@@ -78,8 +78,6 @@ void setSetting(RenderSettings& settings, const SettingSpec& spec, const Setting
 // one out of it by its name.
 void checkSettingRanges(const RenderSettings& settings);
 
-// A number as messages and --help write it: 16, 0.5, 4294967295.
-std::string formatSettingNumber(double value);
 // The choices' names: "off, course, stratified or adaptive" with lastSeparator " or ".
 std::string choiceNames(const SettingSpec& spec, std::string_view separator, std::string_view lastSeparator);
 

@@ -1,6 +1,7 @@
 #include "scene/parameter_rules.h"
 
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 namespace ray {
@@ -66,7 +67,11 @@ std::optional<RuleBroken> brokenCameraAxes(const Camera& camera, std::string_vie
 
 std::string formatNumber(double value) {
     std::ostringstream out;
-    out << value;
+    // Whole numbers in full (4294967295, not 4.29497e+09); others as the stream writes them.
+    if (value == std::floor(value) && std::fabs(value) < 1e15)
+        out << int64_t(value);
+    else
+        out << value;
     return out.str();
 }
 

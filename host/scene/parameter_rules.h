@@ -63,7 +63,8 @@ std::optional<RuleBroken> brokenRule(std::string_view name, const Vec3& value, c
 // nor parallel to it; else what is wrong, naming the two as the caller calls them.
 std::optional<RuleBroken> brokenCameraAxes(const Camera& camera, std::string_view lookName, std::string_view upName);
 
-// A number as people write it: 16384, 0.5, 1e-06 (not std::to_string's "16384.000000").
+// A number as people write it: 16384, 4294967295, 0.5, 1e-06 (not std::to_string's
+// "16384.000000"). The loader's, the settings table's and the command line's messages use it.
 std::string formatNumber(double value);
 
 }  // namespace ray
