@@ -259,15 +259,27 @@ static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* n
 /* Minimum and maximum of operands that are never NaN. OpenCL's fmin and fmax must return
  * the operand that is not NaN, which costs a compare-unordered and a blend per call on
  * CPUs; a select compiles to one vminps/vmaxps (the traversal ran ~25% faster on PoCL).
- * The slab test below never sees a NaN (safeInverse), so it uses these. */
+ * The slab tests below never see a NaN (safeInverse), so they use these. */
 static inline float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
 static inline float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
+static inline float minNumber(float a, float b) { return a < b ? a : b; }
+static inline float maxNumber(float a, float b) { return a > b ? a : b; }
 
 /* Slab distances to the four children of a wide node (cl/shared_types.h): the distance at
  * which the ray enters each child's box within (0, tMax), +infinity for a child it misses
- * and for an absent one. */
+ * and for an absent one.
+ *
+ * Two shapes of the same arithmetic, operation for operation (so the same bits): on PoCL
+ * the four children at once in float4s, which its CPU code runs as SIMD; elsewhere one child
+ * at a time in floats. On a GPU each work-item's float4 is four scalar registers, and the
+ * ray's coordinates spread over float4s (origin.x - node->minX and the like) became six
+ * four-register splats that LLVM hoists out of the walk's loop: on gfx906 at 64 VGPRs they
+ * held 24 registers for the whole walk, and renderTile spilled 800 B more scratch. On PoCL
+ * the one-child shape costs 5% more instructions (chess). tests/rusticl.sh renders the
+ * bundled scenes with the scalar shape and compares them with PoCL's. */
+#ifdef POCL_DEVICE_ADDRESS_BITS
 static inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
-                                  float tMax) {
+                                         float tMax) {
     float4 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
     float4 ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y;
     float4 tz0 = (node->minZ - origin.z) * inverseDirection.z, tz1 = (node->maxZ - origin.z) * inverseDirection.z;
@@ -277,6 +289,29 @@ static inline float4 childEntryDistances(__global const RayWideBvhNode* node, fl
                              minNumber4(maxNumber4(tz0, tz1), (float4)(tMax)));
     return select((float4)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
 }
+#else
+/* The entry distance into one box, [minX, maxX] × [minY, maxY] × [minZ, maxZ]. */
+static inline float boxEntryDistance(float minX, float maxX, float minY, float maxY, float minZ, float maxZ,
+                                     float3 origin, float3 inverseDirection, float tMax) {
+    float tx0 = (minX - origin.x) * inverseDirection.x, tx1 = (maxX - origin.x) * inverseDirection.x;
+    float ty0 = (minY - origin.y) * inverseDirection.y, ty1 = (maxY - origin.y) * inverseDirection.y;
+    float tz0 = (minZ - origin.z) * inverseDirection.z, tz1 = (maxZ - origin.z) * inverseDirection.z;
+    float tNear = maxNumber(maxNumber(minNumber(tx0, tx1), minNumber(ty0, ty1)), maxNumber(minNumber(tz0, tz1), 0.0f));
+    float tFar = minNumber(minNumber(maxNumber(tx0, tx1), maxNumber(ty0, ty1)), minNumber(maxNumber(tz0, tz1), tMax));
+    return tNear <= tFar ? tNear : RAY_INFINITY;
+}
+
+/* Child `lane` (s0..s3) of the node: its box's entry distance, +infinity when absent. */
+#define RAY_CHILD_ENTRY(lane)                                                                                    \
+    (node->index.lane >= 0 ? boxEntryDistance(node->minX.lane, node->maxX.lane, node->minY.lane, node->maxY.lane, \
+                                              node->minZ.lane, node->maxZ.lane, origin, inverseDirection, tMax)   \
+                           : RAY_INFINITY)
+static inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
+                                         float tMax) {
+    return (float4)(RAY_CHILD_ENTRY(s0), RAY_CHILD_ENTRY(s1), RAY_CHILD_ENTRY(s2), RAY_CHILD_ENTRY(s3));
+}
+#undef RAY_CHILD_ENTRY
+#endif
 
 /* A wide node's four children as a walk reads them: the distance at which the ray enters
  * each (childEntryDistances: +infinity when missed or absent), its index and its count. */
