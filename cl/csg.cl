@@ -82,25 +82,58 @@ static inline bool csgInside(int operation, bool a, bool b) {
     return a && !b; /* RAY_CSG_DIFFERENCE */
 }
 
-/* Combines list a (countA boundaries, a copy of it) and list b, which starts at times[countA],
- * into times[0..], in place; returns the result's count. Boundaries at the same t are taken
+/* Merges list b (countB boundaries from times[countA]) into list a before it, by t, in place:
+ * each of b's boundaries moves back past a's later ones (at most countA · countB moves, and
+ * lists are short). Within a list t strictly increases (an operand's list is one span with
+ * enter < leave; a combination keeps a subsequence of the distinct t it walks, see
+ * csgCombine), so a boundary of b stops at b's previous one, and at equal t a's stays first. */
+static inline void csgMergeByTime(int countA, int countB, float* times, uchar* codes) {
+    for (int k = countA; k < countA + countB; ++k) {
+        float t = times[k];
+        uchar code = codes[k];
+        int at = k;
+        for (; at > 0 && times[at - 1] > t; --at) {
+            times[at] = times[at - 1];
+            codes[at] = codes[at - 1];
+        }
+        times[at] = t;
+        codes[at] = code;
+    }
+}
+
+/* Combines list a (countA boundaries) and list b, which starts at times[countA], into
+ * times[0..], in place; returns the result's count. Boundaries at the same t are taken
  * together, and a result boundary on both surfaces is b's (the operand written later:
- * SPEC §4, coincident surfaces), as host/reference/csg.cpp combineCsgSpans does. In place is safe: a step reads before it writes, and writes at
- * most one boundary for each it reads, so the result never overtakes b's unread part. */
-static inline int csgCombine(int operation, const float* timesA, const uchar* codesA, int countA, int countB,
-                             float* times, uchar* codes) {
-    const float* timesB = times + countA;
-    const uchar* codesB = codes + countA;
-    int i = 0, j = 0, count = 0;
+ * SPEC §4, coincident surfaces), as host/reference/csg.cpp combineCsgSpans does.
+ *
+ * The lists are first merged by t (csgMergeByTime); the walk then reads them in the order a
+ * two-list walk would, telling b's boundaries by their codes: b's operands come after a's
+ * in the postfix program, so every code of b exceeds every code of a. Counting each list's
+ * boundaries read gives inside-ness (odd: inside), and at a t of both lists a's boundary
+ * comes first, with b's next (the result keeps a's t there: equal to b's, it could differ
+ * only in the sign of a zero, which no comparison sees). Each step reads at least one
+ * boundary and writes at most one, so the result never overtakes what is still unread, and
+ * never outgrows the two lists' room. */
+static inline int csgCombine(int operation, int countA, int countB, float* times, uchar* codes) {
+    int firstCodeOfB = 256; /* above every code (a byte): with b empty, all are a's */
+    for (int k = countA; k < countA + countB; ++k) firstCodeOfB = min(firstCodeOfB, (int)codes[k]);
+    csgMergeByTime(countA, countB, times, codes);
+    int i = 0, j = 0, count = 0; /* boundaries of a and of b read; boundaries of the result */
     bool inside = false;
-    while (i < countA || j < countB) {
-        float ta = i < countA ? timesA[i] : RAY_INFINITY, tb = j < countB ? timesB[j] : RAY_INFINITY;
-        float t = fmin(ta, tb);
-        int code = -1;
-        if (i < countA && ta == t) code = codesA[i++];
-        if (j < countB && tb == t) code = codesB[j++];
+    for (int k = 0; k < countA + countB;) {
+        float t = times[k];
+        int code = codes[k++];
+        if (code >= firstCodeOfB) {
+            ++j;
+        } else {
+            ++i;
+            if (k < countA + countB && times[k] == t) { /* b's, as a's next one is later */
+                code = codes[k++];
+                ++j;
+            }
+        }
         bool now = csgInside(operation, (i & 1) != 0, (j & 1) != 0);
-        if (now == inside || count >= RAY_CSG_BOUNDARIES) continue;
+        if (now == inside) continue;
         inside = now;
         /* A sliver of a gap (entering just after the last exit) or of a span (leaving just
          * after the last entry) takes back that boundary instead. */
@@ -118,12 +151,12 @@ static inline int csgCombine(int operation, const float* timesA, const uchar* co
 /* The object's postfix program runs on one array of boundaries holding the stack's lists
  * end to end: an operand's list (at most two boundaries) is added at the end; an operator
  * combines the last two lists into the first of them. Every operand adds at most two
- * boundaries and a combination never adds any, so RAY_CSG_BOUNDARIES hold the whole stack;
- * a combination reads a copy of its first list (lists: 5 bytes a boundary, 640 in all). */
+ * boundaries and a combination never adds any, so RAY_CSG_BOUNDARIES hold the whole stack
+ * (5 bytes a boundary, 320 in all); a combination works in place, with no copy. */
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit) {
-    float times[RAY_CSG_BOUNDARIES], copiedTimes[RAY_CSG_BOUNDARIES];
-    uchar codes[RAY_CSG_BOUNDARIES], copiedCodes[RAY_CSG_BOUNDARIES];
+    float times[RAY_CSG_BOUNDARIES];
+    uchar codes[RAY_CSG_BOUNDARIES];
     int start[RAY_CSG_MAX_STACK + 1]; /* list k is times[start[k] .. start[k + 1]) */
     int top = 0;
     start[0] = 0;
@@ -139,11 +172,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
         }
         if (top < 2) return;
         int a = start[top - 2], countA = start[top - 1] - a, countB = start[top] - start[top - 1];
-        for (int k = 0; k < countA; ++k) {
-            copiedTimes[k] = times[a + k];
-            copiedCodes[k] = codes[a + k];
-        }
-        start[top - 1] = a + csgCombine(kind, copiedTimes, copiedCodes, countA, countB, times + a, codes + a);
+        start[top - 1] = a + csgCombine(kind, countA, countB, times + a, codes + a);
         --top;
     }
     if (top != 1) return;

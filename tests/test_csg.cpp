@@ -2,12 +2,16 @@
 // hits of csg objects, and the loader's program for nested objects.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "kernel_comparison.h"
+#include "opencl/kernel_source.h"
 #include "reference/csg.h"
 #include "reference/reference_bvh.h"
 #include "scene/scene_loader.h"
+#include "shared_types.h"
 
 using namespace ray;
 
@@ -266,4 +270,182 @@ TEST_CASE("slivers of rounding between nearly coincident faces are dropped", "[c
     // A thin wall that is geometry stays: 1e-3 of the distance.
     CHECK(times(combineCsgSpans(CsgStepKind::Difference, a, CsgSpans{span(1, 1.999, 1)})) ==
           Pairs{{0, 1}, {1.999, 2}});
+}
+
+namespace {
+
+// The kernel's combination (cl/csg.cl csgCombine) run on a postfix program of operand spans
+// given as numbers, with the stack walk of intersectCsg, one program a work-item: the
+// sources up to cl/csg.cl (all it uses) and this kernel, which writes the final list.
+constexpr int kProgramSteps = 2 * kCsgMaxOperands;  // RAY_CSG_BOUNDARIES: room for every step, every result
+const char* const kCombineTestKernel = R"(
+__kernel void csgProgramTest(__global const int* kinds, __global const float2* spans, __global const int* steps,
+                             __global int* counts, __global float* outTimes, __global uchar* outCodes) {
+    const int program = get_global_id(0), base = program * RAY_CSG_BOUNDARIES;
+    float times[RAY_CSG_BOUNDARIES];
+    uchar codes[RAY_CSG_BOUNDARIES];
+    int start[RAY_CSG_MAX_STACK + 1];
+    int top = 0;
+    start[0] = 0;
+    for (int step = 0; step < steps[program]; ++step) {
+        int kind = kinds[base + step];
+        if (kind == 0) {
+            int at = start[top], count = 0;
+            float2 span = spans[base + step];
+            if (span.y > span.x) { /* as csgOperandBoundaries */
+                times[at] = span.x;
+                codes[at] = (uchar)(step * 2);
+                times[at + 1] = span.y;
+                codes[at + 1] = (uchar)(step * 2 + 1);
+                count = 2;
+            }
+            start[top + 1] = at + count;
+            ++top;
+            continue;
+        }
+        int a = start[top - 2];
+        start[top - 1] = a + csgCombine(kind, start[top - 1] - a, start[top] - start[top - 1], times + a, codes + a);
+        --top;
+    }
+    counts[program] = start[1];
+    for (int k = 0; k < start[1]; ++k) {
+        outTimes[base + k] = times[k];
+        outCodes[base + k] = codes[k];
+    }
+}
+)";
+
+struct RandomCsgProgram {
+    std::vector<int> kinds;        // 0: an operand, else RAY_CSG_UNION, _INTERSECTION or _DIFFERENCE
+    std::vector<cl_float2> spans;  // an operand's (enter, leave); leave <= enter: no span
+};
+
+// Ends on a coarse grid, so that operands touch and share faces, some moved by a sliver
+// (about 2e-7 of t, far under kCsgSliver) and some by a thin wall (1e-3, far over it), so
+// that float and double decide every sliver alike. Stacks up to kCsgMaxStack deep; half the
+// programs are mostly unions of kCsgMaxOperands operands, for long lists.
+RandomCsgProgram randomCsgProgram(std::mt19937& random) {
+    auto pick = [&](int n) { return int(random() % unsigned(n)); };
+    auto end = [&]() {
+        float t = float(pick(96) - 16) * 0.25f;
+        switch (pick(6)) {
+            case 0: return t * (1 + 2e-7f);
+            case 1: return t * (1 - 2e-7f);
+            case 2: return t + 1e-3f * (std::fabs(t) + 1);
+            default: return t;
+        }
+    };
+    RandomCsgProgram p;
+    const bool mostlyUnions = pick(2) == 0;  // long lists: many disjoint spans
+    const int operands = mostlyUnions ? kCsgMaxOperands : 1 + pick(kCsgMaxOperands);
+    int pushed = 0, depth = 0;
+    while (pushed < operands || depth > 1) {
+        if (pushed < operands && (depth < 2 || (depth < kCsgMaxStack && pick(2) == 0))) {
+            float enter = end();
+            float leave = pick(8) == 0 ? enter * (1 + 2e-7f) : pick(2) ? enter + float(1 + pick(4)) * 0.25f : end();
+            p.kinds.push_back(0);
+            p.spans.push_back({{enter, leave}});
+            ++pushed, ++depth;
+        } else {
+            p.kinds.push_back(mostlyUnions && pick(4) ? RAY_CSG_UNION : RAY_CSG_UNION + pick(3));
+            p.spans.push_back({{0, 0}});
+            --depth;
+        }
+    }
+    return p;
+}
+
+// The same program on the host (host/reference/csg.cpp), as (t, code) pairs in the kernel's
+// coding: the operand's step · 2 + 1 where the ray leaves it.
+std::vector<std::pair<float, int>> hostProgramBoundaries(const RandomCsgProgram& p) {
+    std::vector<CsgSpans> stack;
+    for (size_t step = 0; step < p.kinds.size(); ++step) {
+        if (p.kinds[step] == 0) {
+            const cl_float2& s = p.spans[step];
+            stack.push_back(s.s[1] > s.s[0] ? CsgSpans{span(s.s[0], s.s[1], int(step))} : CsgSpans{});
+            continue;
+        }
+        CsgStepKind kind = p.kinds[step] == RAY_CSG_UNION          ? CsgStepKind::Union
+                           : p.kinds[step] == RAY_CSG_INTERSECTION ? CsgStepKind::Intersection
+                                                                   : CsgStepKind::Difference;
+        CsgSpans b = std::move(stack.back());
+        stack.pop_back();
+        stack.back() = combineCsgSpans(kind, stack.back(), b);
+    }
+    std::vector<std::pair<float, int>> result;
+    for (const CsgSpan& s : stack.back())
+        for (const CsgBoundary* boundary : {&s.enter, &s.exit})
+            result.emplace_back(float(boundary->hit.t), boundary->operand * 2 + (boundary->entersOperand ? 0 : 1));
+    return result;
+}
+
+}  // namespace
+
+// Deep programs of every operator, with touching and coincident spans and slivers: the
+// kernel's in-place combination must keep exactly the boundaries the host keeps.
+TEST_CASE("kernel combines random csg programs exactly as the host", "[csg][kernel]") {
+    auto device = test::cpuDevice();
+    if (!device) {
+        test::skip("no OpenCL CPU device (install pocl-opencl-icd)");
+        return;
+    }
+    std::string source;
+    for (const KernelSourceFile& file : kernelSourceFiles()) {
+        source += std::string("#line 1 \"") + file.name + "\"\n" + file.text + "\n";
+        if (std::string(file.name) == "csg.cl") break;
+    }
+    source += kCombineTestKernel;
+    cl::Context context(device->device);
+    cl::Program program(context, source);
+    try {
+        program.build({device->device}, "-cl-std=CL1.2");
+    } catch (const cl::Error&) {
+        FAIL(program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device->device));
+    }
+
+    constexpr int kPrograms = 4000;
+    std::mt19937 random(23);
+    std::vector<RandomCsgProgram> programs;
+    std::vector<int> kinds(kPrograms * kProgramSteps, 0), steps(kPrograms);
+    std::vector<cl_float2> spans(kPrograms * kProgramSteps);
+    for (int i = 0; i < kPrograms; ++i) {
+        programs.push_back(randomCsgProgram(random));
+        steps[i] = int(programs[i].kinds.size());
+        std::copy(programs[i].kinds.begin(), programs[i].kinds.end(), kinds.begin() + i * kProgramSteps);
+        std::copy(programs[i].spans.begin(), programs[i].spans.end(), spans.begin() + i * kProgramSteps);
+    }
+    cl::CommandQueue queue(context, device->device);
+    auto input = [&](auto& v) {
+        return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(v[0]), v.data());
+    };
+    cl::Buffer kindsBuffer = input(kinds), spansBuffer = input(spans), stepsBuffer = input(steps);
+    cl::Buffer countsBuffer(context, CL_MEM_WRITE_ONLY, kPrograms * sizeof(int));
+    cl::Buffer timesBuffer(context, CL_MEM_WRITE_ONLY, kPrograms * kProgramSteps * sizeof(float));
+    cl::Buffer codesBuffer(context, CL_MEM_WRITE_ONLY, kPrograms * kProgramSteps);
+    cl::Kernel kernel(program, "csgProgramTest");
+    int arg = 0;
+    for (cl::Buffer* b : {&kindsBuffer, &spansBuffer, &stepsBuffer, &countsBuffer, &timesBuffer, &codesBuffer})
+        kernel.setArg(arg++, *b);
+    queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(kPrograms));
+    std::vector<int> counts(kPrograms);
+    std::vector<float> times(kPrograms * kProgramSteps);
+    std::vector<cl_uchar> codes(kPrograms * kProgramSteps);
+    queue.enqueueReadBuffer(countsBuffer, CL_TRUE, 0, counts.size() * sizeof(int), counts.data());
+    queue.enqueueReadBuffer(timesBuffer, CL_TRUE, 0, times.size() * sizeof(float), times.data());
+    queue.enqueueReadBuffer(codesBuffer, CL_TRUE, 0, codes.size(), codes.data());
+
+    int longest = 0, mismatches = 0;
+    for (int i = 0; i < kPrograms && mismatches < 5; ++i) {
+        std::vector<std::pair<float, int>> kernelBoundaries;
+        for (int k = 0; k < counts[i]; ++k)
+            kernelBoundaries.emplace_back(times[i * kProgramSteps + k], codes[i * kProgramSteps + k]);
+        longest = std::max(longest, counts[i]);
+        if (kernelBoundaries == hostProgramBoundaries(programs[i])) continue;
+        ++mismatches;
+        UNSCOPED_INFO("program " << i << " of " << steps[i] << " steps: the kernel keeps " << counts[i]
+                                 << " boundaries, the host " << hostProgramBoundaries(programs[i]).size());
+    }
+    INFO("longest result: " << longest << " boundaries");
+    CHECK(mismatches == 0);
+    CHECK(longest >= 16);  // the programs reach long lists
 }
