@@ -77,6 +77,14 @@ cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data, 
     return cl::Buffer(context, flags, bytes, const_cast<void*>(source));
 }
 
+// A test hook: RAY_TEST_COPY_SCENE=1 gives a CPU device a copy of the scene too
+// (CL_MEM_COPY_HOST_PTR). Oclgrind's --uninitialized takes a CL_MEM_USE_HOST_PTR buffer
+// for never written (tests/oclgrind.sh), so its run sets this; the kernel reads the same bytes.
+bool sceneCopiedForTests() {
+    const char* value = std::getenv("RAY_TEST_COPY_SCENE");
+    return value && *value;
+}
+
 // A test hook: RAY_TEST_BVH_SHORT_STACK=N builds the kernel with an N-entry traversal
 // stack (cl/intersect.cl BvhStack), so that tests can make every walk overflow and show
 // that the fallback finds the same hits. Empty unless set to a number from 1 to 64.
@@ -552,7 +560,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     auto start = Clock::now();
     if (slot.uploaded != frame.packed) {
         slot.releaseScene();
-        const bool inPlace = slot.device.isCpu;
+        const bool inPlace = slot.device.isCpu && !sceneCopiedForTests();
         size_t next = 0;
         packed.forEachBuffer([&](const auto& table, SceneBufferName) {
             slot.sceneBuffers[next++] = uploadBuffer(slot.context, table, inPlace);
