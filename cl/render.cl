@@ -6,30 +6,100 @@
 #define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
 #endif
 
-/* A ray a hit spawns: its weight in its parent's color and the media it travels through
- * (cl/optics.cl). Its time is the camera sample's, given as it is traced. */
+/* A float3 kept in 12 bytes: in a private struct a float3 takes 16, and private memory is
+ * what a GPU has least of. Only loads and stores change: the arithmetic stays on float3. */
 typedef struct {
-    float3 origin, direction;
-    float3 weight; /* ks·Or or kt·Ot (times R or 1 − R with --fresnel) */
-    MediumStack media;
+    float x, y, z;
+} PackedFloat3;
+
+static inline PackedFloat3 packFloat3(float3 v) {
+    PackedFloat3 packed = {v.x, v.y, v.z};
+    return packed;
+}
+
+static inline float3 unpackFloat3(PackedFloat3 packed) { return (float3)(packed.x, packed.y, packed.z); }
+
+/* How a child ray's media (cl/optics.cl) follow from its parent's: a reflected ray, or a
+ * refracted one under total internal reflection, stays in its parent's; a refracted ray
+ * enters the object (pushes its ior) or leaves it (pops). Kept instead of the media
+ * themselves, which mediaOf rebuilds. */
+#define RAY_MEDIUM_SAME 0
+#define RAY_MEDIUM_ENTERED 1
+#define RAY_MEDIUM_LEFT 2
+
+/* A ray a hit spawns, kept until it is traced: its weight in its parent's color and its
+ * medium change (the kind in its frame). Its time is the camera sample's, given as it is
+ * traced. */
+typedef struct {
+    PackedFloat3 origin, direction;
+    PackedFloat3 weight; /* ks·Or or kt·Ot (times R or 1 − R with --fresnel) */
+    float enteredIor;    /* the ior it pushes when its medium change is RAY_MEDIUM_ENTERED */
 } ChildRay;
 
-/* One ray of the tree awaiting its children. Its color is folded into its parent, clamped
- * to [0, 1] and weighted, once all of its children are folded into it (SPEC §4: I_r is
- * clamped before it is weighted). Its first child is traced as soon as it is spawned, so a
- * frame keeps only the second: private memory is what a GPU has least of. */
+/* One ray of the tree awaiting its children; its depth is its index in the stack. Its
+ * color is folded into its parent, clamped to [0, 1] and weighted, once all of its
+ * children are folded into it (SPEC §4: I_r is clamped before it is weighted). Its first
+ * child is written straight into the frame above it and the ray traced next, and pushed at
+ * once, so a frame keeps only the second: private memory is what a GPU has least of. */
 typedef struct {
-    float3 color;          /* local shading plus the children folded in so far */
-    float3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
-    ChildRay second;       /* the second child, traced once the first's tree is folded in */
-    MediumStack media;     /* the media this frame's ray travels through */
-    int childCount, nextChild, depth;
+    PackedFloat3 color;          /* local shading plus the children folded in so far */
+    PackedFloat3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
+    float enteredIor;            /* the ior this ray pushes if its medium is RAY_MEDIUM_ENTERED */
+    ChildRay second;             /* the second child, traced once the first's tree is folded in */
+    uchar medium;                /* this ray's medium change from its parent's (RAY_MEDIUM_*) */
+    uchar secondMedium;          /* the second child's */
+    uchar childCount, nextChild; /* 0..2 */
 } Frame;
 
-/* Where a frame's next spawned child goes: the first to `first`, which traceCameraRay
- * pushes at once, the second into the frame. */
-static inline ChildRay* spawnedChild(Frame* frame, ChildRay* first) {
-    return frame->childCount++ == 0 ? first : &frame->second;
+/* Whether a frame at `depth` spawns no child: the bounce limit (--depth), which the host
+ * makes RAY_MAX_FRAMES − 1, so that the first child always has a frame above to go to. */
+static inline bool atDepthLimit(const RayRenderParams* params, int depth) {
+    return depth >= params->mode.y || depth + 1 >= RAY_MAX_FRAMES;
+}
+
+/* Records a ray spawned by `frame`: the first goes straight into the frame above (`above`)
+ * and the ray traced next (`aboveRay`; its time stays: every ray of the tree sees the
+ * scene at its camera sample's time), the second into the frame. */
+static inline void spawnChild(Frame* frame, Frame* above, Ray* aboveRay, float3 origin, float3 direction,
+                              float3 weight, uchar medium, float enteredIor) {
+    if (frame->childCount++ == 0) {
+        aboveRay->origin = origin;
+        aboveRay->direction = direction;
+        above->weightInParent = packFloat3(weight);
+        above->medium = medium;
+        above->enteredIor = enteredIor;
+        return;
+    }
+    frame->second.origin = packFloat3(origin);
+    frame->second.direction = packFloat3(direction);
+    frame->second.weight = packFloat3(weight);
+    frame->second.enteredIor = enteredIor;
+    frame->secondMedium = medium;
+}
+
+/* The path weight of frame `top`: the product of the weights from the camera ray to it,
+ * multiplied in the order the tree spawned them, so that it is the same to the bit as a
+ * product kept in each frame; recomputed, because private memory is what a GPU has least of. */
+static inline float3 pathWeightOf(const Frame* stack, int top) {
+    float3 weight = (float3)(1.0f);
+    for (int k = 1; k <= top; ++k) weight *= unpackFloat3(stack[k].weightInParent);
+    return weight;
+}
+
+/* The media of frame `top`'s ray: the camera's (air) changed by each frame's medium change
+ * from the camera ray up, as iorBeyond changed them when the frames were spawned. Rebuilt
+ * where a transparent surface needs them, because private memory is what a GPU has least
+ * of (and most rays never meet one). */
+static inline MediumStack mediaOf(const Frame* stack, int top) {
+    MediumStack media;
+    media.count = 0; /* the camera is in air */
+    for (int k = 1; k <= top; ++k) {
+        if (stack[k].medium == RAY_MEDIUM_SAME) continue;
+        MediumStack beyond;
+        iorBeyond(&media, stack[k].medium == RAY_MEDIUM_ENTERED, stack[k].enteredIor, &beyond);
+        media = beyond;
+    }
+    return media;
 }
 
 static inline bool anyAbove(float3 v, float threshold) {
@@ -40,33 +110,29 @@ static inline bool anyAbove(float3 v, float threshold) {
  * surface, or, under total internal reflection, the mirrored ray, which stays in the
  * medium it came from. normal (the shading normal) and surfaceNormal (the surface's own,
  * before a bump map tilts it) face the incoming direction d. */
-void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
-                       bool entering, float materialIor, float3 weight, float epsilon) {
-    MediumStack beyond;
-    float n1 = iorBefore(&frame->media, entering, materialIor);
-    float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
+void addRefractedChild(const Frame* stack, int depth, Frame* frame, Frame* above, Ray* aboveRay, float3 d, float3 p,
+                       float3 normal, float3 surfaceNormal, bool entering, float materialIor, float3 weight,
+                       float epsilon) {
+    MediumStack media = mediaOf(stack, depth), beyond;
+    float n1 = iorBefore(&media, entering, materialIor);
+    float n2 = iorBeyond(&media, entering, materialIor, &beyond);
     float3 transmitted;
-    ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child->direction = transmitted;
-        child->origin = offsetAlongRay(p, -surfaceNormal, transmitted, epsilon); /* start on the far side */
-        child->media = beyond;
+        spawnChild(frame, above, aboveRay, offsetAlongRay(p, -surfaceNormal, transmitted, epsilon), /* far side */
+                   transmitted, weight, entering ? RAY_MEDIUM_ENTERED : RAY_MEDIUM_LEFT, materialIor);
     } else {
-        child->direction = d - 2.0f * dot(d, normal) * normal;
-        child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
-        child->media = frame->media;
+        float3 mirrored = d - 2.0f * dot(d, normal) * normal;
+        spawnChild(frame, above, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
+                   RAY_MEDIUM_SAME, 0.0f);
     }
-    child->weight = weight;
 }
 
-/* The mirrored ray (I_r), which stays in the medium it came from (traceCameraRay sets its time). */
-void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
-                       float3 weight, float epsilon) {
-    ChildRay* child = spawnedChild(frame, first);
-    child->direction = d - 2.0f * dot(d, normal) * normal;
-    child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
-    child->weight = weight;
-    child->media = frame->media;
+/* The mirrored ray (I_r), which stays in the medium it came from. */
+void addReflectedChild(Frame* frame, Frame* above, Ray* aboveRay, float3 d, float3 p, float3 normal,
+                       float3 surfaceNormal, float3 weight, float epsilon) {
+    float3 mirrored = d - 2.0f * dot(d, normal) * normal;
+    spawnChild(frame, above, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
+               RAY_MEDIUM_SAME, 0.0f);
 }
 
 /* Whether a branch of weight `weight` below a frame whose path weight (the product of the
@@ -82,12 +148,14 @@ static inline bool refracts(int features, float3 transparent) {
     return (features & RAY_FEATURE_REFRACTION) && anyAbove(fabs(transparent), 1e-30f);
 }
 
-/* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the frame's ray meets a
- * transparent surface, from the medium it is in into the one beyond (cl/optics.cl). */
-static inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
-    MediumStack beyond;
-    float n1 = iorBefore(&frame->media, entering, materialIor);
-    float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
+/* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the ray of frame
+ * stack[depth] meets a transparent surface, from the medium it is in into the one beyond
+ * (cl/optics.cl). */
+static inline float surfaceReflectance(const Frame* stack, int depth, float3 d, float3 normal, bool entering,
+                                       float materialIor) {
+    MediumStack media = mediaOf(stack, depth), beyond;
+    float n1 = iorBefore(&media, entering, materialIor);
+    float n2 = iorBeyond(&media, entering, materialIor, &beyond);
     return fresnelReflectance(-dot(d, normal), n1, n2);
 }
 
@@ -102,27 +170,32 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
     return !entering && refracts(features, transparent);
 }
 
-void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 pathWeight, ChildRay* first, float3 d,
+void transmitFromInside(const RayRenderParams* params, Frame* stack, int depth, Frame* above, Ray* aboveRay, float3 d,
                         float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
-    if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
+    if (atDepthLimit(params, depth)) return; /* no bounce left: I_t is black */
+    Frame* frame = &stack[depth];
+    float3 pathWeight = pathWeightOf(stack, depth);
     if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
-        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, (float3)(1.0f),
-                          params->limits.y);
+        addRefractedChild(stack, depth, frame, above, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
+                          (float3)(1.0f), params->limits.y);
         return;
     }
-    float r = surfaceReflectance(frame, d, normal, false, materialIor);
+    float r = surfaceReflectance(stack, depth, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
     if (branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(frame, first, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
+        addReflectedChild(frame, above, aboveRay, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
     if (branchTraced(params, pathWeight, transmitWeight))
-        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, transmitWeight,
-                          params->limits.y);
+        addRefractedChild(stack, depth, frame, above, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
+                          transmitWeight, params->limits.y);
 }
 
-/* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first). */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight, Ray ray,
-                ChildRay* first, PixelTrace* counter) {
-    frame->color = (float3)(0.0f);
+/* Traces the ray of frame stack[depth], shades the hit and records the rays it spawns
+ * (spawnChild: the first into stack[depth + 1] and *next). */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* stack, int depth, Ray ray, Ray* next,
+                PixelTrace* counter) {
+    Frame* frame = &stack[depth];
+    Frame* above = &stack[depth + 1]; /* in the stack whenever a child is spawned: atDepthLimit */
+    frame->color = packFloat3((float3)(0.0f));
     frame->childCount = 0;
     frame->nextChild = 0;
     Hit hit;
@@ -154,7 +227,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, frame, pathWeight, first, ray.direction, p, normal, surfaceNormal, m.specular.w);
+        transmitFromInside(params, stack, depth, above, next, ray.direction, p, normal, surfaceNormal, m.specular.w);
         return;
     }
 
@@ -169,71 +242,63 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
         float blend = m.diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
-    frame->color = k.x * m.ambient.xyz + m.emissive.xyz +
-                   directLighting(scene, params, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz,
-                                  m.ambient.w, counter);
+    frame->color = packFloat3(k.x * m.ambient.xyz + m.emissive.xyz +
+                              directLighting(scene, params, p, normal, -ray.direction, diffuse,
+                                             k.z * m.specular.xyz, m.ambient.w, counter));
 
-    if (frame->depth >= params->mode.y) return;
+    if (atDepthLimit(params, depth)) return;
+    float3 pathWeight = pathWeightOf(stack, depth);
     float3 reflectWeight = k.z * m.reflective.xyz;
     float3 transmitWeight = k.w * m.transparent.xyz;
     if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m.transparent.xyz)) {
         /* ks·Or·R·I_r + kt·Ot·(1 − R)·I_t; under total internal reflection (R = 1) the
          * transmitted branch has weight 0 and is not traced. */
-        float r = surfaceReflectance(frame, ray.direction, normal, entering, m.specular.w);
+        float r = surfaceReflectance(stack, depth, ray.direction, normal, entering, m.specular.w);
         reflectWeight *= r;
         transmitWeight *= 1.0f - r;
     }
     if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(frame, first, ray.direction, p, normal, surfaceNormal, reflectWeight, params->limits.y);
-    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
-        addRefractedChild(frame, first, ray.direction, p, normal, surfaceNormal, entering, m.specular.w, transmitWeight,
+        addReflectedChild(frame, above, next, ray.direction, p, normal, surfaceNormal, reflectWeight,
                           params->limits.y);
-}
-
-/* The path weight of frame `top`: the product of the weights from the camera ray to it,
- * multiplied in the order the tree spawned them, so that it is the same to the bit as a
- * product kept in each frame; recomputed, because private memory is what a GPU has least of. */
-static inline float3 pathWeightOf(const Frame* stack, int top) {
-    float3 weight = (float3)(1.0f);
-    for (int k = 1; k <= top; ++k) weight *= stack[k].weightInParent;
-    return weight;
+    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
+        addRefractedChild(stack, depth, frame, above, next, ray.direction, p, normal, surfaceNormal, entering,
+                          m.specular.w, transmitWeight, params->limits.y);
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
  * of the tree is shaded at the one shadeFrame call below, the loop's first step whenever a
- * frame has just been pushed (a GPU compiler inlines every call site). */
-float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
+ * frame has just been pushed (a GPU compiler inlines every call site). Inline on PoCL as
+ * well: there a call of its own cost chess 1% more instructions. */
+static inline float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
+                                    PixelTrace* counter) {
     Frame stack[RAY_MAX_FRAMES];
     int top = 0;
-    stack[0].depth = 0;
-    stack[0].weightInParent = (float3)(1.0f);
-    stack[0].media.count = 0; /* the camera is in air */
     counter->primary++;
     bool pushed = true; /* stack[top] awaits shading along `ray` */
-    ChildRay first;     /* the first child of the frame shaded last */
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
-            shadeFrame(scene, params, frame, pathWeightOf(stack, top), ray, &first, counter);
+            shadeFrame(scene, params, stack, top, ray, &ray, counter);
             pushed = false;
         }
-        if (frame->nextChild < frame->childCount && top + 1 < RAY_MAX_FRAMES) {
-            const ChildRay* spawned = frame->nextChild++ == 0 ? &first : &frame->second;
-            Frame* child = &stack[top + 1];
-            child->depth = frame->depth + 1;
-            child->weightInParent = spawned->weight;
-            child->media = spawned->media;
+        if (frame->nextChild < frame->childCount) {
+            if (frame->nextChild++ == 1) { /* the second; the first is in place already (spawnChild) */
+                Frame* child = &stack[top + 1];
+                child->weightInParent = frame->second.weight;
+                child->medium = frame->secondMedium;
+                child->enteredIor = frame->second.enteredIor;
+                ray.origin = unpackFloat3(frame->second.origin); /* ray.time stays: every ray of the */
+                ray.direction = unpackFloat3(frame->second.direction); /* tree sees the scene at one time */
+            }
             counter->secondary++;
-            ray.origin = spawned->origin; /* ray.time stays: every ray of the tree sees the */
-            ray.direction = spawned->direction; /* scene at its camera sample's time */
             ++top;
             pushed = true;
             continue;
         }
-        if (top == 0) return frame->color;
-        float3 folded = frame->weightInParent * clamp(frame->color, 0.0f, 1.0f);
+        if (top == 0) return unpackFloat3(frame->color);
+        float3 folded = unpackFloat3(frame->weightInParent) * clamp(unpackFloat3(frame->color), 0.0f, 1.0f);
         --top;
-        stack[top].color += folded;
+        stack[top].color = packFloat3(unpackFloat3(stack[top].color) + folded);
     }
 }
 
