@@ -395,53 +395,81 @@ static inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
  * --aa off: one unclamped sample at the pixel's centre (for float outputs). */
 #define RAY_COURSE_LEVELS 3
 
+/* The course's machine, one entry per level of its recursion. A level's square is the
+ * quadrant of its parent's that it replaces (courseCorner). */
 typedef struct {
-    /* the course's machine, one entry per level of its recursion */
-    float3 quadrant[RAY_COURSE_LEVELS][4]; /* the (clamped) values of a, b, c, d */
-    float2 corner[RAY_COURSE_LEVELS];      /* the top left corner of the level's square */
-    int taken[RAY_COURSE_LEVELS];          /* samples taken at the level: 0..4, then 5 once judged */
-    int toRefine[RAY_COURSE_LEVELS];       /* quadrants still to replace by the next level */
-    int refining[RAY_COURSE_LEVELS];       /* the quadrant the next level replaces */
-    int level;                             /* the level being sampled; -1 when the pixel is done */
-    /* the jittered modes */
-    float3 sum, low, high; /* of the samples taken; low and high of the first four (adaptive) */
-    int count, side;       /* samples taken; the side of the grid being sampled */
-    int extra;             /* adaptive: whether the k×k grid is being taken */
-    float3 result;
+    PackedFloat3 quadrant[RAY_COURSE_LEVELS][4]; /* the (clamped) values of a, b, c, d */
+    uchar taken[RAY_COURSE_LEVELS];    /* samples taken at the level: 0..4, then 5 once judged */
+    uchar toRefine[RAY_COURSE_LEVELS]; /* quadrants still to replace by the next level (bits) */
+    uchar refining[RAY_COURSE_LEVELS]; /* the quadrant the next level replaces */
+    char level;                        /* the level being sampled; -1 when the pixel is done */
+} CourseSampler;
+
+/* The jittered modes (--aa off counts its one sample here). */
+typedef struct {
+    PackedFloat3 sum, low, high; /* of the samples taken; low and high of the first four (adaptive) */
+    int count, side;             /* samples taken; the side of the grid being sampled */
+    int extra;                   /* adaptive: whether the k×k grid is being taken */
+} JitteredSampler;
+
+/* A pixel uses one mode (params->mode.x), so the two machines share their memory. */
+typedef union {
+    CourseSampler course;
+    JitteredSampler jittered;
 } PixelSampler;
 
 static inline void startSampler(PixelSampler* s, const RayRenderParams* params) {
-    s->level = 0;
-    s->corner[0] = (float2)(0.0f);
-    s->taken[0] = 0;
-    s->sum = (float3)(0.0f);
-    s->low = (float3)(INFINITY);
-    s->high = (float3)(-INFINITY);
-    s->count = 0;
-    s->extra = 0;
+    if (params->mode.x == RAY_AA_COURSE) {
+        s->course.level = 0;
+        s->course.taken[0] = 0;
+        return;
+    }
+    JitteredSampler* j = &s->jittered;
+    j->sum = packFloat3((float3)(0.0f));
+    j->low = packFloat3((float3)(INFINITY));
+    j->high = packFloat3((float3)(-INFINITY));
+    j->count = 0;
+    j->extra = 0;
     int samples = params->mode.w;
     bool stratified = params->mode.x == RAY_AA_STRATIFIED || samples <= 4;
-    s->side = stratified ? max(1, (int)floor(sqrt((float)samples))) : 2;
-    s->result = (float3)(0.0f);
+    j->side = stratified ? max(1, (int)floor(sqrt((float)samples))) : 2;
+}
+
+/* The top left corner of the square that the course's level `level` samples: each level
+ * above it moved it to the quadrant it refines, by half that level's size. */
+static inline float2 courseCorner(const CourseSampler* s, int level) {
+    float2 corner = (float2)(0.0f);
+    for (int l = 0; l < level; ++l) {
+        int q = s->refining[l];
+        float halfSize = 1.0f / (float)(1 << l) * 0.5f;
+        corner += (float2)((q & 1) ? halfSize : 0.0f, (q & 2) ? halfSize : 0.0f);
+    }
+    return corner;
+}
+
+static inline float3 quadrantValue(const CourseSampler* s, int level, int q) {
+    return unpackFloat3(s->quadrant[level][q]);
 }
 
 /* The course's machine: the next sample position, or false when the pixel's value is
- * known (s->result). A level whose four samples are in is judged once; its quadrants to
+ * known (in *color). A level whose four samples are in is judged once; its quadrants to
  * refine are then entered one by one, and a finished level hands its mean to its parent. */
-static inline bool nextCoursePosition(PixelSampler* s, float2* position) {
+static inline bool nextCoursePosition(CourseSampler* s, float2* position, float3* color) {
     while (s->level >= 0) {
         int l = s->level;
         float size = 1.0f / (float)(1 << l);
         if (s->taken[l] < 4) {
             int q = s->taken[l];
             float quarter = size * 0.25f;
-            *position = s->corner[l] + (float2)((q & 1) ? 3.0f * quarter : quarter, (q & 2) ? 3.0f * quarter : quarter);
+            *position = courseCorner(s, l) +
+                        (float2)((q & 1) ? 3.0f * quarter : quarter, (q & 2) ? 3.0f * quarter : quarter);
             return true;
         }
         if (s->taken[l] == 4) { /* judged once, before any quadrant is replaced */
-            s->toRefine[l] = l + 1 < RAY_COURSE_LEVELS ? courseSubdivided(s->quadrant[l][0], s->quadrant[l][1],
-                                                                          s->quadrant[l][2], s->quadrant[l][3])
-                                                       : 0;
+            s->toRefine[l] = l + 1 < RAY_COURSE_LEVELS
+                                 ? courseSubdivided(quadrantValue(s, l, 0), quadrantValue(s, l, 1),
+                                                    quadrantValue(s, l, 2), quadrantValue(s, l, 3))
+                                 : 0;
             s->taken[l] = 5;
         }
         if (s->toRefine[l] != 0) {
@@ -449,29 +477,30 @@ static inline bool nextCoursePosition(PixelSampler* s, float2* position) {
             while (!(s->toRefine[l] & (1 << q))) ++q; /* a, b, c, d in turn */
             s->toRefine[l] &= ~(1 << q);
             s->refining[l] = q;
-            float halfSize = size * 0.5f;
-            s->corner[l + 1] = s->corner[l] + (float2)((q & 1) ? halfSize : 0.0f, (q & 2) ? halfSize : 0.0f);
             s->taken[l + 1] = 0;
             s->level = l + 1;
             continue;
         }
-        float3 mean = 0.25f * (s->quadrant[l][0] + s->quadrant[l][1] + s->quadrant[l][2] + s->quadrant[l][3]);
+        float3 mean = 0.25f * (quadrantValue(s, l, 0) + quadrantValue(s, l, 1) + quadrantValue(s, l, 2) +
+                               quadrantValue(s, l, 3));
         s->level = l - 1;
-        if (l == 0) s->result = mean;
-        else s->quadrant[l - 1][s->refining[l - 1]] = mean;
+        if (l == 0) *color = mean;
+        else s->quadrant[l - 1][s->refining[l - 1]] = packFloat3(mean);
     }
     return false;
 }
 
 /* The jittered modes: sample number s->count (its random numbers pick the jitter) in cell
- * `cell` of the side×side grid being sampled. */
-static inline bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+ * `cell` of the side×side grid being sampled, or false when the pixel's value is known
+ * (in *color). */
+static inline bool nextJitteredPosition(JitteredSampler* s, const RayRenderParams* params, uint pixel,
+                                        float2* position, float3* color) {
     int cell = s->extra ? s->count - 4 : s->count;
     if (cell >= s->side * s->side) {
         bool refine = params->mode.x == RAY_AA_ADAPTIVE && params->mode.w > 4 && !s->extra &&
-                      largestChannel(s->high - s->low) > RAY_ADAPTIVE_CONTRAST;
+                      largestChannel(unpackFloat3(s->high) - unpackFloat3(s->low)) > RAY_ADAPTIVE_CONTRAST;
         if (!refine) {
-            s->result = s->sum / (float)s->count;
+            *color = unpackFloat3(s->sum) / (float)s->count;
             return false;
         }
         s->extra = 1;
@@ -486,39 +515,42 @@ static inline bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* 
 }
 
 /* The position of the pixel's next sample, in [0, 1)², or false when the pixel is done
- * and its color is in s->result. */
-static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+ * and its color is in *color. */
+static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position,
+                                      float3* color) {
     switch (params->mode.x) {
-        case RAY_AA_COURSE: return nextCoursePosition(s, position);
+        case RAY_AA_COURSE: return nextCoursePosition(&s->course, position, color);
         case RAY_AA_STRATIFIED:
-        case RAY_AA_ADAPTIVE: return nextJitteredPosition(s, params, pixel, position);
+        case RAY_AA_ADAPTIVE: return nextJitteredPosition(&s->jittered, params, pixel, position, color);
         default:
-            if (s->count > 0) return false;
+            if (s->jittered.count > 0) return false; /* addSample gave *color */
             *position = (float2)(0.5f);
             return true;
     }
 }
 
 /* Takes the color of the sample at the position nextSamplePosition gave: clamped, except
- * with --aa off, whose one sample is the pixel's unclamped color. */
-static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color) {
+ * with --aa off, whose one sample is the pixel's unclamped color (*pixelColor). */
+static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color, float3* pixelColor) {
     if (params->mode.x == RAY_AA_OFF) {
-        s->result = color;
-        s->count++;
+        *pixelColor = color;
+        s->jittered.count++;
         return;
     }
     color = clamp(color, 0.0f, 1.0f);
     if (params->mode.x == RAY_AA_COURSE) {
-        int l = s->level;
-        s->quadrant[l][s->taken[l]++] = color;
+        CourseSampler* c = &s->course;
+        int l = c->level;
+        c->quadrant[l][c->taken[l]++] = packFloat3(color);
         return;
     }
-    s->sum += color;
-    if (s->count < 4) {
-        s->low = fmin(s->low, color);
-        s->high = fmax(s->high, color);
+    JitteredSampler* j = &s->jittered;
+    j->sum = packFloat3(unpackFloat3(j->sum) + color);
+    if (j->count < 4) {
+        j->low = packFloat3(fmin(unpackFloat3(j->low), color));
+        j->high = packFloat3(fmax(unpackFloat3(j->high), color));
     }
-    s->count++;
+    j->count++;
 }
 
 /* The color of pixel (i, j): every sample the antialiasing mode asks for, traced at the one
@@ -531,11 +563,12 @@ static RAY_CALL_ON_POCL float3 renderPixel(const SceneBuffers* scene, const RayR
     PixelSampler sampler;
     startSampler(&sampler, params);
     float2 position;
-    while (nextSamplePosition(&sampler, params, counter->pixel, &position)) {
-        float3 color = traceSample(scene, params, i, j, position.x, position.y, counter); /* the one trace site */
-        addSample(&sampler, params, color);
+    float3 color; /* given by nextSamplePosition, or with --aa off by addSample, as the loop ends */
+    while (nextSamplePosition(&sampler, params, counter->pixel, &position, &color)) {
+        float3 sample = traceSample(scene, params, i, j, position.x, position.y, counter); /* the one trace site */
+        addSample(&sampler, params, sample, &color);
     }
-    return sampler.result;
+    return color;
 }
 
 /* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
