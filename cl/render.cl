@@ -40,16 +40,22 @@ typedef struct {
  * color is folded into its parent, clamped to [0, 1] and weighted, once all of its
  * children are folded into it (SPEC §4: I_r is clamped before it is weighted). Its first
  * child is written straight into the frame above it and the ray traced next, and pushed at
- * once, so a frame keeps only the second: private memory is what a GPU has least of. */
+ * once, so only the second is kept (RayTree): private memory is what a GPU has least of. */
 typedef struct {
     PackedFloat3 color;          /* local shading plus the children folded in so far */
     PackedFloat3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
     float enteredIor;            /* the ior this ray pushes if its medium is RAY_MEDIUM_ENTERED */
-    ChildRay second;             /* the second child, traced once the first's tree is folded in */
     uchar medium;                /* this ray's medium change from its parent's (RAY_MEDIUM_*) */
     uchar secondMedium;          /* the second child's */
     uchar childCount, nextChild; /* 0..2 */
 } Frame;
+
+/* The ray tree's stack: the frames, and the second child of each frame that can spawn
+ * (every frame but the last), traced once the first's tree is folded in. */
+typedef struct {
+    Frame frames[RAY_MAX_FRAMES];
+    ChildRay seconds[RAY_MAX_FRAMES > 1 ? RAY_MAX_FRAMES - 1 : 1];
+} RayTree;
 
 /* Whether a frame at `depth` spawns no child: the bounce limit (--depth), which the host
  * makes RAY_MAX_FRAMES − 1, so that the first child always has a frame above to go to. */
@@ -60,9 +66,11 @@ static inline bool atDepthLimit(const RayRenderParams* params, int depth) {
 /* Records a ray spawned by `frame`: the first goes straight into the frame above (`above`)
  * and the ray traced next (`aboveRay`; its time stays: every ray of the tree sees the
  * scene at its camera sample's time), the second into the frame. */
-static inline void spawnChild(Frame* frame, Frame* above, Ray* aboveRay, float3 origin, float3 direction,
+static inline void spawnChild(RayTree* tree, int depth, Ray* aboveRay, float3 origin, float3 direction,
                               float3 weight, uchar medium, float enteredIor) {
+    Frame* frame = &tree->frames[depth];
     if (frame->childCount++ == 0) {
+        Frame* above = &tree->frames[depth + 1]; /* in the stack: atDepthLimit */
         aboveRay->origin = origin;
         aboveRay->direction = direction;
         above->weightInParent = packFloat3(weight);
@@ -70,10 +78,11 @@ static inline void spawnChild(Frame* frame, Frame* above, Ray* aboveRay, float3 
         above->enteredIor = enteredIor;
         return;
     }
-    frame->second.origin = packFloat3(origin);
-    frame->second.direction = packFloat3(direction);
-    frame->second.weight = packFloat3(weight);
-    frame->second.enteredIor = enteredIor;
+    ChildRay* second = &tree->seconds[depth];
+    second->origin = packFloat3(origin);
+    second->direction = packFloat3(direction);
+    second->weight = packFloat3(weight);
+    second->enteredIor = enteredIor;
     frame->secondMedium = medium;
 }
 
@@ -110,28 +119,28 @@ static inline bool anyAbove(float3 v, float threshold) {
  * surface, or, under total internal reflection, the mirrored ray, which stays in the
  * medium it came from. normal (the shading normal) and surfaceNormal (the surface's own,
  * before a bump map tilts it) face the incoming direction d. */
-void addRefractedChild(const Frame* stack, int depth, Frame* frame, Frame* above, Ray* aboveRay, float3 d, float3 p,
+void addRefractedChild(RayTree* tree, int depth, Ray* aboveRay, float3 d, float3 p,
                        float3 normal, float3 surfaceNormal, bool entering, float materialIor, float3 weight,
                        float epsilon) {
-    MediumStack media = mediaOf(stack, depth), beyond;
+    MediumStack media = mediaOf(tree->frames, depth), beyond;
     float n1 = iorBefore(&media, entering, materialIor);
     float n2 = iorBeyond(&media, entering, materialIor, &beyond);
     float3 transmitted;
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        spawnChild(frame, above, aboveRay, offsetAlongRay(p, -surfaceNormal, transmitted, epsilon), /* far side */
+        spawnChild(tree, depth, aboveRay, offsetAlongRay(p, -surfaceNormal, transmitted, epsilon), /* far side */
                    transmitted, weight, entering ? RAY_MEDIUM_ENTERED : RAY_MEDIUM_LEFT, materialIor);
     } else {
         float3 mirrored = d - 2.0f * dot(d, normal) * normal;
-        spawnChild(frame, above, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
+        spawnChild(tree, depth, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
                    RAY_MEDIUM_SAME, 0.0f);
     }
 }
 
 /* The mirrored ray (I_r), which stays in the medium it came from. */
-void addReflectedChild(Frame* frame, Frame* above, Ray* aboveRay, float3 d, float3 p, float3 normal,
+void addReflectedChild(RayTree* tree, int depth, Ray* aboveRay, float3 d, float3 p, float3 normal,
                        float3 surfaceNormal, float3 weight, float epsilon) {
     float3 mirrored = d - 2.0f * dot(d, normal) * normal;
-    spawnChild(frame, above, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
+    spawnChild(tree, depth, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
                RAY_MEDIUM_SAME, 0.0f);
 }
 
@@ -170,31 +179,29 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
     return !entering && refracts(features, transparent);
 }
 
-void transmitFromInside(const RayRenderParams* params, Frame* stack, int depth, Frame* above, Ray* aboveRay, float3 d,
+void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth, Ray* aboveRay, float3 d,
                         float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
     if (atDepthLimit(params, depth)) return; /* no bounce left: I_t is black */
-    Frame* frame = &stack[depth];
-    float3 pathWeight = pathWeightOf(stack, depth);
+    float3 pathWeight = pathWeightOf(tree->frames, depth);
     if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
-        addRefractedChild(stack, depth, frame, above, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
+        addRefractedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
                           (float3)(1.0f), params->limits.y);
         return;
     }
-    float r = surfaceReflectance(stack, depth, d, normal, false, materialIor);
+    float r = surfaceReflectance(tree->frames, depth, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
     if (branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(frame, above, aboveRay, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
+        addReflectedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
     if (branchTraced(params, pathWeight, transmitWeight))
-        addRefractedChild(stack, depth, frame, above, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
+        addRefractedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
                           transmitWeight, params->limits.y);
 }
 
-/* Traces the ray of frame stack[depth], shades the hit and records the rays it spawns
- * (spawnChild: the first into stack[depth + 1] and *next). */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* stack, int depth, Ray ray, Ray* next,
+/* Traces the ray of frame tree->frames[depth], shades the hit and records the rays it
+ * spawns (spawnChild: the first into the frame above and *next). */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray ray, Ray* next,
                 PixelTrace* counter) {
-    Frame* frame = &stack[depth];
-    Frame* above = &stack[depth + 1]; /* in the stack whenever a child is spawned: atDepthLimit */
+    Frame* frame = &tree->frames[depth];
     frame->color = packFloat3((float3)(0.0f));
     frame->childCount = 0;
     frame->nextChild = 0;
@@ -227,7 +234,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, stack, depth, above, next, ray.direction, p, normal, surfaceNormal, m.specular.w);
+        transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m.specular.w);
         return;
     }
 
@@ -247,21 +254,21 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
                                              k.z * m.specular.xyz, m.ambient.w, counter));
 
     if (atDepthLimit(params, depth)) return;
-    float3 pathWeight = pathWeightOf(stack, depth);
+    float3 pathWeight = pathWeightOf(tree->frames, depth);
     float3 reflectWeight = k.z * m.reflective.xyz;
     float3 transmitWeight = k.w * m.transparent.xyz;
     if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m.transparent.xyz)) {
         /* ks·Or·R·I_r + kt·Ot·(1 − R)·I_t; under total internal reflection (R = 1) the
          * transmitted branch has weight 0 and is not traced. */
-        float r = surfaceReflectance(stack, depth, ray.direction, normal, entering, m.specular.w);
+        float r = surfaceReflectance(tree->frames, depth, ray.direction, normal, entering, m.specular.w);
         reflectWeight *= r;
         transmitWeight *= 1.0f - r;
     }
     if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(frame, above, next, ray.direction, p, normal, surfaceNormal, reflectWeight,
+        addReflectedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, reflectWeight,
                           params->limits.y);
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
-        addRefractedChild(stack, depth, frame, above, next, ray.direction, p, normal, surfaceNormal, entering,
+        addRefractedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, entering,
                           m.specular.w, transmitWeight, params->limits.y);
 }
 
@@ -271,24 +278,26 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
  * well: there a call of its own cost chess 1% more instructions. */
 static inline float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
                                     PixelTrace* counter) {
-    Frame stack[RAY_MAX_FRAMES];
+    RayTree tree;
+    Frame* stack = tree.frames;
     int top = 0;
     counter->primary++;
     bool pushed = true; /* stack[top] awaits shading along `ray` */
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
-            shadeFrame(scene, params, stack, top, ray, &ray, counter);
+            shadeFrame(scene, params, &tree, top, ray, &ray, counter);
             pushed = false;
         }
         if (frame->nextChild < frame->childCount) {
             if (frame->nextChild++ == 1) { /* the second; the first is in place already (spawnChild) */
                 Frame* child = &stack[top + 1];
-                child->weightInParent = frame->second.weight;
+                const ChildRay* second = &tree.seconds[top];
+                child->weightInParent = second->weight;
                 child->medium = frame->secondMedium;
-                child->enteredIor = frame->second.enteredIor;
-                ray.origin = unpackFloat3(frame->second.origin); /* ray.time stays: every ray of the */
-                ray.direction = unpackFloat3(frame->second.direction); /* tree sees the scene at one time */
+                child->enteredIor = second->enteredIor;
+                ray.origin = unpackFloat3(second->origin); /* ray.time stays: every ray of the */
+                ray.direction = unpackFloat3(second->direction); /* tree sees the scene at one time */
             }
             counter->secondary++;
             ++top;
