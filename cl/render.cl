@@ -414,11 +414,12 @@ typedef struct {
     char level;                        /* the level being sampled; -1 when the pixel is done */
 } CourseSampler;
 
-/* The jittered modes (--aa off counts its one sample here). */
+/* The jittered modes (--aa off counts its one sample here). Plain float3: the course's
+ * machine is larger, and so sets the union's size. */
 typedef struct {
-    PackedFloat3 sum, low, high; /* of the samples taken; low and high of the first four (adaptive) */
-    int count, side;             /* samples taken; the side of the grid being sampled */
-    int extra;                   /* adaptive: whether the k×k grid is being taken */
+    float3 sum, low, high; /* of the samples taken; low and high of the first four (adaptive) */
+    int count, side;       /* samples taken; the side of the grid being sampled */
+    int extra;             /* adaptive: whether the k×k grid is being taken */
 } JitteredSampler;
 
 /* A pixel uses one mode (params->mode.x), so the two machines share their memory. */
@@ -434,9 +435,9 @@ static inline void startSampler(PixelSampler* s, const RayRenderParams* params) 
         return;
     }
     JitteredSampler* j = &s->jittered;
-    j->sum = packFloat3((float3)(0.0f));
-    j->low = packFloat3((float3)(INFINITY));
-    j->high = packFloat3((float3)(-INFINITY));
+    j->sum = (float3)(0.0f);
+    j->low = (float3)(INFINITY);
+    j->high = (float3)(-INFINITY);
     j->count = 0;
     j->extra = 0;
     int samples = params->mode.w;
@@ -507,9 +508,9 @@ static inline bool nextJitteredPosition(JitteredSampler* s, const RayRenderParam
     int cell = s->extra ? s->count - 4 : s->count;
     if (cell >= s->side * s->side) {
         bool refine = params->mode.x == RAY_AA_ADAPTIVE && params->mode.w > 4 && !s->extra &&
-                      largestChannel(unpackFloat3(s->high) - unpackFloat3(s->low)) > RAY_ADAPTIVE_CONTRAST;
+                      largestChannel(s->high - s->low) > RAY_ADAPTIVE_CONTRAST;
         if (!refine) {
-            *color = unpackFloat3(s->sum) / (float)s->count;
+            *color = s->sum / (float)s->count;
             return false;
         }
         s->extra = 1;
@@ -554,10 +555,10 @@ static inline void addSample(PixelSampler* s, const RayRenderParams* params, flo
         return;
     }
     JitteredSampler* j = &s->jittered;
-    j->sum = packFloat3(unpackFloat3(j->sum) + color);
+    j->sum += color;
     if (j->count < 4) {
-        j->low = packFloat3(fmin(unpackFloat3(j->low), color));
-        j->high = packFloat3(fmax(unpackFloat3(j->high), color));
+        j->low = fmin(j->low, color);
+        j->high = fmax(j->high, color);
     }
     j->count++;
 }
