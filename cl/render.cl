@@ -6,30 +6,109 @@
 #define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
 #endif
 
-/* A ray a hit spawns: its weight in its parent's color and the media it travels through
- * (cl/optics.cl). Its time is the camera sample's, given as it is traced. */
+/* A float3 kept in 12 bytes: in a private struct a float3 takes 16, and private memory is
+ * what a GPU has least of. Only loads and stores change: the arithmetic stays on float3. */
 typedef struct {
-    float3 origin, direction;
-    float3 weight; /* ks·Or or kt·Ot (times R or 1 − R with --fresnel) */
-    MediumStack media;
+    float x, y, z;
+} PackedFloat3;
+
+static inline PackedFloat3 packFloat3(float3 v) {
+    PackedFloat3 packed = {v.x, v.y, v.z};
+    return packed;
+}
+
+static inline float3 unpackFloat3(PackedFloat3 packed) { return (float3)(packed.x, packed.y, packed.z); }
+
+/* How a child ray's media (cl/optics.cl) follow from its parent's: a reflected ray, or a
+ * refracted one under total internal reflection, stays in its parent's; a refracted ray
+ * enters the object (pushes its ior) or leaves it (pops). Kept instead of the media
+ * themselves, which mediaOf rebuilds. */
+#define RAY_MEDIUM_SAME 0
+#define RAY_MEDIUM_ENTERED 1
+#define RAY_MEDIUM_LEFT 2
+
+/* A ray a hit spawns, kept until it is traced: its weight in its parent's color and its
+ * medium change (the kind in its frame). Its time is the camera sample's, given as it is
+ * traced. */
+typedef struct {
+    PackedFloat3 origin, direction;
+    PackedFloat3 weight; /* ks·Or or kt·Ot (times R or 1 − R with --fresnel) */
+    float enteredIor;    /* the ior it pushes when its medium change is RAY_MEDIUM_ENTERED */
 } ChildRay;
 
-/* One ray of the tree awaiting its children. Its color is folded into its parent, clamped
- * to [0, 1] and weighted, once all of its children are folded into it (SPEC §4: I_r is
- * clamped before it is weighted). Its first child is traced as soon as it is spawned, so a
- * frame keeps only the second: private memory is what a GPU has least of. */
+/* One ray of the tree awaiting its children; its depth is its index in the stack. Its
+ * color is folded into its parent, clamped to [0, 1] and weighted, once all of its
+ * children are folded into it (SPEC §4: I_r is clamped before it is weighted). Its first
+ * child is written straight into the frame above it and the ray traced next, and pushed at
+ * once, so only the second is kept (RayTree): private memory is what a GPU has least of. */
 typedef struct {
-    float3 color;          /* local shading plus the children folded in so far */
-    float3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
-    ChildRay second;       /* the second child, traced once the first's tree is folded in */
-    MediumStack media;     /* the media this frame's ray travels through */
-    int childCount, nextChild, depth;
+    PackedFloat3 color;          /* local shading plus the children folded in so far */
+    PackedFloat3 weightInParent; /* ks·Or (or kt·Ot) of the parent for this ray */
+    float enteredIor;            /* the ior this ray pushes if its medium is RAY_MEDIUM_ENTERED */
+    uchar medium;                /* this ray's medium change from its parent's (RAY_MEDIUM_*) */
+    uchar secondMedium;          /* the second child's */
+    uchar childCount, nextChild; /* 0..2 */
 } Frame;
 
-/* Where a frame's next spawned child goes: the first to `first`, which traceCameraRay
- * pushes at once, the second into the frame. */
-static inline ChildRay* spawnedChild(Frame* frame, ChildRay* first) {
-    return frame->childCount++ == 0 ? first : &frame->second;
+/* The ray tree's stack: the frames, and the second child of each frame that can spawn
+ * (every frame but the last), traced once the first's tree is folded in. */
+typedef struct {
+    Frame frames[RAY_MAX_FRAMES];
+    ChildRay seconds[RAY_MAX_FRAMES > 1 ? RAY_MAX_FRAMES - 1 : 1];
+} RayTree;
+
+/* Whether a frame at `depth` spawns no child: the bounce limit (--depth), which the host
+ * makes RAY_MAX_FRAMES − 1, so that the first child always has a frame above to go to. */
+static inline bool atDepthLimit(const RayRenderParams* params, int depth) {
+    return depth >= params->mode.y || depth + 1 >= RAY_MAX_FRAMES;
+}
+
+/* Records a ray spawned by `frame`: the first goes straight into the frame above (`above`)
+ * and the ray traced next (`aboveRay`; its time stays: every ray of the tree sees the
+ * scene at its camera sample's time), the second into the frame. */
+static inline void spawnChild(RayTree* tree, int depth, Ray* aboveRay, float3 origin, float3 direction,
+                              float3 weight, uchar medium, float enteredIor) {
+    Frame* frame = &tree->frames[depth];
+    if (frame->childCount++ == 0) {
+        Frame* above = &tree->frames[depth + 1]; /* in the stack: atDepthLimit */
+        aboveRay->origin = origin;
+        aboveRay->direction = direction;
+        above->weightInParent = packFloat3(weight);
+        above->medium = medium;
+        above->enteredIor = enteredIor;
+        return;
+    }
+    ChildRay* second = &tree->seconds[depth];
+    second->origin = packFloat3(origin);
+    second->direction = packFloat3(direction);
+    second->weight = packFloat3(weight);
+    second->enteredIor = enteredIor;
+    frame->secondMedium = medium;
+}
+
+/* The path weight of frame `top`: the product of the weights from the camera ray to it,
+ * multiplied in the order the tree spawned them, so that it is the same to the bit as a
+ * product kept in each frame; recomputed, because private memory is what a GPU has least of. */
+static inline float3 pathWeightOf(const Frame* stack, int top) {
+    float3 weight = (float3)(1.0f);
+    for (int k = 1; k <= top; ++k) weight *= unpackFloat3(stack[k].weightInParent);
+    return weight;
+}
+
+/* The media of frame `top`'s ray: the camera's (air) changed by each frame's medium change
+ * from the camera ray up, as iorBeyond changed them when the frames were spawned. Rebuilt
+ * where a transparent surface needs them, because private memory is what a GPU has least
+ * of (and most rays never meet one). */
+static inline MediumStack mediaOf(const Frame* stack, int top) {
+    MediumStack media;
+    media.count = 0; /* the camera is in air */
+    for (int k = 1; k <= top; ++k) {
+        if (stack[k].medium == RAY_MEDIUM_SAME) continue;
+        MediumStack beyond;
+        iorBeyond(&media, stack[k].medium == RAY_MEDIUM_ENTERED, stack[k].enteredIor, &beyond);
+        media = beyond;
+    }
+    return media;
 }
 
 static inline bool anyAbove(float3 v, float threshold) {
@@ -40,33 +119,29 @@ static inline bool anyAbove(float3 v, float threshold) {
  * surface, or, under total internal reflection, the mirrored ray, which stays in the
  * medium it came from. normal (the shading normal) and surfaceNormal (the surface's own,
  * before a bump map tilts it) face the incoming direction d. */
-void addRefractedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
-                       bool entering, float materialIor, float3 weight, float epsilon) {
-    MediumStack beyond;
-    float n1 = iorBefore(&frame->media, entering, materialIor);
-    float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
+void addRefractedChild(RayTree* tree, int depth, Ray* aboveRay, float3 d, float3 p,
+                       float3 normal, float3 surfaceNormal, bool entering, float materialIor, float3 weight,
+                       float epsilon) {
+    MediumStack media = mediaOf(tree->frames, depth), beyond;
+    float n1 = iorBefore(&media, entering, materialIor);
+    float n2 = iorBeyond(&media, entering, materialIor, &beyond);
     float3 transmitted;
-    ChildRay* child = spawnedChild(frame, first);
     if (refractDirection(d, normal, n1, n2, &transmitted)) {
-        child->direction = transmitted;
-        child->origin = offsetAlongRay(p, -surfaceNormal, transmitted, epsilon); /* start on the far side */
-        child->media = beyond;
+        spawnChild(tree, depth, aboveRay, offsetAlongRay(p, -surfaceNormal, transmitted, epsilon), /* far side */
+                   transmitted, weight, entering ? RAY_MEDIUM_ENTERED : RAY_MEDIUM_LEFT, materialIor);
     } else {
-        child->direction = d - 2.0f * dot(d, normal) * normal;
-        child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
-        child->media = frame->media;
+        float3 mirrored = d - 2.0f * dot(d, normal) * normal;
+        spawnChild(tree, depth, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
+                   RAY_MEDIUM_SAME, 0.0f);
     }
-    child->weight = weight;
 }
 
-/* The mirrored ray (I_r), which stays in the medium it came from (traceCameraRay sets its time). */
-void addReflectedChild(Frame* frame, ChildRay* first, float3 d, float3 p, float3 normal, float3 surfaceNormal,
-                       float3 weight, float epsilon) {
-    ChildRay* child = spawnedChild(frame, first);
-    child->direction = d - 2.0f * dot(d, normal) * normal;
-    child->origin = offsetAlongRay(p, surfaceNormal, child->direction, epsilon);
-    child->weight = weight;
-    child->media = frame->media;
+/* The mirrored ray (I_r), which stays in the medium it came from. */
+void addReflectedChild(RayTree* tree, int depth, Ray* aboveRay, float3 d, float3 p, float3 normal,
+                       float3 surfaceNormal, float3 weight, float epsilon) {
+    float3 mirrored = d - 2.0f * dot(d, normal) * normal;
+    spawnChild(tree, depth, aboveRay, offsetAlongRay(p, surfaceNormal, mirrored, epsilon), mirrored, weight,
+               RAY_MEDIUM_SAME, 0.0f);
 }
 
 /* Whether a branch of weight `weight` below a frame whose path weight (the product of the
@@ -82,12 +157,14 @@ static inline bool refracts(int features, float3 transparent) {
     return (features & RAY_FEATURE_REFRACTION) && anyAbove(fabs(transparent), 1e-30f);
 }
 
-/* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the frame's ray meets a
- * transparent surface, from the medium it is in into the one beyond (cl/optics.cl). */
-static inline float surfaceReflectance(const Frame* frame, float3 d, float3 normal, bool entering, float materialIor) {
-    MediumStack beyond;
-    float n1 = iorBefore(&frame->media, entering, materialIor);
-    float n2 = iorBeyond(&frame->media, entering, materialIor, &beyond);
+/* --fresnel (SPEC §4): R, the exact Fresnel reflectance where the ray of frame
+ * stack[depth] meets a transparent surface, from the medium it is in into the one beyond
+ * (cl/optics.cl). */
+static inline float surfaceReflectance(const Frame* stack, int depth, float3 d, float3 normal, bool entering,
+                                       float materialIor) {
+    MediumStack media = mediaOf(stack, depth), beyond;
+    float n1 = iorBefore(&media, entering, materialIor);
+    float n2 = iorBeyond(&media, entering, materialIor, &beyond);
     return fresnelReflectance(-dot(d, normal), n1, n2);
 }
 
@@ -102,27 +179,30 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
     return !entering && refracts(features, transparent);
 }
 
-void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 pathWeight, ChildRay* first, float3 d,
+void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth, Ray* aboveRay, float3 d,
                         float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
-    if (frame->depth >= params->mode.y) return; /* no bounce left: I_t is black */
+    if (atDepthLimit(params, depth)) return; /* no bounce left: I_t is black */
+    float3 pathWeight = pathWeightOf(tree->frames, depth);
     if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
-        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, (float3)(1.0f),
-                          params->limits.y);
+        addRefractedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
+                          (float3)(1.0f), params->limits.y);
         return;
     }
-    float r = surfaceReflectance(frame, d, normal, false, materialIor);
+    float r = surfaceReflectance(tree->frames, depth, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
     if (branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(frame, first, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
+        addReflectedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
     if (branchTraced(params, pathWeight, transmitWeight))
-        addRefractedChild(frame, first, d, p, normal, surfaceNormal, false, materialIor, transmitWeight,
-                          params->limits.y);
+        addRefractedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
+                          transmitWeight, params->limits.y);
 }
 
-/* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first). */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight, Ray ray,
-                ChildRay* first, PixelTrace* counter) {
-    frame->color = (float3)(0.0f);
+/* Traces the ray of frame tree->frames[depth], shades the hit and records the rays it
+ * spawns (spawnChild: the first into the frame above and *next). */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray ray, Ray* next,
+                PixelTrace* counter) {
+    Frame* frame = &tree->frames[depth];
+    frame->color = packFloat3((float3)(0.0f));
     frame->childCount = 0;
     frame->nextChild = 0;
     Hit hit;
@@ -154,7 +234,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, frame, pathWeight, first, ray.direction, p, normal, surfaceNormal, m.specular.w);
+        transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m.specular.w);
         return;
     }
 
@@ -169,71 +249,65 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
         float blend = m.diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
-    frame->color = k.x * m.ambient.xyz + m.emissive.xyz +
-                   directLighting(scene, params, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz,
-                                  m.ambient.w, counter);
+    frame->color = packFloat3(k.x * m.ambient.xyz + m.emissive.xyz +
+                              directLighting(scene, params, p, normal, -ray.direction, diffuse,
+                                             k.z * m.specular.xyz, m.ambient.w, counter));
 
-    if (frame->depth >= params->mode.y) return;
+    if (atDepthLimit(params, depth)) return;
+    float3 pathWeight = pathWeightOf(tree->frames, depth);
     float3 reflectWeight = k.z * m.reflective.xyz;
     float3 transmitWeight = k.w * m.transparent.xyz;
     if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m.transparent.xyz)) {
         /* ks·Or·R·I_r + kt·Ot·(1 − R)·I_t; under total internal reflection (R = 1) the
          * transmitted branch has weight 0 and is not traced. */
-        float r = surfaceReflectance(frame, ray.direction, normal, entering, m.specular.w);
+        float r = surfaceReflectance(tree->frames, depth, ray.direction, normal, entering, m.specular.w);
         reflectWeight *= r;
         transmitWeight *= 1.0f - r;
     }
     if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(frame, first, ray.direction, p, normal, surfaceNormal, reflectWeight, params->limits.y);
-    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
-        addRefractedChild(frame, first, ray.direction, p, normal, surfaceNormal, entering, m.specular.w, transmitWeight,
+        addReflectedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, reflectWeight,
                           params->limits.y);
-}
-
-/* The path weight of frame `top`: the product of the weights from the camera ray to it,
- * multiplied in the order the tree spawned them, so that it is the same to the bit as a
- * product kept in each frame; recomputed, because private memory is what a GPU has least of. */
-static inline float3 pathWeightOf(const Frame* stack, int top) {
-    float3 weight = (float3)(1.0f);
-    for (int k = 1; k <= top; ++k) weight *= stack[k].weightInParent;
-    return weight;
+    if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
+        addRefractedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, entering,
+                          m.specular.w, transmitWeight, params->limits.y);
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
  * of the tree is shaded at the one shadeFrame call below, the loop's first step whenever a
- * frame has just been pushed (a GPU compiler inlines every call site). */
-float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
-    Frame stack[RAY_MAX_FRAMES];
+ * frame has just been pushed (a GPU compiler inlines every call site). Inline on PoCL as
+ * well: there a call of its own cost chess 1% more instructions. */
+static inline float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
+                                    PixelTrace* counter) {
+    RayTree tree;
+    Frame* stack = tree.frames;
     int top = 0;
-    stack[0].depth = 0;
-    stack[0].weightInParent = (float3)(1.0f);
-    stack[0].media.count = 0; /* the camera is in air */
     counter->primary++;
     bool pushed = true; /* stack[top] awaits shading along `ray` */
-    ChildRay first;     /* the first child of the frame shaded last */
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
-            shadeFrame(scene, params, frame, pathWeightOf(stack, top), ray, &first, counter);
+            shadeFrame(scene, params, &tree, top, ray, &ray, counter);
             pushed = false;
         }
-        if (frame->nextChild < frame->childCount && top + 1 < RAY_MAX_FRAMES) {
-            const ChildRay* spawned = frame->nextChild++ == 0 ? &first : &frame->second;
-            Frame* child = &stack[top + 1];
-            child->depth = frame->depth + 1;
-            child->weightInParent = spawned->weight;
-            child->media = spawned->media;
+        if (frame->nextChild < frame->childCount) {
+            if (frame->nextChild++ == 1) { /* the second; the first is in place already (spawnChild) */
+                Frame* child = &stack[top + 1];
+                const ChildRay* second = &tree.seconds[top];
+                child->weightInParent = second->weight;
+                child->medium = frame->secondMedium;
+                child->enteredIor = second->enteredIor;
+                ray.origin = unpackFloat3(second->origin); /* ray.time stays: every ray of the */
+                ray.direction = unpackFloat3(second->direction); /* tree sees the scene at one time */
+            }
             counter->secondary++;
-            ray.origin = spawned->origin; /* ray.time stays: every ray of the tree sees the */
-            ray.direction = spawned->direction; /* scene at its camera sample's time */
             ++top;
             pushed = true;
             continue;
         }
-        if (top == 0) return frame->color;
-        float3 folded = frame->weightInParent * clamp(frame->color, 0.0f, 1.0f);
+        if (top == 0) return unpackFloat3(frame->color);
+        float3 folded = unpackFloat3(frame->weightInParent) * clamp(unpackFloat3(frame->color), 0.0f, 1.0f);
         --top;
-        stack[top].color += folded;
+        stack[top].color = packFloat3(unpackFloat3(stack[top].color) + folded);
     }
 }
 
@@ -330,53 +404,82 @@ static inline int courseSubdivided(float3 a, float3 b, float3 c, float3 d) {
  * --aa off: one unclamped sample at the pixel's centre (for float outputs). */
 #define RAY_COURSE_LEVELS 3
 
+/* The course's machine, one entry per level of its recursion. A level's square is the
+ * quadrant of its parent's that it replaces (courseCorner). */
 typedef struct {
-    /* the course's machine, one entry per level of its recursion */
-    float3 quadrant[RAY_COURSE_LEVELS][4]; /* the (clamped) values of a, b, c, d */
-    float2 corner[RAY_COURSE_LEVELS];      /* the top left corner of the level's square */
-    int taken[RAY_COURSE_LEVELS];          /* samples taken at the level: 0..4, then 5 once judged */
-    int toRefine[RAY_COURSE_LEVELS];       /* quadrants still to replace by the next level */
-    int refining[RAY_COURSE_LEVELS];       /* the quadrant the next level replaces */
-    int level;                             /* the level being sampled; -1 when the pixel is done */
-    /* the jittered modes */
+    PackedFloat3 quadrant[RAY_COURSE_LEVELS][4]; /* the (clamped) values of a, b, c, d */
+    uchar taken[RAY_COURSE_LEVELS];    /* samples taken at the level: 0..4, then 5 once judged */
+    uchar toRefine[RAY_COURSE_LEVELS]; /* quadrants still to replace by the next level (bits) */
+    uchar refining[RAY_COURSE_LEVELS]; /* the quadrant the next level replaces */
+    char level;                        /* the level being sampled; -1 when the pixel is done */
+} CourseSampler;
+
+/* The jittered modes (--aa off counts its one sample here). Plain float3: the course's
+ * machine is larger, and so sets the union's size. */
+typedef struct {
     float3 sum, low, high; /* of the samples taken; low and high of the first four (adaptive) */
     int count, side;       /* samples taken; the side of the grid being sampled */
     int extra;             /* adaptive: whether the k×k grid is being taken */
-    float3 result;
+} JitteredSampler;
+
+/* A pixel uses one mode (params->mode.x), so the two machines share their memory. */
+typedef union {
+    CourseSampler course;
+    JitteredSampler jittered;
 } PixelSampler;
 
 static inline void startSampler(PixelSampler* s, const RayRenderParams* params) {
-    s->level = 0;
-    s->corner[0] = (float2)(0.0f);
-    s->taken[0] = 0;
-    s->sum = (float3)(0.0f);
-    s->low = (float3)(INFINITY);
-    s->high = (float3)(-INFINITY);
-    s->count = 0;
-    s->extra = 0;
+    if (params->mode.x == RAY_AA_COURSE) {
+        s->course.level = 0;
+        s->course.taken[0] = 0;
+        return;
+    }
+    JitteredSampler* j = &s->jittered;
+    j->sum = (float3)(0.0f);
+    j->low = (float3)(INFINITY);
+    j->high = (float3)(-INFINITY);
+    j->count = 0;
+    j->extra = 0;
     int samples = params->mode.w;
     bool stratified = params->mode.x == RAY_AA_STRATIFIED || samples <= 4;
-    s->side = stratified ? max(1, (int)floor(sqrt((float)samples))) : 2;
-    s->result = (float3)(0.0f);
+    j->side = stratified ? max(1, (int)floor(sqrt((float)samples))) : 2;
+}
+
+/* The top left corner of the square that the course's level `level` samples: each level
+ * above it moved it to the quadrant it refines, by half that level's size. */
+static inline float2 courseCorner(const CourseSampler* s, int level) {
+    float2 corner = (float2)(0.0f);
+    for (int l = 0; l < level; ++l) {
+        int q = s->refining[l];
+        float halfSize = 1.0f / (float)(1 << l) * 0.5f;
+        corner += (float2)((q & 1) ? halfSize : 0.0f, (q & 2) ? halfSize : 0.0f);
+    }
+    return corner;
+}
+
+static inline float3 quadrantValue(const CourseSampler* s, int level, int q) {
+    return unpackFloat3(s->quadrant[level][q]);
 }
 
 /* The course's machine: the next sample position, or false when the pixel's value is
- * known (s->result). A level whose four samples are in is judged once; its quadrants to
+ * known (in *color). A level whose four samples are in is judged once; its quadrants to
  * refine are then entered one by one, and a finished level hands its mean to its parent. */
-static inline bool nextCoursePosition(PixelSampler* s, float2* position) {
+static inline bool nextCoursePosition(CourseSampler* s, float2* position, float3* color) {
     while (s->level >= 0) {
         int l = s->level;
         float size = 1.0f / (float)(1 << l);
         if (s->taken[l] < 4) {
             int q = s->taken[l];
             float quarter = size * 0.25f;
-            *position = s->corner[l] + (float2)((q & 1) ? 3.0f * quarter : quarter, (q & 2) ? 3.0f * quarter : quarter);
+            *position = courseCorner(s, l) +
+                        (float2)((q & 1) ? 3.0f * quarter : quarter, (q & 2) ? 3.0f * quarter : quarter);
             return true;
         }
         if (s->taken[l] == 4) { /* judged once, before any quadrant is replaced */
-            s->toRefine[l] = l + 1 < RAY_COURSE_LEVELS ? courseSubdivided(s->quadrant[l][0], s->quadrant[l][1],
-                                                                          s->quadrant[l][2], s->quadrant[l][3])
-                                                       : 0;
+            s->toRefine[l] = l + 1 < RAY_COURSE_LEVELS
+                                 ? courseSubdivided(quadrantValue(s, l, 0), quadrantValue(s, l, 1),
+                                                    quadrantValue(s, l, 2), quadrantValue(s, l, 3))
+                                 : 0;
             s->taken[l] = 5;
         }
         if (s->toRefine[l] != 0) {
@@ -384,29 +487,30 @@ static inline bool nextCoursePosition(PixelSampler* s, float2* position) {
             while (!(s->toRefine[l] & (1 << q))) ++q; /* a, b, c, d in turn */
             s->toRefine[l] &= ~(1 << q);
             s->refining[l] = q;
-            float halfSize = size * 0.5f;
-            s->corner[l + 1] = s->corner[l] + (float2)((q & 1) ? halfSize : 0.0f, (q & 2) ? halfSize : 0.0f);
             s->taken[l + 1] = 0;
             s->level = l + 1;
             continue;
         }
-        float3 mean = 0.25f * (s->quadrant[l][0] + s->quadrant[l][1] + s->quadrant[l][2] + s->quadrant[l][3]);
+        float3 mean = 0.25f * (quadrantValue(s, l, 0) + quadrantValue(s, l, 1) + quadrantValue(s, l, 2) +
+                               quadrantValue(s, l, 3));
         s->level = l - 1;
-        if (l == 0) s->result = mean;
-        else s->quadrant[l - 1][s->refining[l - 1]] = mean;
+        if (l == 0) *color = mean;
+        else s->quadrant[l - 1][s->refining[l - 1]] = packFloat3(mean);
     }
     return false;
 }
 
 /* The jittered modes: sample number s->count (its random numbers pick the jitter) in cell
- * `cell` of the side×side grid being sampled. */
-static inline bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+ * `cell` of the side×side grid being sampled, or false when the pixel's value is known
+ * (in *color). */
+static inline bool nextJitteredPosition(JitteredSampler* s, const RayRenderParams* params, uint pixel,
+                                        float2* position, float3* color) {
     int cell = s->extra ? s->count - 4 : s->count;
     if (cell >= s->side * s->side) {
         bool refine = params->mode.x == RAY_AA_ADAPTIVE && params->mode.w > 4 && !s->extra &&
                       largestChannel(s->high - s->low) > RAY_ADAPTIVE_CONTRAST;
         if (!refine) {
-            s->result = s->sum / (float)s->count;
+            *color = s->sum / (float)s->count;
             return false;
         }
         s->extra = 1;
@@ -421,39 +525,42 @@ static inline bool nextJitteredPosition(PixelSampler* s, const RayRenderParams* 
 }
 
 /* The position of the pixel's next sample, in [0, 1)², or false when the pixel is done
- * and its color is in s->result. */
-static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position) {
+ * and its color is in *color. */
+static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position,
+                                      float3* color) {
     switch (params->mode.x) {
-        case RAY_AA_COURSE: return nextCoursePosition(s, position);
+        case RAY_AA_COURSE: return nextCoursePosition(&s->course, position, color);
         case RAY_AA_STRATIFIED:
-        case RAY_AA_ADAPTIVE: return nextJitteredPosition(s, params, pixel, position);
+        case RAY_AA_ADAPTIVE: return nextJitteredPosition(&s->jittered, params, pixel, position, color);
         default:
-            if (s->count > 0) return false;
+            if (s->jittered.count > 0) return false; /* addSample gave *color */
             *position = (float2)(0.5f);
             return true;
     }
 }
 
 /* Takes the color of the sample at the position nextSamplePosition gave: clamped, except
- * with --aa off, whose one sample is the pixel's unclamped color. */
-static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color) {
+ * with --aa off, whose one sample is the pixel's unclamped color (*pixelColor). */
+static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color, float3* pixelColor) {
     if (params->mode.x == RAY_AA_OFF) {
-        s->result = color;
-        s->count++;
+        *pixelColor = color;
+        s->jittered.count++;
         return;
     }
     color = clamp(color, 0.0f, 1.0f);
     if (params->mode.x == RAY_AA_COURSE) {
-        int l = s->level;
-        s->quadrant[l][s->taken[l]++] = color;
+        CourseSampler* c = &s->course;
+        int l = c->level;
+        c->quadrant[l][c->taken[l]++] = packFloat3(color);
         return;
     }
-    s->sum += color;
-    if (s->count < 4) {
-        s->low = fmin(s->low, color);
-        s->high = fmax(s->high, color);
+    JitteredSampler* j = &s->jittered;
+    j->sum += color;
+    if (j->count < 4) {
+        j->low = fmin(j->low, color);
+        j->high = fmax(j->high, color);
     }
-    s->count++;
+    j->count++;
 }
 
 /* The color of pixel (i, j): every sample the antialiasing mode asks for, traced at the one
@@ -466,11 +573,12 @@ static RAY_CALL_ON_POCL float3 renderPixel(const SceneBuffers* scene, const RayR
     PixelSampler sampler;
     startSampler(&sampler, params);
     float2 position;
-    while (nextSamplePosition(&sampler, params, counter->pixel, &position)) {
-        float3 color = traceSample(scene, params, i, j, position.x, position.y, counter); /* the one trace site */
-        addSample(&sampler, params, color);
+    float3 color; /* given by nextSamplePosition, or with --aa off by addSample, as the loop ends */
+    while (nextSamplePosition(&sampler, params, counter->pixel, &position, &color)) {
+        float3 sample = traceSample(scene, params, i, j, position.x, position.y, counter); /* the one trace site */
+        addSample(&sampler, params, sample, &color);
     }
-    return sampler.result;
+    return color;
 }
 
 /* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
