@@ -449,6 +449,13 @@ static inline int nextNode(const InnerChildren* inner, BvhStack* stack, float li
  * courseMeshes (see traceBvh). */
 static inline float pruneDistance(const Hit* hit, bool courseMeshes) { return courseMeshes ? RAY_INFINITY : hit->t; }
 
+/* Whether a walk with anyHit (traceBvh) is over: it has found a hit. The walk then ends
+ * where every walk ends, at the bottom of its loop, and not with a return from inside it:
+ * after gfx906's control-flow structurizer, that return left a path around the end of the
+ * stack's lifetime, so that the primary trace and the shadow trace (two inlined walks)
+ * could not share their stacks' scratch. */
+static inline bool anyHitFound(bool anyHit, const Hit* hit) { return anyHit && hit->primitive >= 0; }
+
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays, which visit children in node order: any occluder will do).
  * Returns whether anything was hit. Leaves are intersected as their parent is visited.
@@ -479,12 +486,14 @@ bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive*
                 for (int i = first; i < first + count; ++i)
                     intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes,
                                        entries + stack.top, RAY_BVH_SHORT_STACK - stack.top, hit);
-                if (anyHit && hit->primitive >= 0) return true;
+                if (anyHitFound(anyHit, hit)) break;
             } else {
                 addInnerChild(&inner, first, children.entry[c], !anyHit);
             }
         }
-        next = afterOverflow(nextNode(&inner, &stack, pruneDistance(hit, courseMeshes)), &stack);
+        next = anyHitFound(anyHit, hit)
+                   ? -1
+                   : afterOverflow(nextNode(&inner, &stack, pruneDistance(hit, courseMeshes)), &stack);
     } while (next != -1);
     return hit->primitive >= 0;
 }
