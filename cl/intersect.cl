@@ -195,17 +195,26 @@ static inline void intersectCone(float3 o, float3 d, float* best, int* part, flo
     intersectCap(o, d, -0.5f, PART_BOTTOM, best, part, normal);
 }
 
-/* The torus and meshes: cl/torus_mesh.cl. */
+/* One entry of the traversal stack (BvhStack, below). */
+typedef struct {
+    int node;
+    float entry;
+} BvhStackEntry;
+
+/* The torus and meshes: cl/torus_mesh.cl. A mesh's walk keeps its stack in the scene
+ * walk's unused entries, the `spareCount` from `spare` on (BvhStack). */
 void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
-                   float3 d, float* best, int* part, float3* normal, float2* barycentric);
+                   float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
+                   float2* barycentric);
 
 /* Constructive solid geometry: cl/csg.cl. prims is the primitive buffer (the program's
  * records are indexed in it), csg the object's own record. */
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit);
 
-/* Intersects one primitive, updating hit when it is nearer than hit->t.
+/* Intersects one primitive, updating hit when it is nearer than hit->t; a mesh's walk may
+ * use the traversal stack's `spareCount` entries from `spare` on (BvhStack).
  * courseMeshes (--course-meshes): a mesh's hit is keyed by t_obj = t·|M⁻¹d|/|d| (the
  * course's distance along the normalized object-space direction), which replaces hit->t
  * (so the hit point is origin + t_obj·d); the world t below which that key beats hit->t,
@@ -215,7 +224,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
  * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
 static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
                                __global const float4* motions, __global const RayPrimitive* prim, int index, Ray ray,
-                               bool courseMeshes, Hit* hit) {
+                               bool courseMeshes, BvhStackEntry* spare, int spareCount, Hit* hit) {
     float3 origin = ray.origin;
     if (ray.time != 0.0f) origin -= ray.time * motions[index].xyz;
     if (prim->info.x == RAY_PRIM_CSG) { /* its operands have transforms of their own */
@@ -240,7 +249,8 @@ static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* n
         case RAY_PRIM_CONE: intersectCone(o, d, &best, &part, &normal); break;
         case RAY_PRIM_TORUS: intersectTorus(o, d, &best, &part, &normal); break;
         case RAY_PRIM_MESH:
-            intersectMesh(nodes, triangles, prim->info.w, o, d, &best, &part, &normal, &barycentric);
+            intersectMesh(nodes, triangles, prim->info.w, o, d, spare, spareCount, &best, &part, &normal,
+                          &barycentric);
             break;
         default: break;
     }
@@ -350,21 +360,33 @@ static inline float3 safeInverse(float3 d) {
  *
  * A short stack: a wide node pushes up to 3 of its children, so a walk may need
  * 3 · kBvhMaxDepth (host/accel/bvh.h) entries (1.5 KB) where a GPU gives a work-item a few hundred bytes of
- * fast memory. RAY_BVH_SHORT_STACK entries hold every walk of the bundled and course
- * scenes; a walk that would push more stops (overflowed) and then tests every primitive
- * under its root instead (everyPrimitiveUnder), which finds the same hit:
- * hits are ranked by distance and then by order (Hit.order), whatever the order in which
- * they are found. Exact, and slow only for the rare ray that overflows. The host may set
- * it with -DRAY_BVH_SHORT_STACK (tests force overflows with a tiny one). */
+ * fast memory. One stack serves the scene's walk and the mesh walks it makes (as GPU
+ * tracers share one between the top and bottom levels): a mesh's walk, which runs while
+ * the scene's is at a leaf, pushes above the scene's entries and is back at its own base
+ * when it returns (intersectMesh). RAY_BVH_SHORT_STACK entries hold every walk of the
+ * bundled and course scenes, the deepest scene walk and mesh walk on top of each other
+ * included; a walk that would push more stops (overflowed) and then tests every primitive
+ * (or triangle) under its own root instead (everyPrimitiveUnder), leaving the entries
+ * below its base alone, which finds the same hit: hits are ranked by distance and then by
+ * order (Hit.order), whatever the order in which they are found. Exact, and slow only for
+ * the rare ray that overflows. The host may set it with -DRAY_BVH_SHORT_STACK (tests force
+ * overflows with a tiny one). */
 #ifndef RAY_BVH_SHORT_STACK
 #define RAY_BVH_SHORT_STACK 24
 #endif
+/* One walk's view of the stack: its `capacity` entries from `entries` on (the whole stack
+ * for the scene's walk, the scene's spare entries for a mesh's). */
 typedef struct {
-    int node[RAY_BVH_SHORT_STACK];
-    float entry[RAY_BVH_SHORT_STACK];
+    BvhStackEntry* entries;
+    int capacity;
     int top;
     bool overflowed;
 } BvhStack;
+
+static inline BvhStack emptyBvhStack(BvhStackEntry* entries, int capacity) {
+    BvhStack stack = {entries, capacity, 0, false};
+    return stack;
+}
 
 /* The primitives (or a mesh's triangles) under wide node `root`, as [x, y): leaves hold
  * them in the tree's order (cl/shared_types.h) and a node's children are in that order
@@ -441,19 +463,19 @@ static inline int nextNode(const InnerChildren* inner, BvhStack* stack, float li
     for (int i = 0; i < inner->count; ++i) {
         if (!enteredBy(inner->entry[i], limit)) continue;
         if (next >= 0) {
-            if (stack->top == RAY_BVH_SHORT_STACK) {
+            if (stack->top == stack->capacity) {
                 stack->overflowed = true; /* the caller falls back to every primitive */
                 return -1;
             }
-            stack->node[stack->top] = inner->node[next];
-            stack->entry[stack->top++] = inner->entry[next];
+            BvhStackEntry pushed = {inner->node[next], inner->entry[next]};
+            stack->entries[stack->top++] = pushed;
         }
         next = i;
     }
     if (next >= 0) return inner->node[next];
     while (stack->top > 0) {
         --stack->top;
-        if (enteredBy(stack->entry[stack->top], limit)) return stack->node[stack->top];
+        if (enteredBy(stack->entries[stack->top].entry, limit)) return stack->entries[stack->top].node;
     }
     return -1;
 }
@@ -461,6 +483,13 @@ static inline int nextNode(const InnerChildren* inner, BvhStack* stack, float li
 /* The distance beyond which traceBvh skips a box: the nearest hit so far, or none under
  * courseMeshes (see traceBvh). */
 static inline float pruneDistance(const Hit* hit, bool courseMeshes) { return courseMeshes ? RAY_INFINITY : hit->t; }
+
+/* Whether a walk with anyHit (traceBvh) is over: it has found a hit. The walk then ends
+ * where every walk ends, at the bottom of its loop, and not with a return from inside it:
+ * after gfx906's control-flow structurizer, that return left a path around the end of the
+ * stack's lifetime, so that the primary trace and the shadow trace (two inlined walks)
+ * could not share their stacks' scratch. */
+static inline bool anyHitFound(bool anyHit, const Hit* hit) { return anyHit && hit->primitive >= 0; }
 
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays, which visit children in node order: any occluder will do).
@@ -475,9 +504,8 @@ bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive*
     hit->primitive = -1;
     hit->order = 0; /* read (as a select) before any hit is recorded */
     float3 inverseDirection = safeInverse(ray.direction);
-    BvhStack stack;
-    stack.top = 0;
-    stack.overflowed = false;
+    BvhStackEntry entries[RAY_BVH_SHORT_STACK];
+    BvhStack stack = emptyBvhStack(entries, RAY_BVH_SHORT_STACK);
     int next = 0;
     do {
         NodeChildren children =
@@ -491,13 +519,16 @@ bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive*
             const int first = children.index[c], count = children.count[c];
             if (count > 0) {
                 for (int i = first; i < first + count; ++i)
-                    intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, hit);
-                if (anyHit && hit->primitive >= 0) return true;
+                    intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes,
+                                       entries + stack.top, RAY_BVH_SHORT_STACK - stack.top, hit);
+                if (anyHitFound(anyHit, hit)) break;
             } else {
                 addInnerChild(&inner, first, children.entry[c], !anyHit);
             }
         }
-        next = afterOverflow(nextNode(&inner, &stack, pruneDistance(hit, courseMeshes)), &stack);
+        next = anyHitFound(anyHit, hit)
+                   ? -1
+                   : afterOverflow(nextNode(&inner, &stack, pruneDistance(hit, courseMeshes)), &stack);
     } while (next != -1);
     return hit->primitive >= 0;
 }

@@ -148,13 +148,15 @@ static inline void intersectTriangle(__global const RayTriangle* triangle, int i
 /* The mesh's own BVH (two-level: instances above, one tree per mesh below, the triangles
  * stored once however many instances use them), walked as traceBvh walks the scene's; its
  * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
+ * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack): it starts
+ * empty there and is empty again when the walk ends, an overflow included (afterOverflow),
+ * so the scene walk's own entries below are never touched.
  * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
-                   float3 d, float* best, int* part, float3* normal, float2* barycentric) {
+                   float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
+                   float2* barycentric) {
     float3 inverseDirection = safeInverse(d);
-    BvhStack stack;
-    stack.top = 0;
-    stack.overflowed = false;
+    BvhStack stack = emptyBvhStack(spare, spareCount);
     int next = root;
     do {
         NodeChildren children = next == RAY_WALK_EVERY_PRIMITIVE ? everyPrimitiveUnder(nodes, root)
