@@ -119,18 +119,12 @@ void transmitFromInside(const RayRenderParams* params, Frame* frame, float3 path
                           params->limits.y);
 }
 
-/* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first). */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight, Ray ray,
-                ChildRay* first, PixelTrace* counter) {
-    frame->color = (float3)(0.0f);
-    frame->childCount = 0;
-    frame->nextChild = 0;
-    Hit hit;
+/* Shades the hit of frame's ray: its color without the lights (which *lights starts to
+ * sum) and the rays it spawns (the first in *first). False when it has no lights to sum (a
+ * ray leaving a transparent object). */
+static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight,
+                            Ray ray, Hit hit, ChildRay* first, LightSamples* lights) {
     const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
-    if (!traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, RAY_INFINITY, false,
-                  courseMeshes, &hit))
-        return;
-
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
     RayMaterial m = scene->materials[prim->info.y];
     float3 p = ray.origin + hit.t * ray.direction;
@@ -155,7 +149,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
         transmitFromInside(params, frame, pathWeight, first, ray.direction, p, normal, surfaceNormal, m.specular.w);
-        return;
+        return false;
     }
 
     float3 diffuse = k.y * m.diffuse.xyz;
@@ -169,11 +163,10 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
         float blend = m.diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
-    frame->color = k.x * m.ambient.xyz + m.emissive.xyz +
-                   directLighting(scene, params, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz,
-                                  m.ambient.w, counter);
+    frame->color = k.x * m.ambient.xyz + m.emissive.xyz; /* shadeFrame adds the lights */
+    startLights(lights, params, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz, m.ambient.w);
 
-    if (frame->depth >= params->mode.y) return;
+    if (frame->depth >= params->mode.y) return true;
     float3 reflectWeight = k.z * m.reflective.xyz;
     float3 transmitWeight = k.w * m.transparent.xyz;
     if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m.transparent.xyz)) {
@@ -188,6 +181,37 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
         addRefractedChild(frame, first, ray.direction, p, normal, surfaceNormal, entering, m.specular.w, transmitWeight,
                           params->limits.y);
+    return true;
+}
+
+/* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first).
+ * One traceBvh call traces the frame's ray (closest hit) and then the shadow ray of each
+ * light sample (any hit): a GPU compiler inlines every call site, the whole walk with every
+ * intersector, and a second site inside the light loop doubled the code and its spills.
+ * The hit's children are spawned before its lights are summed, so that only the lights'
+ * state is live around the shadow rays' walk. */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight, Ray ray,
+                ChildRay* first, PixelTrace* counter) {
+    frame->color = (float3)(0.0f);
+    frame->childCount = 0;
+    frame->nextChild = 0;
+    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    LightSamples lights;
+    bool shadowRay = false; /* ray: a light sample's shadow ray, or else the frame's ray */
+    float tMax = RAY_INFINITY;
+    while (true) {
+        Hit hit;
+        bool blocked = traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, tMax, shadowRay,
+                                courseMeshes && !shadowRay, &hit);
+        if (shadowRay) {
+            if (!blocked) addUnblockedSample(&lights);
+        } else if (!blocked || !shadeHit(scene, params, frame, pathWeight, ray, hit, first, &lights)) {
+            return; /* nothing hit, or no lights to sum */
+        }
+        if (!nextShadowRay(&lights, scene, params, counter, &ray, &tMax)) break;
+        shadowRay = true;
+    }
+    frame->color += lights.sum;
 }
 
 /* The path weight of frame `top`: the product of the weights from the camera ray to it,

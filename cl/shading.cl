@@ -143,70 +143,118 @@ static inline float spotFactor(const RayLight* light, float3 towardLight) {
     return 1.0f - (3.0f * x * x - 2.0f * x * x * x);
 }
 
-static inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
-                     PixelTrace* counter) {
-    counter->shadow++;
-    Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
-    Hit blocker;
-    /* world t for every primitive, --course-meshes or not (docs/conventions.md, meshes) */
-    return traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, shadowRay, distance, true,
-                    false, &blocker);
+/* The lights seen from one shading point, one light sample at a time, so that the shading
+ * point's single trace site (shadeFrame) traces every shadow ray: a GPU compiler inlines
+ * every call, and a second traceBvh in the light loop, with all of the shading values live
+ * around it, doubled the kernel's code and added to its spills. The caller starts it
+ * (startLights), asks for the next sample's shadow ray (nextShadowRay) and hands back
+ * whether anything blocks it (addUnblockedSample); `sum` is then the direct lighting. */
+typedef struct {
+    /* the shading point */
+    float3 p, normal, towardEye, diffuse, specular, shadowOrigin;
+    float shininess;
+    /* where the walk is: the light, and the cell of an area light's grid */
+    int light, cell;
+    /* the light sample whose shadow ray is out */
+    float3 towardLight, intensity;
+    float distance, attenuation, nDotL;
+    float3 sum; /* of the samples so far, in the order the lights and cells come */
+} LightSamples;
+
+/* Starts the walk over the lights at p, whose normal faces the viewer. */
+static inline void startLights(LightSamples* s, const RayRenderParams* params, float3 p, float3 normal,
+                               float3 towardEye, float3 diffuse, float3 specular, float shininess) {
+    s->p = p;
+    s->normal = normal;
+    s->towardEye = towardEye;
+    s->diffuse = diffuse;
+    s->specular = specular;
+    s->shininess = shininess;
+    s->shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
+    s->light = 0;
+    s->cell = 0;
+    s->sum = (float3)(0.0f);
 }
 
-/* One light (or one sample of an area light) seen from p: f_att · S · I_L · [D·max(N·L, 0)
- * + ks·Os·max(R·V, 0)^n], where the light sits at `position` (unused for a directional
- * light) and carries `intensity` (I_L, divided among an area light's samples). */
-float3 lightContribution(const SceneBuffers* scene, const RayRenderParams* params, const RayLight* light,
-                         float3 position, float3 intensity, float3 p, float3 shadowOrigin, float3 normal,
-                         float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
-    float3 towardLight;
-    float distance, attenuation = 1.0f;
+/* The part of one light sample's term before its shadow test: the light (or one sample of
+ * an area light) sits at `position` (unused for a directional light) and carries
+ * `intensity` (I_L, divided among an area light's samples). False when the term is zero
+ * whatever blocks the light: behind the surface, or outside a spot light's cone. */
+static inline bool lightFacing(LightSamples* s, const RayLight* light, float3 position, float3 intensity) {
+    float attenuation = 1.0f;
     if (light->info.x == RAY_LIGHT_DIRECTIONAL) {
-        towardLight = -light->direction.xyz;
-        distance = RAY_INFINITY;
+        s->towardLight = -light->direction.xyz;
+        s->distance = RAY_INFINITY;
     } else {
-        float3 toLight = position - p;
-        distance = length(toLight);
-        towardLight = toLight / distance;
+        float3 toLight = position - s->p;
+        s->distance = length(toLight);
+        s->towardLight = toLight / s->distance;
         float4 c = light->attenuation;
-        attenuation = fmin(1.0f, 1.0f / (c.x + c.y * distance + c.z * distance * distance));
+        attenuation = fmin(1.0f, 1.0f / (c.x + c.y * s->distance + c.z * s->distance * s->distance));
     }
-    float nDotL = dot(normal, towardLight);
-    if (nDotL <= 0.0f) return (float3)(0.0f);
+    s->nDotL = dot(s->normal, s->towardLight);
+    if (s->nDotL <= 0.0f) return false;
     if (light->info.x == RAY_LIGHT_SPOT) {
-        attenuation *= spotFactor(light, towardLight);
-        if (attenuation <= 0.0f) return (float3)(0.0f);
+        attenuation *= spotFactor(light, s->towardLight);
+        if (attenuation <= 0.0f) return false;
     }
-    if ((params->mode.z & RAY_FEATURE_SHADOWS) && inShadow(scene, shadowOrigin, towardLight, distance, counter))
-        return (float3)(0.0f);
-    float3 lit = diffuse * nDotL;
-    if (specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f) { /* pow is costly, and most course materials have no highlight */
-        float3 reflected = 2.0f * nDotL * normal - towardLight;
-        lit += specular * pow(fmax(dot(reflected, towardEye), 0.0f), shininess);
+    s->attenuation = attenuation;
+    s->intensity = intensity;
+    return true;
+}
+
+/* The term of the light sample lightFacing took, unblocked: f_att · S · I_L ·
+ * [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]. */
+static inline float3 litSample(const LightSamples* s) {
+    float3 lit = s->diffuse * s->nDotL;
+    if (s->specular.x > 0.0f || s->specular.y > 0.0f || s->specular.z > 0.0f) { /* pow is costly, and most course materials have no highlight */
+        float3 reflected = 2.0f * s->nDotL * s->normal - s->towardLight;
+        lit += s->specular * pow(fmax(dot(reflected, s->towardEye), 0.0f), s->shininess);
     }
-    return attenuation * intensity * lit;
+    return s->attenuation * s->intensity * lit;
+}
+
+/* Adds the sample whose shadow ray found no blocker. Blocked samples and those lightFacing
+ * turned down add nothing: skipping them is adding +0, as the sum starts at +0 and so is
+ * never −0. */
+static inline void addUnblockedSample(LightSamples* s) {
+    float3 term = litSample(s); /* a statement of its own: not contracted into the sum */
+    s->sum += term;
 }
 
 /* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4); an
  * area light is the sum over its n² jittered point samples (cl/optics.cl), each with 1/n²
- * of its intensity and a shadow ray of its own. One loop over every light sample, around
- * one lightContribution call (a GPU compiler inlines each call site, shadow ray and all). */
-float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, float3 p, float3 normal,
-                      float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
-    float3 sum = (float3)(0.0f);
-    float3 shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
+ * of its intensity and a shadow ray of its own. Walks on to the next light sample that
+ * needs a shadow ray and gives that ray (world t for every primitive, --course-meshes or
+ * not: docs/conventions.md, meshes) and its length; false when every sample is summed.
+ * Without shadows a sample is summed at once. */
+static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, const RayRenderParams* params,
+                                 PixelTrace* counter, Ray* ray, float* tMax) {
     uint seed = (uint)params->counts.w;
-    for (int i = 0; i < params->counts.x; ++i) {
-        RayLight light = scene->lights[i];
+    while (s->light < params->counts.x) {
+        RayLight light = scene->lights[s->light];
         bool area = light.info.x == RAY_LIGHT_AREA;
         int cells = area ? max(1, light.info.y) * max(1, light.info.y) : 1;
-        float3 intensity = area ? light.color.xyz / (float)cells : light.color.xyz;
-        for (int c = 0; c < cells; ++c) {
-            float3 position =
-                area ? areaLightPoint(&light, i, c, counter->pixel, counter->sample, seed) : light.position.xyz;
-            sum += lightContribution(scene, params, &light, position, intensity, p, shadowOrigin, normal, towardEye,
-                                     diffuse, specular, shininess, counter);
+        if (s->cell >= cells) {
+            s->light++;
+            s->cell = 0;
+            continue;
         }
+        int c = s->cell++;
+        float3 intensity = area ? light.color.xyz / (float)cells : light.color.xyz;
+        float3 position =
+            area ? areaLightPoint(&light, s->light, c, counter->pixel, counter->sample, seed) : light.position.xyz;
+        if (!lightFacing(s, &light, position, intensity)) continue;
+        if (!(params->mode.z & RAY_FEATURE_SHADOWS)) {
+            addUnblockedSample(s);
+            continue;
+        }
+        counter->shadow++;
+        ray->origin = s->shadowOrigin;
+        ray->direction = s->towardLight;
+        ray->time = counter->time; /* the blockers as the camera sample sees them */
+        *tMax = s->distance;
+        return true;
     }
-    return sum;
+    return false;
 }
