@@ -133,7 +133,7 @@ static inline float3 offsetAlongRay(float3 p, float3 normal, float3 direction, f
 }
 
 /* Spot light falloff: 1 inside the inner cone, 0 outside the outer, smooth between. */
-static inline float spotFactor(const RayLight* light, float3 towardLight) {
+static inline float spotFactor(__global const RayLight* light, float3 towardLight) {
     float cosTheta = dot(-towardLight, light->direction.xyz);
     float theta = acos(clamp(cosTheta, -1.0f, 1.0f));
     float outer = light->spot.z, inner = light->spot.w;
@@ -153,10 +153,12 @@ typedef struct {
     /* the shading point */
     float3 p, normal, towardEye, diffuse, specular, shadowOrigin;
     float shininess;
-    /* where the walk is: the light, and the cell of an area light's grid */
-    int light, cell;
+    /* where the walk is: the light, the cell of its grid (an area light's n², else 1) and
+     * the intensity of each of its samples (I_L, divided among an area light's samples) */
+    int light, cell, cells;
+    float3 intensity;
     /* the light sample whose shadow ray is out */
-    float3 towardLight, intensity;
+    float3 towardLight;
     float distance, attenuation, nDotL;
     float3 sum; /* of the samples so far, in the order the lights and cells come */
 } LightSamples;
@@ -171,16 +173,23 @@ static inline void startLights(LightSamples* s, const RayRenderParams* params, f
     s->specular = specular;
     s->shininess = shininess;
     s->shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
-    s->light = 0;
-    s->cell = 0;
+    s->light = -1; /* nextShadowRay starts the first light */
+    s->cell = s->cells = 0;
     s->sum = (float3)(0.0f);
 }
 
+/* Starts the samples of light s->light. */
+static inline void startLight(LightSamples* s, __global const RayLight* light) {
+    bool area = light->info.x == RAY_LIGHT_AREA;
+    s->cells = area ? max(1, light->info.y) * max(1, light->info.y) : 1;
+    s->intensity = area ? light->color.xyz / (float)s->cells : light->color.xyz;
+    s->cell = 0;
+}
+
 /* The part of one light sample's term before its shadow test: the light (or one sample of
- * an area light) sits at `position` (unused for a directional light) and carries
- * `intensity` (I_L, divided among an area light's samples). False when the term is zero
- * whatever blocks the light: behind the surface, or outside a spot light's cone. */
-static inline bool lightFacing(LightSamples* s, const RayLight* light, float3 position, float3 intensity) {
+ * an area light) sits at `position` (unused for a directional light). False when the term
+ * is zero whatever blocks the light: behind the surface, or outside a spot light's cone. */
+static inline bool lightFacing(LightSamples* s, __global const RayLight* light, float3 position) {
     float attenuation = 1.0f;
     if (light->info.x == RAY_LIGHT_DIRECTIONAL) {
         s->towardLight = -light->direction.xyz;
@@ -199,7 +208,6 @@ static inline bool lightFacing(LightSamples* s, const RayLight* light, float3 po
         if (attenuation <= 0.0f) return false;
     }
     s->attenuation = attenuation;
-    s->intensity = intensity;
     return true;
 }
 
@@ -231,20 +239,17 @@ static inline void addUnblockedSample(LightSamples* s) {
 static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, const RayRenderParams* params,
                                  PixelTrace* counter, Ray* ray, float* tMax) {
     uint seed = (uint)params->counts.w;
-    while (s->light < params->counts.x) {
-        RayLight light = scene->lights[s->light];
-        bool area = light.info.x == RAY_LIGHT_AREA;
-        int cells = area ? max(1, light.info.y) * max(1, light.info.y) : 1;
-        if (s->cell >= cells) {
-            s->light++;
-            s->cell = 0;
-            continue;
+    while (true) {
+        if (s->cell == s->cells) { /* the light's samples are all summed */
+            if (++s->light >= params->counts.x) return false;
+            startLight(s, &scene->lights[s->light]);
         }
+        __global const RayLight* light = &scene->lights[s->light];
         int c = s->cell++;
-        float3 intensity = area ? light.color.xyz / (float)cells : light.color.xyz;
-        float3 position =
-            area ? areaLightPoint(&light, s->light, c, counter->pixel, counter->sample, seed) : light.position.xyz;
-        if (!lightFacing(s, &light, position, intensity)) continue;
+        float3 position = light->info.x == RAY_LIGHT_AREA
+                              ? areaLightPoint(light, s->light, c, counter->pixel, counter->sample, seed)
+                              : light->position.xyz;
+        if (!lightFacing(s, light, position)) continue;
         if (!(params->mode.z & RAY_FEATURE_SHADOWS)) {
             addUnblockedSample(s);
             continue;
@@ -256,5 +261,4 @@ static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, con
         *tMax = s->distance;
         return true;
     }
-    return false;
 }
