@@ -164,7 +164,7 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
     frame->color = k.x * m.ambient.xyz + m.emissive.xyz; /* shadeFrame adds the lights */
-    startLights(lights, params, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz, m.ambient.w);
+    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz, m.ambient.w);
 
     if (frame->depth >= params->mode.y) return true;
     float3 reflectWeight = k.z * m.reflective.xyz;

@@ -151,8 +151,9 @@ static inline float spotFactor(__global const RayLight* light, float3 towardLigh
  * whether anything blocks it (addUnblockedSample); `sum` is then the direct lighting. */
 typedef struct {
     /* the shading point */
-    float3 p, normal, towardEye, diffuse, specular, shadowOrigin;
+    float3 p, normal, towardEye, diffuse, specular;
     float shininess;
+    bool highlight; /* some specular channel above 0: pow is costly, and most course materials have none */
     /* where the walk is: the light, the cell of its grid (an area light's n², else 1) and
      * the intensity of each of its samples (I_L, divided among an area light's samples) */
     int light, cell, cells;
@@ -164,15 +165,15 @@ typedef struct {
 } LightSamples;
 
 /* Starts the walk over the lights at p, whose normal faces the viewer. */
-static inline void startLights(LightSamples* s, const RayRenderParams* params, float3 p, float3 normal,
-                               float3 towardEye, float3 diffuse, float3 specular, float shininess) {
+static inline void startLights(LightSamples* s, float3 p, float3 normal, float3 towardEye, float3 diffuse,
+                               float3 specular, float shininess) {
     s->p = p;
     s->normal = normal;
     s->towardEye = towardEye;
     s->diffuse = diffuse;
     s->specular = specular;
     s->shininess = shininess;
-    s->shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
+    s->highlight = specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f;
     s->light = -1; /* nextShadowRay starts the first light */
     s->cell = s->cells = 0;
     s->sum = (float3)(0.0f);
@@ -215,7 +216,7 @@ static inline bool lightFacing(LightSamples* s, __global const RayLight* light, 
  * [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]. */
 static inline float3 litSample(const LightSamples* s) {
     float3 lit = s->diffuse * s->nDotL;
-    if (s->specular.x > 0.0f || s->specular.y > 0.0f || s->specular.z > 0.0f) { /* pow is costly, and most course materials have no highlight */
+    if (s->highlight) {
         float3 reflected = 2.0f * s->nDotL * s->normal - s->towardLight;
         lit += s->specular * pow(fmax(dot(reflected, s->towardEye), 0.0f), s->shininess);
     }
@@ -255,7 +256,7 @@ static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, con
             continue;
         }
         counter->shadow++;
-        ray->origin = s->shadowOrigin;
+        ray->origin = offsetFromSurface(s->p, s->normal, params->limits.y); /* recomputed: less state around the walk */
         ray->direction = s->towardLight;
         ray->time = counter->time; /* the blockers as the camera sample sees them */
         *tMax = s->distance;
