@@ -186,10 +186,12 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
 
 /* Traces frame's ray, shades the hit and records the rays it spawns (the first in *first).
  * One traceBvh call traces the frame's ray (closest hit) and then the shadow ray of each
- * light sample (any hit): a GPU compiler inlines every call site, the whole walk with every
- * intersector, and a second site inside the light loop doubled the code and its spills.
- * The hit's children are spawned before its lights are summed, so that only the lights'
- * state is live around the shadow rays' walk. */
+ * light sample (any hit; LightSamples): a GPU compiler inlines every call site, the whole
+ * BVH walk with every intersector, and a second site inside the light loop, with all of
+ * the shading values live around it, grew the code by a third and the private memory a
+ * work-item by an eighth (docs/performance.md). The hit's children are spawned
+ * before its lights are summed, so that only the walk over the lights is live around the
+ * shadow rays' trace. */
 void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame* frame, float3 pathWeight, Ray ray,
                 ChildRay* first, PixelTrace* counter) {
     frame->color = (float3)(0.0f);
@@ -201,11 +203,11 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, Frame*
     float tMax = RAY_INFINITY;
     while (true) {
         Hit hit;
-        bool blocked = traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, tMax, shadowRay,
-                                courseMeshes && !shadowRay, &hit);
+        bool found = traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, tMax, shadowRay,
+                              courseMeshes && !shadowRay, &hit);
         if (shadowRay) {
-            if (!blocked) addUnblockedSample(&lights);
-        } else if (!blocked || !shadeHit(scene, params, frame, pathWeight, ray, hit, first, &lights)) {
+            if (!found) addUnblockedSample(&lights);
+        } else if (!found || !shadeHit(scene, params, frame, pathWeight, ray, hit, first, &lights)) {
             return; /* nothing hit, or no lights to sum */
         }
         if (!nextShadowRay(&lights, scene, params, counter, &ray, &tMax)) break;
@@ -224,8 +226,9 @@ static inline float3 pathWeightOf(const Frame* stack, int top) {
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
- * of the tree is shaded at the one shadeFrame call below, the loop's first step whenever a
- * frame has just been pushed (a GPU compiler inlines every call site). */
+ * of the tree is shaded at the one shadeFrame call below (which traces it and its shadow
+ * rays at one traceBvh call), the loop's first step whenever a frame has just been pushed
+ * (a GPU compiler inlines every call site). */
 float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
     Frame stack[RAY_MAX_FRAMES];
     int top = 0;

@@ -143,12 +143,13 @@ static inline float spotFactor(__global const RayLight* light, float3 towardLigh
     return 1.0f - (3.0f * x * x - 2.0f * x * x * x);
 }
 
-/* The lights seen from one shading point, one light sample at a time, so that the shading
- * point's single trace site (shadeFrame) traces every shadow ray: a GPU compiler inlines
- * every call, and a second traceBvh in the light loop, with all of the shading values live
- * around it, doubled the kernel's code and added to its spills. The caller starts it
- * (startLights), asks for the next sample's shadow ray (nextShadowRay) and hands back
- * whether anything blocks it (addUnblockedSample); `sum` is then the direct lighting. */
+/* Direct lighting, Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]
+ * (SPEC §4), where an area light is the sum over its n² jittered point samples
+ * (cl/optics.cl), each with 1/n² of its intensity and a shadow ray of its own: a walk over
+ * the light samples seen from one shading point that hands out one shadow ray at a time,
+ * so that shadeFrame traces them all at its one trace site (see there). The caller starts it
+ * (startLights), asks for each sample's shadow ray (nextShadowRay) and hands back the
+ * samples nothing blocks (addUnblockedSample); `sum` then holds the direct lighting. */
 typedef struct {
     /* the shading point */
     float3 p, normal, towardEye, diffuse, specular;
@@ -231,12 +232,10 @@ static inline void addUnblockedSample(LightSamples* s) {
     s->sum += term;
 }
 
-/* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4); an
- * area light is the sum over its n² jittered point samples (cl/optics.cl), each with 1/n²
- * of its intensity and a shadow ray of its own. Walks on to the next light sample that
- * needs a shadow ray and gives that ray (world t for every primitive, --course-meshes or
- * not: docs/conventions.md, meshes) and its length; false when every sample is summed.
- * Without shadows a sample is summed at once. */
+/* Walks on to the next light sample that needs a shadow ray, lights and cells in order, and
+ * gives that ray and its length (traced with world t for every primitive, --course-meshes
+ * or not: docs/conventions.md, meshes); false when every sample is summed. Without shadows
+ * a sample is summed at once. */
 static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, const RayRenderParams* params,
                                  PixelTrace* counter, Ray* ray, float* tMax) {
     uint seed = (uint)params->counts.w;
