@@ -197,20 +197,14 @@ void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth,
                           transmitWeight, params->limits.y);
 }
 
-/* Traces the ray of frame tree->frames[depth], shades the hit and records the rays it
- * spawns (spawnChild: the first into the frame above and *next). */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray ray, Ray* next,
-                PixelTrace* counter) {
+/* Shades the hit of the ray of frame tree->frames[depth]: its color without the lights
+ * (which *lights starts to sum) and the rays it spawns (spawnChild: the first into the
+ * frame above and *next). False when it has no lights to sum (a ray leaving a transparent
+ * object). */
+static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth,
+                            Ray ray, Hit hit, Ray* next, LightSamples* lights) {
     Frame* frame = &tree->frames[depth];
-    frame->color = packFloat3((float3)(0.0f));
-    frame->childCount = 0;
-    frame->nextChild = 0;
-    Hit hit;
     const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
-    if (!traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, RAY_INFINITY, false,
-                  courseMeshes, &hit))
-        return;
-
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
     RayMaterial m = scene->materials[prim->info.y];
     float3 p = ray.origin + hit.t * ray.direction;
@@ -235,7 +229,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
     int features = params->mode.z;
     if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
         transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m.specular.w);
-        return;
+        return false;
     }
 
     float3 diffuse = k.y * m.diffuse.xyz;
@@ -249,11 +243,10 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
         float blend = m.diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
-    frame->color = packFloat3(k.x * m.ambient.xyz + m.emissive.xyz +
-                              directLighting(scene, params, p, normal, -ray.direction, diffuse,
-                                             k.z * m.specular.xyz, m.ambient.w, counter));
+    frame->color = packFloat3(k.x * m.ambient.xyz + m.emissive.xyz); /* shadeFrame adds the lights */
+    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz, m.ambient.w);
 
-    if (atDepthLimit(params, depth)) return;
+    if (atDepthLimit(params, depth)) return true;
     float3 pathWeight = pathWeightOf(tree->frames, depth);
     float3 reflectWeight = k.z * m.reflective.xyz;
     float3 transmitWeight = k.w * m.transparent.xyz;
@@ -270,11 +263,46 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
         addRefractedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, entering,
                           m.specular.w, transmitWeight, params->limits.y);
+    return true;
+}
+
+/* Traces the ray of frame tree->frames[depth], shades the hit and records the rays it
+ * spawns (spawnChild: the first into the frame above and *next). One traceBvh call traces
+ * the frame's ray (closest hit) and then the shadow ray of each light sample (any hit;
+ * LightSamples): a GPU compiler inlines every call site, the whole BVH walk with every
+ * intersector, and a second site inside the light loop, with all of the shading values
+ * live around it, grew the code by a third and the private memory a work-item by an
+ * eighth (docs/performance.md). The hit's children are spawned before its lights are
+ * summed, so that only the walk over the lights is live around the shadow rays' trace. */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray ray, Ray* next,
+                PixelTrace* counter) {
+    Frame* frame = &tree->frames[depth];
+    frame->color = packFloat3((float3)(0.0f));
+    frame->childCount = 0;
+    frame->nextChild = 0;
+    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    LightSamples lights;
+    bool shadowRay = false; /* ray: a light sample's shadow ray, or else the frame's ray */
+    float tMax = RAY_INFINITY;
+    while (true) {
+        Hit hit;
+        bool found = traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, tMax, shadowRay,
+                              courseMeshes && !shadowRay, &hit);
+        if (shadowRay) {
+            if (!found) addUnblockedSample(&lights);
+        } else if (!found || !shadeHit(scene, params, tree, depth, ray, hit, next, &lights)) {
+            return; /* nothing hit, or no lights to sum */
+        }
+        if (!nextShadowRay(&lights, scene, params, counter, &ray, &tMax)) break;
+        shadowRay = true;
+    }
+    frame->color = packFloat3(unpackFloat3(frame->color) + lights.sum);
 }
 
 /* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
- * of the tree is shaded at the one shadeFrame call below, the loop's first step whenever a
- * frame has just been pushed (a GPU compiler inlines every call site). Inline on PoCL as
+ * of the tree is shaded at the one shadeFrame call below (which traces it and its shadow
+ * rays at one traceBvh call), the loop's first step whenever a frame has just been pushed
+ * (a GPU compiler inlines every call site). Inline on PoCL as
  * well: there a call of its own cost chess 1% more instructions. */
 static inline float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
                                     PixelTrace* counter) {

@@ -133,7 +133,7 @@ static inline float3 offsetAlongRay(float3 p, float3 normal, float3 direction, f
 }
 
 /* Spot light falloff: 1 inside the inner cone, 0 outside the outer, smooth between. */
-static inline float spotFactor(const RayLight* light, float3 towardLight) {
+static inline float spotFactor(__global const RayLight* light, float3 towardLight) {
     float cosTheta = dot(-towardLight, light->direction.xyz);
     float theta = acos(clamp(cosTheta, -1.0f, 1.0f));
     float outer = light->spot.z, inner = light->spot.w;
@@ -143,70 +143,122 @@ static inline float spotFactor(const RayLight* light, float3 towardLight) {
     return 1.0f - (3.0f * x * x - 2.0f * x * x * x);
 }
 
-static inline bool inShadow(const SceneBuffers* scene, float3 origin, float3 towardLight, float distance,
-                     PixelTrace* counter) {
-    counter->shadow++;
-    Ray shadowRay = {origin, towardLight, counter->time}; /* the blockers as the camera sample sees them */
-    Hit blocker;
-    /* world t for every primitive, --course-meshes or not (docs/conventions.md, meshes) */
-    return traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, shadowRay, distance, true,
-                    false, &blocker);
-}
-
-/* One light (or one sample of an area light) seen from p: f_att · S · I_L · [D·max(N·L, 0)
- * + ks·Os·max(R·V, 0)^n], where the light sits at `position` (unused for a directional
- * light) and carries `intensity` (I_L, divided among an area light's samples). */
-float3 lightContribution(const SceneBuffers* scene, const RayRenderParams* params, const RayLight* light,
-                         float3 position, float3 intensity, float3 p, float3 shadowOrigin, float3 normal,
-                         float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
+/* Direct lighting, Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]
+ * (SPEC §4), where an area light is the sum over its n² jittered point samples
+ * (cl/optics.cl), each with 1/n² of its intensity and a shadow ray of its own: a walk over
+ * the light samples seen from one shading point that hands out one shadow ray at a time,
+ * so that shadeFrame traces them all at its one trace site (see there). The caller starts it
+ * (startLights), asks for each sample's shadow ray (nextShadowRay) and hands back the
+ * samples nothing blocks (addUnblockedSample); `sum` then holds the direct lighting. */
+typedef struct {
+    /* the shading point */
+    float3 p, normal, towardEye, diffuse, specular;
+    float shininess;
+    bool highlight; /* some specular channel above 0: pow is costly, and most course materials have none */
+    /* where the walk is: the light, the cell of its grid (an area light's n², else 1) and
+     * the intensity of each of its samples (I_L, divided among an area light's samples) */
+    int light, cell, cells;
+    float3 intensity;
+    /* the light sample whose shadow ray is out */
     float3 towardLight;
-    float distance, attenuation = 1.0f;
-    if (light->info.x == RAY_LIGHT_DIRECTIONAL) {
-        towardLight = -light->direction.xyz;
-        distance = RAY_INFINITY;
-    } else {
-        float3 toLight = position - p;
-        distance = length(toLight);
-        towardLight = toLight / distance;
-        float4 c = light->attenuation;
-        attenuation = fmin(1.0f, 1.0f / (c.x + c.y * distance + c.z * distance * distance));
-    }
-    float nDotL = dot(normal, towardLight);
-    if (nDotL <= 0.0f) return (float3)(0.0f);
-    if (light->info.x == RAY_LIGHT_SPOT) {
-        attenuation *= spotFactor(light, towardLight);
-        if (attenuation <= 0.0f) return (float3)(0.0f);
-    }
-    if ((params->mode.z & RAY_FEATURE_SHADOWS) && inShadow(scene, shadowOrigin, towardLight, distance, counter))
-        return (float3)(0.0f);
-    float3 lit = diffuse * nDotL;
-    if (specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f) { /* pow is costly, and most course materials have no highlight */
-        float3 reflected = 2.0f * nDotL * normal - towardLight;
-        lit += specular * pow(fmax(dot(reflected, towardEye), 0.0f), shininess);
-    }
-    return attenuation * intensity * lit;
+    float distance, attenuation, nDotL;
+    float3 sum; /* of the samples so far, in the order the lights and cells come */
+} LightSamples;
+
+/* Starts the walk over the lights at p, whose normal faces the viewer. */
+static inline void startLights(LightSamples* s, float3 p, float3 normal, float3 towardEye, float3 diffuse,
+                               float3 specular, float shininess) {
+    s->p = p;
+    s->normal = normal;
+    s->towardEye = towardEye;
+    s->diffuse = diffuse;
+    s->specular = specular;
+    s->shininess = shininess;
+    s->highlight = specular.x > 0.0f || specular.y > 0.0f || specular.z > 0.0f;
+    s->light = -1; /* nextShadowRay starts the first light */
+    s->cell = s->cells = 0;
+    s->sum = (float3)(0.0f);
 }
 
-/* Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n] (SPEC §4); an
- * area light is the sum over its n² jittered point samples (cl/optics.cl), each with 1/n²
- * of its intensity and a shadow ray of its own. One loop over every light sample, around
- * one lightContribution call (a GPU compiler inlines each call site, shadow ray and all). */
-float3 directLighting(const SceneBuffers* scene, const RayRenderParams* params, float3 p, float3 normal,
-                      float3 towardEye, float3 diffuse, float3 specular, float shininess, PixelTrace* counter) {
-    float3 sum = (float3)(0.0f);
-    float3 shadowOrigin = offsetFromSurface(p, normal, params->limits.y);
-    uint seed = (uint)params->counts.w;
-    for (int i = 0; i < params->counts.x; ++i) {
-        RayLight light = scene->lights[i];
-        bool area = light.info.x == RAY_LIGHT_AREA;
-        int cells = area ? max(1, light.info.y) * max(1, light.info.y) : 1;
-        float3 intensity = area ? light.color.xyz / (float)cells : light.color.xyz;
-        for (int c = 0; c < cells; ++c) {
-            float3 position =
-                area ? areaLightPoint(&light, i, c, counter->pixel, counter->sample, seed) : light.position.xyz;
-            sum += lightContribution(scene, params, &light, position, intensity, p, shadowOrigin, normal, towardEye,
-                                     diffuse, specular, shininess, counter);
-        }
+/* Starts the samples of light s->light. */
+static inline void startLight(LightSamples* s, __global const RayLight* light) {
+    bool area = light->info.x == RAY_LIGHT_AREA;
+    s->cells = area ? max(1, light->info.y) * max(1, light->info.y) : 1;
+    s->intensity = area ? light->color.xyz / (float)s->cells : light->color.xyz;
+    s->cell = 0;
+}
+
+/* The part of one light sample's term before its shadow test: the light (or one sample of
+ * an area light) sits at `position` (unused for a directional light). False when the term
+ * is zero whatever blocks the light: behind the surface, or outside a spot light's cone. */
+static inline bool lightFacing(LightSamples* s, __global const RayLight* light, float3 position) {
+    float attenuation = 1.0f;
+    if (light->info.x == RAY_LIGHT_DIRECTIONAL) {
+        s->towardLight = -light->direction.xyz;
+        s->distance = RAY_INFINITY;
+    } else {
+        float3 toLight = position - s->p;
+        s->distance = length(toLight);
+        s->towardLight = toLight / s->distance;
+        float4 c = light->attenuation;
+        attenuation = fmin(1.0f, 1.0f / (c.x + c.y * s->distance + c.z * s->distance * s->distance));
     }
-    return sum;
+    s->nDotL = dot(s->normal, s->towardLight);
+    if (s->nDotL <= 0.0f) return false;
+    if (light->info.x == RAY_LIGHT_SPOT) {
+        attenuation *= spotFactor(light, s->towardLight);
+        if (attenuation <= 0.0f) return false;
+    }
+    s->attenuation = attenuation;
+    return true;
+}
+
+/* The term of the light sample lightFacing took, unblocked: f_att · S · I_L ·
+ * [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]. */
+static inline float3 litSample(const LightSamples* s) {
+    float3 lit = s->diffuse * s->nDotL;
+    if (s->highlight) {
+        float3 reflected = 2.0f * s->nDotL * s->normal - s->towardLight;
+        lit += s->specular * pow(fmax(dot(reflected, s->towardEye), 0.0f), s->shininess);
+    }
+    return s->attenuation * s->intensity * lit;
+}
+
+/* Adds the sample whose shadow ray found no blocker. Blocked samples and those lightFacing
+ * turned down add nothing: skipping them is adding +0, as the sum starts at +0 and so is
+ * never −0. */
+static inline void addUnblockedSample(LightSamples* s) {
+    float3 term = litSample(s); /* a statement of its own: not contracted into the sum */
+    s->sum += term;
+}
+
+/* Walks on to the next light sample that needs a shadow ray, lights and cells in order, and
+ * gives that ray and its length (traced with world t for every primitive, --course-meshes
+ * or not: docs/conventions.md, meshes); false when every sample is summed. Without shadows
+ * a sample is summed at once. */
+static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, const RayRenderParams* params,
+                                 PixelTrace* counter, Ray* ray, float* tMax) {
+    uint seed = (uint)params->counts.w;
+    while (true) {
+        if (s->cell == s->cells) { /* the light's samples are all summed */
+            if (++s->light >= params->counts.x) return false;
+            startLight(s, &scene->lights[s->light]);
+        }
+        __global const RayLight* light = &scene->lights[s->light];
+        int c = s->cell++;
+        float3 position = light->info.x == RAY_LIGHT_AREA
+                              ? areaLightPoint(light, s->light, c, counter->pixel, counter->sample, seed)
+                              : light->position.xyz;
+        if (!lightFacing(s, light, position)) continue;
+        if (!(params->mode.z & RAY_FEATURE_SHADOWS)) {
+            addUnblockedSample(s);
+            continue;
+        }
+        counter->shadow++;
+        ray->origin = offsetFromSurface(s->p, s->normal, params->limits.y); /* recomputed: less state around the walk */
+        ray->direction = s->towardLight;
+        ray->time = counter->time; /* the blockers as the camera sample sees them */
+        *tMax = s->distance;
+        return true;
+    }
 }
