@@ -206,7 +206,9 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
     Frame* frame = &tree->frames[depth];
     const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
-    RayMaterial m = scene->materials[prim->info.y];
+    /* read where it lies: a private copy of the material (128 B) was loaded whole and held
+     * across the shading, 48 B of gfx906 scratch */
+    __global const RayMaterial* m = &scene->materials[prim->info.y];
     float3 p = ray.origin + hit.t * ray.direction;
     float3 faceNormal = hit.objectNormal; /* a mesh's: the triangle's, before its shading normal */
     /* --course-meshes: a mesh keeps its face normal */
@@ -218,42 +220,42 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
      * bump map tilts the shading normal, not the surface (host/reference/reference_renderer.cpp). */
     bool entering = dot(normal, ray.direction) < 0.0f;
     float3 surfaceNormal = entering ? normal : -normal; /* facing the ray, before a bump map tilts it */
-    if ((params->mode.z & RAY_FEATURE_TEXTURES) && m.maps.y >= 0) { /* bump maps follow the textures switch */
+    if ((params->mode.z & RAY_FEATURE_TEXTURES) && m->maps.y >= 0) { /* bump maps follow the textures switch */
         hit.objectNormal = bumpedObjectNormal(
-            scene, m.maps.y, uv, m.repeats.zw, objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
+            scene, m->maps.y, uv, m->repeats.zw, objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
             bitangentSign(scene, prim->info.x, hit.part, faceNormal, hit.objectNormal), hit.objectNormal);
         normal = normalToWorld(prim->worldToObject, hit.objectNormal);
     }
     if (!entering) normal = -normal; /* face the incoming ray */
     float4 k = params->globals;                               /* ka, kd, ks, kt */
     int features = params->mode.z;
-    if (leavesTransparentObject(features, entering, m.transparent.xyz)) {
-        transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m.specular.w);
+    if (leavesTransparentObject(features, entering, m->transparent.xyz)) {
+        transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m->specular.w);
         return false;
     }
 
-    float3 diffuse = k.y * m.diffuse.xyz;
-    if ((features & RAY_FEATURE_TEXTURES) && m.maps.x >= 0) {
+    float3 diffuse = k.y * m->diffuse.xyz;
+    if ((features & RAY_FEATURE_TEXTURES) && m->maps.x >= 0) {
         float3 t = (features & RAY_FEATURE_TRILINEAR)
-                       ? sampleTrilinear(scene, m.maps.x, uv, m.repeats.xy,
+                       ? sampleTrilinear(scene, m->maps.x, uv, m->repeats.xy,
                                          textureFootprint(scene, params, prim, hit.part, hit.t, ray.direction, normal))
                    : (features & RAY_FEATURE_COURSE_FILTER)
-                       ? sampleCourseBilinear(scene, m.maps.x, uv, m.repeats.xy)
-                       : sampleTexture(scene, m.maps.x, uv, m.repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
-        float blend = m.diffuse.w;
+                       ? sampleCourseBilinear(scene, m->maps.x, uv, m->repeats.xy)
+                       : sampleTexture(scene, m->maps.x, uv, m->repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
+        float blend = m->diffuse.w;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
-    frame->color = packFloat3(k.x * m.ambient.xyz + m.emissive.xyz); /* shadeFrame adds the lights */
-    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m.specular.xyz, m.ambient.w);
+    frame->color = packFloat3(k.x * m->ambient.xyz + m->emissive.xyz); /* shadeFrame adds the lights */
+    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m->specular.xyz, m->ambient.w);
 
     if (atDepthLimit(params, depth)) return true;
     float3 pathWeight = pathWeightOf(tree->frames, depth);
-    float3 reflectWeight = k.z * m.reflective.xyz;
-    float3 transmitWeight = k.w * m.transparent.xyz;
-    if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m.transparent.xyz)) {
+    float3 reflectWeight = k.z * m->reflective.xyz;
+    float3 transmitWeight = k.w * m->transparent.xyz;
+    if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m->transparent.xyz)) {
         /* ks·Or·R·I_r + kt·Ot·(1 − R)·I_t; under total internal reflection (R = 1) the
          * transmitted branch has weight 0 and is not traced. */
-        float r = surfaceReflectance(tree->frames, depth, ray.direction, normal, entering, m.specular.w);
+        float r = surfaceReflectance(tree->frames, depth, ray.direction, normal, entering, m->specular.w);
         reflectWeight *= r;
         transmitWeight *= 1.0f - r;
     }
@@ -262,7 +264,7 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
                           params->limits.y);
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
         addRefractedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, entering,
-                          m.specular.w, transmitWeight, params->limits.y);
+                          m->specular.w, transmitWeight, params->limits.y);
     return true;
 }
 
