@@ -269,11 +269,8 @@ static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* n
 /* Minimum and maximum of operands that are never NaN. OpenCL's fmin and fmax must return
  * the operand that is not NaN, which costs a compare-unordered and a blend per call on
  * CPUs; a select compiles to one vminps/vmaxps (the traversal ran ~25% faster on PoCL).
- * The slab tests below never see a NaN (safeInverse), so they use these. */
-static inline float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
-static inline float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
-static inline float minNumber(float a, float b) { return a < b ? a : b; }
-static inline float maxNumber(float a, float b) { return a > b ? a : b; }
+ * The slab tests below never see a NaN (safeInverse), so they use these (defined with
+ * each shape of the test below). */
 
 /* Slab distances to the four children of a wide node (cl/shared_types.h): the distance at
  * which the ray enters each child's box within (0, tMax), +infinity for a child it misses
@@ -288,6 +285,9 @@ static inline float maxNumber(float a, float b) { return a > b ? a : b; }
  * the one-child shape costs 5% more instructions (chess). tests/rusticl.sh renders the
  * bundled scenes with the scalar shape and compares them with PoCL's. */
 #ifdef POCL_DEVICE_ADDRESS_BITS
+static inline float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
+static inline float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
+
 static inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
                                          float tMax) {
     float4 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
@@ -300,6 +300,9 @@ static inline float4 childEntryDistances(__global const RayWideBvhNode* node, fl
     return select((float4)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
 }
 #else
+static inline float minNumber(float a, float b) { return a < b ? a : b; }
+static inline float maxNumber(float a, float b) { return a > b ? a : b; }
+
 /* The entry distance into one box, [minX, maxX] × [minY, maxY] × [minZ, maxZ]. */
 static inline float boxEntryDistance(float minX, float maxX, float minY, float maxY, float minZ, float maxZ,
                                      float3 origin, float3 inverseDirection, float tMax) {
