@@ -19,8 +19,7 @@ the code size:
 With --check it exits 1 when the inlined gfx906 build of a kernel needs more scratch than
 --max-scratch or reaches an occupancy below --min-occupancy (a GPU-ready kernel: little
 private memory a work-item, several waves in flight to hide latency). The defaults are
-the goal (2 KB, 4 waves); CTest checks against the figures reached so far, so that no
-change makes them worse (tests/CMakeLists.txt).
+the goal (2 KB, 4 waves), which CTest checks too (tests/CMakeLists.txt).
 
   scripts/kernel_resources.py [--depth 4] [--check] cl/shared_types.h ... cl/render.cl
 (CTest runs it as kernel_resources, with the sources listed in CMakeLists.txt.)
