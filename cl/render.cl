@@ -275,9 +275,14 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
  * intersector, and a second site inside the light loop, with all of the shading values
  * live around it, grew the code by a third and the private memory a work-item by an
  * eighth (docs/performance.md). The hit's children are spawned before its lights are
- * summed, so that only the walk over the lights is live around the shadow rays' trace. */
-void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray ray, Ray* next,
-                PixelTrace* counter) {
+ * summed, so that only the walk over the lights is live around the shadow rays' trace.
+ *
+ * frameRay is copied before anything is written: traceCameraRay passes its own ray by value
+ * and as *next, and Mesa's rusticl hands a struct argument over by reference (a by-value
+ * parameter written in place wrote the caller's ray: the first child, written to *next, came
+ * back as the last shadow ray, and tests/rusticl.sh saw mirrors differ from PoCL's). */
+void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray frameRay,
+                Ray* next, PixelTrace* counter) {
     Frame* frame = &tree->frames[depth];
     frame->color = packFloat3((float3)(0.0f));
     frame->childCount = 0;
@@ -286,6 +291,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
     LightSamples lights;
     bool shadowRay = false; /* ray: a light sample's shadow ray, or else the frame's ray */
     float tMax = RAY_INFINITY;
+    Ray ray = frameRay; /* then each light sample's shadow ray */
     while (true) {
         Hit hit;
         bool found = traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, tMax, shadowRay,
