@@ -465,10 +465,13 @@ static inline void startSampler(PixelSampler* s, const RayRenderParams* params) 
         return;
     }
     JitteredSampler* j = &s->jittered;
+    j->count = 0;
+    /* --aa off counts its one sample and nothing else: the rest is a per-pixel cost there
+     * (PoCL: 0.8 M instructions of chess's 132.3 M, most of its pixels missing everything) */
+    if (params->mode.x == RAY_AA_OFF) return;
     j->sum = (float3)(0.0f);
     j->low = (float3)(INFINITY);
     j->high = (float3)(-INFINITY);
-    j->count = 0;
     j->extra = 0;
     int samples = params->mode.w;
     bool stratified = params->mode.x == RAY_AA_STRATIFIED || samples <= 4;
