@@ -246,7 +246,8 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
     frame->color = packFloat3(k.x * m->ambient.xyz + m->emissive.xyz); /* shadeFrame adds the lights */
-    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m->specular.xyz, m->ambient.w);
+    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m->specular.xyz, m->ambient.w,
+                params->limits.y);
 
     if (atDepthLimit(params, depth)) return true;
     float3 pathWeight = pathWeightOf(tree->frames, depth);
