@@ -163,17 +163,19 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
                                                                  : testChildren(&nodes[next], o, inverseDirection, *best);
         InnerChildren inner;
         inner.count = 0;
+        float limit = *best; /* read again only after a leaf's triangles, as traceBvh does */
         for (int c = 0; c < 4; ++c) {
-            if (!(children.entry[c] < *best)) continue;
+            if (!(children.entry[c] < limit)) continue;
             const int first = children.index[c], count = children.count[c];
             if (count > 0) {
                 for (int i = first; i < first + count; ++i)
                     intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
+                limit = *best;
             } else {
                 addInnerChild(&inner, first, children.entry[c], true);
             }
         }
-        next = afterOverflow(nextNode(&inner, &stack, *best), &stack); /* cl/intersect.cl BvhStack */
+        next = afterOverflow(nextNode(&inner, &stack, limit), &stack); /* cl/intersect.cl BvhStack */
     } while (next != -1);
 }
 
