@@ -9,15 +9,25 @@
 
 #define RAY_INFINITY INFINITY
 
-/* A helper that PoCL's CPU code runs faster as a call than inlined into the loop that calls
- * it (with intersectPrimitive inlined, traceBvh's walk held more state and spilled it:
- * chess took 5% more instructions). PoCL defines POCL_DEVICE_ADDRESS_BITS. GPU compilers
- * inline every call, and LLVM for AMD GCN keeps a noinline function a call, so elsewhere it
- * stays an ordinary helper. */
+/* How the kernel's functions are built: where PoCL compiles (it defines
+ * POCL_DEVICE_ADDRESS_BITS), as calls where that is faster; elsewhere inlined into the one
+ * kernel, as GPU drivers build OpenCL.
+ *
+ * RAY_CALL_ON_POCL: a helper that PoCL's CPU code runs faster as a call than inlined into
+ * the loop that calls it (with intersectPrimitive inlined, traceBvh's walk held more state
+ * and spilled it: chess took 5% more instructions).
+ * RAY_INLINED_OFF_POCL: a function on the trace path (traceSample, transmitFromInside,
+ * traceCameraRay, shadeFrame, traceBvh, the intersectors). Where LLVM keeps one a call,
+ * each call level has a frame of its own and saves the registers live across it: LLVM's
+ * own build of renderTile for gfx906 (scripts/kernel_resources.py, "calls") kept
+ * shadeFrame, intersectCsg and transmitFromInside calls and needed 2,336 B of scratch a
+ * work-item; with the path inlined, 1,936 B. */
 #ifdef POCL_DEVICE_ADDRESS_BITS
 #define RAY_CALL_ON_POCL __attribute__((noinline))
+#define RAY_INLINED_OFF_POCL
 #else
-#define RAY_CALL_ON_POCL inline
+#define RAY_CALL_ON_POCL inline __attribute__((always_inline))
+#define RAY_INLINED_OFF_POCL __attribute__((always_inline))
 #endif
 
 typedef struct {
@@ -203,13 +213,15 @@ typedef struct {
 
 /* The torus and meshes: cl/torus_mesh.cl. A mesh's walk keeps its stack in the scene
  * walk's unused entries, the `spareCount` from `spare` on (BvhStack). */
-void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
+RAY_INLINED_OFF_POCL void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
+RAY_INLINED_OFF_POCL
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
                    float2* barycentric);
 
 /* Constructive solid geometry: cl/csg.cl. prims is the primitive buffer (the program's
  * records are indexed in it), csg the object's own record. */
+RAY_INLINED_OFF_POCL
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit);
 
@@ -500,7 +512,7 @@ static inline bool anyHitFound(bool anyHit, const Hit* hit) { return anyHit && h
  * courseMeshes: meshes keyed by t_obj (intersectPrimitive). A mesh's key can be smaller
  * than its world t, so boxes are then not pruned by distance (every box the ray enters is
  * visited; hits are still compared by key): exact, slower. */
-bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
+RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
               __global const RayTriangle* triangles, __global const float4* motions, Ray ray, float tMax, bool anyHit,
               bool courseMeshes, Hit* hit) {
     hit->t = tMax;

@@ -179,6 +179,7 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
     return !entering && refracts(features, transparent);
 }
 
+RAY_INLINED_OFF_POCL
 void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth, Ray* aboveRay, float3 d,
                         float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
     if (atDepthLimit(params, depth)) return; /* no bounce left: I_t is black */
@@ -285,6 +286,7 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
  * and as *next, and Mesa's rusticl hands a struct argument over by reference (a by-value
  * parameter written in place wrote the caller's ray: the first child, written to *next, came
  * back as the last shadow ray, and tests/rusticl.sh saw mirrors differ from PoCL's). */
+RAY_INLINED_OFF_POCL
 void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray frameRay,
                 Ray* next, PixelTrace* counter) {
     Frame* frame = &tree->frames[depth];
@@ -316,7 +318,8 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
  * rays at one traceBvh call), the loop's first step whenever a frame has just been pushed
  * (a GPU compiler inlines every call site). Inline on PoCL as
  * well: there a call of its own cost chess 1% more instructions. */
-static inline float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
+static inline RAY_INLINED_OFF_POCL
+float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
                                     PixelTrace* counter) {
     RayTree tree;
     Frame* stack = tree.frames;
@@ -381,7 +384,8 @@ static inline Ray cameraRay(const RayRenderParams* params, float i, float j, flo
  * the sample is the mean of the RAY_LENS_GRID_SIDE² lens rays' clamped colors, one trace
  * site in a loop; --dof disk draws one lens point from dimensions 2 and 3 of the sample's
  * number (0 and 1 are the stratified jitter). */
-static inline float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
+static inline RAY_INLINED_OFF_POCL
+float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
                           PixelTrace* counter) {
     uint k = counter->nextSample++;
     counter->sample = k;

@@ -16,8 +16,8 @@ the code size:
           (not a Debian package; /usr/local/cuda/bin is searched) it also gives registers,
           stack frame and spills, and occupancy in warps per SM of 64.
 
-With --check it exits 1 when the inlined gfx906 build of a kernel needs more scratch than
---max-scratch or reaches an occupancy below --min-occupancy (a GPU-ready kernel: little
+With --check it exits 1 when either gfx906 build of a kernel (inlined, or with LLVM's own
+calls) needs more scratch than --max-scratch or reaches an occupancy below --min-occupancy (a GPU-ready kernel: little
 private memory a work-item, several waves in flight to hide latency). The defaults are
 the goal (2 KB, 4 waves), which CTest checks too (tests/CMakeLists.txt).
 
@@ -164,10 +164,11 @@ def main():
                   f"{show(r['occupancy'])} {r['occupancy_of']} | {show(r['code'])} |")
     if not ptxas:
         print("sm_80: no ptxas on this machine, so no register count; private bytes are the PTX local depot")
-    failures = [r for r in amd if r["scratch"] is None or r["scratch"] > args.max_scratch
+    failures = [(build, r) for build, rows in (("inlined", amd), ("calls", amd_calls)) for r in rows
+                if r["scratch"] is None or r["scratch"] > args.max_scratch
                 or r["occupancy"] is None or r["occupancy"] < args.min_occupancy]
-    for r in failures:
-        print(f"over budget on gfx906: {r['kernel']} needs {show(r['scratch'])} B of scratch (budget "
+    for build, r in failures:
+        print(f"over budget on gfx906 ({build}): {r['kernel']} needs {show(r['scratch'])} B of scratch (budget "
               f"{args.max_scratch}) at occupancy {show(r['occupancy'])} (budget >= {args.min_occupancy})")
     return 1 if args.check and failures else 0
 
