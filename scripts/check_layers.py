@@ -8,6 +8,8 @@ their sources to a manifest (cmake/layering.cmake); this script reads it and fai
   - a file includes a header of a target that its own target does not link, directly or
     through the PUBLIC (interface) links of what it links: an upward or sideways include;
   - the targets' links form a cycle;
+  - a file that sits in a layer's folder but belongs to another target (a product's source)
+    includes what that folder's layer may not: the folder says where a file stands;
   - a source or header under host/ or include/ belongs to no target.
 
 The links are the one statement of what may include what: nothing here repeats them.
@@ -187,6 +189,9 @@ def check(manifest):
         for path in manifest.sources[target]:
             if not manifest.is_source(path) or not os.path.isfile(path):
                 continue  # generated files (the embedded kernel and page) include nothing of ours
+            # A file that sits in another layer's folder (a product's source, as the OpenImageIO
+            # plugin in host/image/) is read as that layer's too: its folder says where it stands.
+            folder_layer = folder_layer_of(path, manifest)
             for include in includes_of(path):
                 included = resolve(include, path, manifest.include_dirs)
                 if included is None or included not in owners:
@@ -197,7 +202,19 @@ def check(manifest):
                                     f'{" or ".join(sorted(owners[included]))}, which {target} does not link '
                                     f'(it links: {", ".join(allowed) or "no layer"}); move the code to the '
                                     "layer it belongs to rather than adding a link upward")
+                elif folder_layer and folder_layer != target and not owners[included] & manifest.visible(folder_layer):
+                    problems.append(f'{rel(path)} ({target}) sits in the folder of {folder_layer} but includes '
+                                    f'"{include}" of {" or ".join(sorted(owners[included]))}, which {folder_layer} '
+                                    "does not link; give the file a folder of its own above the layers it uses")
     return problems
+
+
+def folder_layer_of(path, manifest):
+    """The layer named after the host/ folder that holds `path` (host/app/x.cpp: host_app), if any."""
+    parts = os.path.relpath(path, manifest.source_dir).split(os.sep)
+    if len(parts) > 2 and parts[0] == "host" and f"host_{parts[1]}" in manifest.targets:
+        return f"host_{parts[1]}"
+    return None
 
 
 def folder_of(path, root):
@@ -254,7 +271,8 @@ def docs_with_graph(text, graph):
 
 
 def self_test():
-    """The checker finds an upward include, a cycle and a file of no layer, and passes a clean tree."""
+    """The checker finds an upward include, a cycle, a product's file above its folder's layer and a
+    file of no layer, and passes a clean tree."""
     with tempfile.TemporaryDirectory() as root:
         def write(path, text):
             full = os.path.join(root, path)
@@ -285,13 +303,18 @@ def self_test():
         write("host/low/low.cpp", '#include "low/low.h"\n')
         if not any("cycle" in p for p in run(["link\thost_low\thost_high"])):
             failures.append("a cycle (low -> high -> low) was not found")
+        product = write("host/low/product.cpp", '#include "high/high.h"\n')
+        product_lines = ["target\tproduct", f"source\tproduct\t{product}", "link\tproduct\thost_high"]
+        if not any("sits in the folder of host_low" in p for p in run(product_lines)):
+            failures.append("a product's source in a lower layer's folder, including a higher layer, was not found")
+        os.remove(product)
         write("host/stray/stray.h", "#pragma once\n")
         if not any("stray.h belongs to no layer" in p for p in run([])):
             failures.append("a file of no layer was not found")
         for failure in failures:
             print("FAIL:", failure)
-        print("self-test:", "failed" if failures else "the checker finds an upward include, a cycle and a "
-              "file of no layer, and passes a clean tree")
+        print("self-test:", "failed" if failures else "the checker finds an upward include, a cycle, a "
+              "product's file above its folder's layer and a file of no layer, and passes a clean tree")
         return 1 if failures else 0
 
 
