@@ -12,6 +12,7 @@ packages=(cmake make g++ pkg-config
           doxygen   # the C++ API reference: docs/Doxyfile, tests/api_reference.sh
           pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-pil
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
+          patchelf          # scripts/gpu_bundle.sh: the bundle's $ORIGIN rpaths
           libcpp-httplib-dev chromium chromium-driver python3-selenium
           libopenmpi-dev openmpi-bin   # mpirun -n N ray: tests/mpi.sh
           # the kernel as GPU drivers build it: scripts/kernel_resources.py (clang-15 and

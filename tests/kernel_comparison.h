@@ -31,30 +31,38 @@ inline std::optional<OpenClDevice> cpuDevice() {
     }
 }
 
-// Renders the scene both ways and holds the kernel to >= 99% of pixels within 3/255 (or
-// `minimumWithin`, for the few scenes whose callers say why) and a mean error <= 1/255,
-// printing the figures. A failure leaves both images and their difference in the test
-// output folder, named after `label`.
-inline void compareKernelWithHost(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
-                                  const std::string& label, double minimumWithin = 0.99) {
+// Holds `image` to `expected` as the kernel-versus-host tests do: >= 99% of pixels within
+// 3/255 (or `minimumWithin`, for the few scenes whose callers say why) and a mean error
+// <= 1/255, printing the figures. A failure leaves both images and their difference in the
+// test output folder's `folder`, named after `label` and the two names.
+inline void checkImagesAgree(const Image& image, const Image& expected, const std::string& label,
+                             const std::string& folder, const std::string& imageName, const std::string& expectedName,
+                             double minimumWithin = 0.99) {
     namespace fs = std::filesystem;
-    Image host = renderReference(scene, settings);
-    Image kernel = renderOpenCl(device, scene, settings, {}, nullptr);
-    ImageDifference d = compare8bit(kernel, host, 3);
+    ImageDifference d = compare8bit(image, expected, 3);
     std::printf("%-40s %8.3f%% within 3/255, mean error %.4f/255, max %d\n", label.c_str(), d.fractionWithin * 100,
                 d.meanAbsError, d.maxError);
     std::fflush(stdout);
     bool ok = d.fractionWithin >= minimumWithin && d.meanAbsError <= 1.0;
     if (!ok) {
-        fs::path dir = outputDir() / "kernel_vs_host";
+        fs::path dir = outputDir() / folder;
         fs::create_directories(dir);
-        writeImage(kernel, dir / (label + "_kernel.png"));
-        writeImage(host, dir / (label + "_host.png"));
-        writeImage(differenceImage(kernel, host), dir / (label + "_difference.png"));
+        writeImage(image, dir / (label + "_" + imageName + ".png"));
+        writeImage(expected, dir / (label + "_" + expectedName + ".png"));
+        if (image.width == expected.width && image.height == expected.height)
+            writeImage(differenceImage(image, expected), dir / (label + "_difference.png"));
         UNSCOPED_INFO("images written to " << dir.string());
     }
     INFO(label << ": " << d.fractionWithin * 100 << "% within 3/255, mean error " << d.meanAbsError << "/255");
     CHECK(ok);
+}
+
+// Renders the scene both ways and holds the kernel to the host (checkImagesAgree).
+inline void compareKernelWithHost(const OpenClDevice& device, const Scene& scene, const RenderSettings& settings,
+                                  const std::string& label, double minimumWithin = 0.99) {
+    Image host = renderReference(scene, settings);
+    Image kernel = renderOpenCl(device, scene, settings, {}, nullptr);
+    checkImagesAgree(kernel, host, label, "kernel_vs_host", "kernel", "host", minimumWithin);
 }
 
 // The scene loaded quietly (warnings are the loader tests' business).

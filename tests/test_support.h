@@ -35,10 +35,16 @@ inline std::optional<std::filesystem::path> sharedDir() {
 // Prints the marker CTest turns into a skip (tests/CMakeLists.txt).
 inline void skip(const std::string& why) { std::cout << "SKIPPED: " << why << std::endl; }
 
-inline std::filesystem::path scenesDir() { return RAY_TEST_SCENES_DIR; }
-inline std::filesystem::path testDataDir() { return RAY_TEST_DATA_DIR; }
+// The folders the build compiled in, each of which the variable of the same name overrides:
+// the GPU bundle (scripts/gpu_bundle.sh) runs these tests far from the checkout.
+inline std::filesystem::path builtInOr(const char* variable, const char* builtIn) {
+    const char* env = std::getenv(variable);
+    return env && *env ? env : builtIn;
+}
+inline std::filesystem::path scenesDir() { return builtInOr("RAY_TEST_SCENES_DIR", RAY_TEST_SCENES_DIR); }
+inline std::filesystem::path testDataDir() { return builtInOr("RAY_TEST_DATA_DIR", RAY_TEST_DATA_DIR); }
 inline std::filesystem::path outputDir() {
-    std::filesystem::path dir = RAY_TEST_OUTPUT_DIR;
+    std::filesystem::path dir = builtInOr("RAY_TEST_OUTPUT_DIR", RAY_TEST_OUTPUT_DIR);
     std::filesystem::create_directories(dir);
     return dir;
 }
