@@ -49,7 +49,15 @@ enum Tag : int {
     kFinished,     // W -> 0: JSON, W's statistics (and why its devices failed, if they did)
     kEnd,          // 0 -> W: int, the exit code: the frame is over
     kReport,       // W -> 0: text, why W could not start (the first rank that failed tells)
+    kAlive,        // W -> 0: empty, a heartbeat: W's message loop runs (kHeartbeatSeconds)
 };
+
+// A worker that has sent nothing for this long sends a heartbeat, from its message loop,
+// which never waits on the engine: it goes on while the rank's kernel compiles or a long
+// tile renders. Rank 0 can so tell a rank that is slow (it answers) from one that is
+// stopped or wedged (silent for the usual deadline, 10 s or more: dropped, whatever it was
+// doing), instead of waiting for a first result for kFirstTileSeconds (120 s).
+constexpr double kHeartbeatSeconds = 1;
 
 struct TileResultHeader {
     int32_t x, y, width, height, device, reserved;
@@ -326,26 +334,40 @@ std::vector<TileRect> receiveTiles(int& count) {
     return tiles;
 }
 
-// Test hook: RAY_TEST_STOP_AFTER_TILES=n makes a worker stop itself (SIGSTOP, as a wedged
-// host would stop answering, not die) once it has sent n tiles: a rank hung mid-frame at a
-// known point (tests/mpi.sh), saying when on stderr. 0 or unset: never.
+// Test hooks that make a worker stop itself (SIGSTOP, as a wedged host would stop
+// answering, not die) at a known point (tests/mpi.sh), saying when on stderr:
+//   RAY_TEST_STOP_AFTER_TILES=n    once it has sent n tiles: a rank hung mid-frame;
+//   RAY_TEST_STOP_AFTER_SECONDS=s  s seconds after its message loop started (with
+//                                  RAY_TEST_SLOW_BUILD, a rank stopped while it compiles).
+// 0 or unset: never.
 class StopHook {
 public:
-    StopHook() {
+    StopHook() : start_(Clock::now()) {
         if (const char* n = std::getenv("RAY_TEST_STOP_AFTER_TILES")) after_ = std::atoi(n);
+        if (const char* s = std::getenv("RAY_TEST_STOP_AFTER_SECONDS")) afterSeconds_ = std::atof(s);
     }
     void tileSent() {
-        if (after_ > 0 && ++sent_ == after_) {
-            // The moment, for the test to time rank 0 from (Unix time, seconds).
-            const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-            std::fprintf(stderr, "ray: test hook: this rank stops itself (SIGSTOP) at %.3f\n", now);
-            std::fflush(stderr);
-            raise(SIGSTOP);
+        if (after_ > 0 && ++sent_ == after_) stop();
+    }
+    void tick() {
+        if (afterSeconds_ > 0 && secondsSince(start_) >= afterSeconds_) {
+            afterSeconds_ = 0;
+            stop();
         }
     }
 
 private:
+    static void stop() {
+        // The moment, for the test to time rank 0 from (Unix time, seconds).
+        const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+        std::fprintf(stderr, "ray: test hook: this rank stops itself (SIGSTOP) at %.3f\n", now);
+        std::fflush(stderr);
+        raise(SIGSTOP);
+    }
+
+    Clock::time_point start_;
     int after_ = 0, sent_ = 0;
+    double afterSeconds_ = 0;
 };
 
 int runWorker(Prepared& p) {
@@ -370,19 +392,29 @@ int runWorker(Prepared& p) {
     std::deque<int> requests;  // tiles asked for, by request, answers pending
     int asked = 0;
     bool finished = false;
+    Clock::time_point lastSent{};  // never: the first heartbeat goes at once
     while (!finished) {
         bool active = false;
         if (int more = tiles.shortfall(asked); more > 0) {
             MPI_Send(&more, 1, MPI_INT, 0, kRequest, MPI_COMM_WORLD);
+            lastSent = Clock::now();
             requests.push_back(more);
             asked += more;
             active = true;
         }
         while (auto message = outbox.pop()) {
             MPI_Send(message->data(), int(message->size()), MPI_BYTE, 0, kResult, MPI_COMM_WORLD);
+            lastSent = Clock::now();
             stopHook.tileSent();
             active = true;
         }
+        // Any message tells rank 0 this rank is alive; a heartbeat only after a second
+        // without one (the engine may be compiling, or rendering a long tile).
+        if (secondsSince(lastSent) >= kHeartbeatSeconds) {
+            MPI_Send(nullptr, 0, MPI_INT, 0, kAlive, MPI_COMM_WORLD);
+            lastSent = Clock::now();
+        }
+        stopHook.tick();
         int flag = 0;
         MPI_Iprobe(0, kTiles, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
         if (flag && !requests.empty()) {
@@ -616,8 +648,8 @@ private:
         return true;
     }
 
-    // A worker holding a tile past its deadline, or silent for as long after the frame
-    // was complete, is taken for hung: named, given no more tiles, its tiles to the others.
+    // A worker holding a tile past its deadline, or silent (not even a heartbeat) for the
+    // usual deadline, is taken for hung: named, given no more tiles, its tiles to the others.
     void abandonUnresponsiveRanks() {
         for (const TileScheduler::Late& late : scheduler_.lateWorkers()) {
             if (late.worker == 0 || rankStats_[size_t(late.worker)]) continue;
@@ -625,14 +657,18 @@ private:
                                    ") for " + formatSeconds(late.heldSeconds) + ", past its deadline of " +
                                    formatSeconds(late.deadlineSeconds));
         }
-        // Once the image is complete, a worker holds no tile that counts, but its statistics
-        // are due: it is silent too long when nothing came from it for a tile's deadline.
-        if (!scheduler_.complete()) return;
+        // A worker that answers sends a heartbeat every kHeartbeatSeconds until it has sent
+        // its statistics, even while its kernel compiles (its tiles then wait for their first
+        // result up to kFirstTileSeconds): silence for the usual deadline, not the first
+        // tile's, means it stopped, whatever it was doing. Also once the image is complete,
+        // when it holds no tile that counts but its statistics are due.
+        const double limit = scheduler_.usualDeadline();
         for (int r = 1; r < mpi_.size; ++r) {
-            const double limit = scheduler_.deadline(r), silence = secondsSince(lastHeard_[size_t(r)]);
+            const double silence = secondsSince(lastHeard_[size_t(r)]);
             if (!rankStats_[size_t(r)] && !abandoned_[size_t(r)] && silence > limit)
-                abandon(r, "sent nothing for " + formatSeconds(silence) + " (its deadline: " + formatSeconds(limit) +
-                               "), and the image is complete without it");
+                abandon(r, "sent nothing for " + formatSeconds(silence) + ", not even a heartbeat (its deadline: " +
+                               formatSeconds(limit) + ")" +
+                               (scheduler_.complete() ? ", and the image is complete without it" : ""));
         }
     }
 
@@ -682,6 +718,7 @@ private:
             case kRequest: answerRequest(from); break;
             case kResult: receiveResult(from, bytes); break;
             case kFinished: receiveFinished(from); break;
+            case kAlive: MPI_Recv(nullptr, 0, MPI_INT, from, kAlive, MPI_COMM_WORLD, MPI_STATUS_IGNORE); break;
             default: abortAll(0, "unexpected message (tag " + std::to_string(status.MPI_TAG) + ") from rank " + std::to_string(from));
         }
         dispatchSeconds_ += secondsSince(start);
