@@ -168,6 +168,57 @@ cmp -s "$out/hung.plain.png" "$out/late.png" || fail "late rank: the image diffe
 grep -Eq "warning: rank 2 \(host .*\) does not answer: it (held its tile .* past its deadline of 2.0 s|sent nothing for .* \(its deadline: 2.0 s\))" \
     "$out/late.err" || { fail "late rank: no warning with its 2 s deadline"; cat "$out/late.err"; }
 
+# A rank stopped while it compiles (issue 34): RAY_TEST_SLOW_BUILD=0:30 holds its kernel
+# build for 30 s, RAY_TEST_STOP_AFTER_SECONDS=2 stops it 2 s into its message loop, before
+# its first tile. Silent (no heartbeat) for the usual 10 s deadline, it is dropped, not
+# waited for as a start-up for the first tile's 120 s: the same image within 30 s of the
+# stop, the rank named, exit 4, the job ended.
+"$mpirun" -q --oversubscribe -n 2 "$ray" "$base" 320 240 --tile-size 8 -o "$out/compiling.png" : \
+    -n 1 -x RAY_TEST_SLOW_BUILD=0:30 -x RAY_TEST_STOP_AFTER_SECONDS=2 "$ray" "$base" 320 240 --tile-size 8 \
+    -o "$out/compiling.png" 2> "$out/compiling.err" &
+job=$!
+code=hung
+for _ in $(seq 900); do  # at most 90 s
+    kill -0 $job 2>/dev/null || { wait $job; code=$?; ended_at=$(date +%s.%N); break; }
+    sleep 0.1
+done
+[ "$code" = hung ] && { kill -9 $job; fail "stopped while compiling: the job did not end within 90 s"; }
+for p in $(ranks_of compiling.png); do fail "stopped while compiling: rank $p left behind"; kill -CONT "$p"; kill -9 "$p"; done 2>/dev/null
+[ "$code" = 4 ] || fail "stopped while compiling: exit $code, not 4"
+cmp -s "$out/hook.plain.png" "$out/compiling.png" || fail "stopped while compiling: the image differs"
+stopped_at=$(sed -n 's/.*this rank stops itself (SIGSTOP) at \([0-9.]*\)$/\1/p' "$out/compiling.err")
+python3 - "$out/compiling.png" "${stopped_at:-0}" "${ended_at:-0}" <<'PY' || fail "stopped while compiling: not written and ended within 30 s of the stop"
+import os, sys
+stopped, ended = float(sys.argv[2]), float(sys.argv[3])
+written = os.path.getmtime(sys.argv[1]) - stopped
+print(f"stopped while compiling: image written {written:.1f} s after the stop, job ended {ended - stopped:.1f} s after it")
+sys.exit(not (0 < written <= 30 and 0 < ended - stopped <= 30))
+PY
+grep -q "warning: rank 2 (host .*) does not answer: it sent nothing for .*, not even a heartbeat" "$out/compiling.err" \
+    && grep -q "ending the job without rank 2" "$out/compiling.err" \
+    || { fail "stopped while compiling: no warning naming rank 2"; cat "$out/compiling.err"; }
+
+# A rank whose kernel build takes 15 s, longer than the 10 s a silent rank is given, but
+# which answers (its heartbeats): waited for, exit 0, the same image, no warning, its
+# statistics in (ranks 0 and 1 finish the frame long before).
+started_at=$(date +%s.%N)
+timeout -k 5 120 "$mpirun" -q --oversubscribe -n 2 "$ray" "$base" 320 240 --tile-size 8 -o "$out/slow_build.png" \
+    --stats-json "$out/slow_build.json" : -n 1 -x RAY_TEST_SLOW_BUILD=0:15 "$ray" "$base" 320 240 --tile-size 8 \
+    -o "$out/slow_build.png" --stats-json "$out/slow_build.json" 2> "$out/slow_build.err"
+code=$?
+took=$(python3 -c "import sys, time; print(f'{time.time() - float(sys.argv[1]):.1f}')" "$started_at")
+echo "slow build: the job took $took s"
+[ $code -eq 0 ] || { fail "slow build: exit $code, not 0"; cat "$out/slow_build.err"; }
+cmp -s "$out/hook.plain.png" "$out/slow_build.png" || fail "slow build: the image differs"
+grep -q "does not answer" "$out/slow_build.err" && { fail "slow build: rank 2 was taken for hung"; cat "$out/slow_build.err"; }
+python3 - "$out/slow_build.json" "$took" <<'PY' || fail "slow build: rank 2 not waited for"
+import json, sys
+stats, took = json.load(open(sys.argv[1])), float(sys.argv[2])
+assert 2 in {d["rank"] for d in stats["devices"]}, stats["devices"]  # its statistics came
+assert stats["kernel_build_seconds"] >= 15, stats["kernel_build_seconds"]
+assert took >= 15, took
+PY
+
 # A long frame (80 s on 2 busy cores), stopped after 5 s, when the ranks are surely
 # rendering: mpirun in the background, watched.
 long=("$showpiece" 2400 1800 --aa stratified --samples 64 --quiet)
