@@ -204,9 +204,9 @@ PY
 stopped_early compiling "sent nothing for .*, not even a heartbeat" \
     -x RAY_TEST_SLOW_BUILD=0:30 -x RAY_TEST_STOP_AFTER_SECONDS=2
 # Stopped while it loads its scene (its start-up 3 s longer, beating, then stopped), before
-# it told rank 0 how the start-up went: no collective waits for it. (Stopped within a
-# second of MPI_Init, a rank made Open MPI 4.1.4's mpirun hang or crash in 2 of 8 runs
-# after rank 0's MPI_Abort, its image written: mpirun's, not covered here.)
+# it told rank 0 how the start-up went: no collective waits for it. (Rank 0 sends its
+# start to the silent rank too: while it did not, Open MPI 4.1.4's mpirun hung or crashed
+# after rank 0's MPI_Abort in 5 of 28 runs, the image written; in none of 15 since.)
 stopped_early loading "sent nothing for .* in its start-up, not even a heartbeat" -x RAY_TEST_STOP_WHILE_LOADING=3
 
 # A rank whose kernel build takes 15 s, longer than the 10 s a silent rank is given, but
