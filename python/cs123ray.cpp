@@ -670,11 +670,19 @@ void bindScene(py::class_<PyScene>& scene) {
         }, py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
            "A triangle mesh from N x 3 positions and M x 3 vertex indices (counter-clockwise from the front), "
            "optionally N x 3 normals and N x 2 uvs. Returns its handle.")
-        .def("add_primitive", [](PyScene& s, const std::string& type, const api::Transform& transform, int material,
-                                 int mesh) { s.scene.addPrimitive(shape(type), transform, material, mesh); },
-             py::arg("shape"), py::arg("transform") = api::Transform(), py::arg("material") = 0, py::arg("mesh") = -1,
-             "Places a unit shape ('cube', 'sphere', 'cylinder', 'cone', 'torus', or 'mesh' with a handle from "
-             "add_mesh) with a material handle from add_material.")
+        .def("add_primitive", [](const py::object& self, const std::string& type, const api::Transform& transform,
+                                 int material, int mesh, const py::object& node) {
+            PyScene& s = self.cast<PyScene&>();
+            const int id = node.is_none() ? s.scene.addPrimitive(shape(type), transform, material, mesh)
+                                          : s.scene.addPrimitiveTo(node.cast<int>(), shape(type), transform, material, mesh);
+            return PyObjectHandle{self, &s.scene, id};
+        }, py::arg("shape"), py::arg("transform") = api::Transform(), py::arg("material") = 0, py::arg("mesh") = -1,
+           py::arg("node") = py::none(),
+           "Places a unit shape ('cube', 'sphere', 'cylinder', 'cone', 'torus', or 'mesh' with a handle from "
+           "add_mesh) with a material handle from add_material; returns its SceneObject. With node= (an id from "
+           "nodes), it goes inside that transblock (in a master: in every instance), `transform` taking it to the "
+           "transblock's frame; otherwise in a transblock of its own at the end of the root tree, `transform` "
+           "object to world.")
         .def_property_readonly("primitive_count", [](const PyScene& s) { return s.scene.primitiveCount(); },
                                "How many primitives the scene holds.")
         .def_property_readonly("light_count", [](const PyScene& s) { return s.scene.lightCount(); },
@@ -698,6 +706,7 @@ void bindScene(py::class_<PyScene>& scene) {
                 d["id"] = node.id;
                 d["path"] = node.path;
                 d["transform"] = node.toParent;
+                d["masters"] = node.masters;
                 nodes.append(d);
             }
             return nodes;

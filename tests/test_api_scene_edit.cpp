@@ -174,6 +174,31 @@ TEST_CASE("API: a csg operand left empty is refused", "[api][scene_edit]") {
     CHECK(scene.primitiveCount() == 1);
 }
 
+TEST_CASE("API: a primitive added inside a master is in every instance", "[api][scene_edit]") {
+    api::Scene scene = api::Scene::fromString(kTable, "table.xml").scene;
+    const std::vector<api::SceneNode> nodes = scene.nodes();
+    CHECK(nodes[1].masters == std::vector<std::string>{"leg"});
+    CHECK(nodes[0].masters.empty());
+    api::Material gold;
+    gold.diffuse = {1, 0.8, 0};
+    const int material = scene.addMaterial(gold);
+    const int foot = scene.addPrimitiveTo(nodes[0].id, api::Shape::Sphere, T::translate({0, -0.5, 0}), material);
+    const api::SceneObject added = scene.object(foot);
+    CHECK(added.inMaster);
+    CHECK(added.instances == 2);
+    CHECK(added.path == "leg/transblock[0]/object[1]/transblock[0]/object[0]");
+    CHECK(near(added.objectToWorld, T::translate({-1, 0, 0}) * T::scale({0.2, 2, 0.2}) * T::translate({0, -0.5, 0})));
+    CHECK(scene.primitiveCount() == 6);
+    CHECK_THROWS_AS(scene.addPrimitiveTo(9999, api::Shape::Cube, T(), material), api::InputError);
+    CHECK_THROWS_AS(scene.addPrimitiveTo(nodes[0].id, api::Shape::Cube, T::scale({0, 1, 1}), material),
+                    api::InputError);
+    CHECK(scene.primitiveCount() == 6);
+    // Saved, the master holds it.
+    api::Scene reloaded = api::Scene::fromString(scene.toText(), "table.xml").scene;
+    CHECK(reloaded.primitiveCount() == 6);
+    CHECK(render(reloaded) == render(scene));
+}
+
 TEST_CASE("API: lights are read, replaced and removed", "[api][scene_edit]") {
     api::Scene scene = api::Scene::fromString(kTable, "table.xml").scene;
     REQUIRE(scene.lights().size() == 1);
@@ -200,11 +225,13 @@ TEST_CASE("API: objects added in code are in the document and save", "[api][scen
     api::Material green;
     green.diffuse = {0.2, 0.8, 0.2};
     const int material = scene.addMaterial(green);
-    scene.addPrimitive(api::Shape::Sphere, T::translate({0, 0, 0}) * T::scale({1.5, 1.5, 1.5}), material);
+    const int sphere = scene.addPrimitive(api::Shape::Sphere, T::translate({0, 0, 0}) * T::scale({1.5, 1.5, 1.5}),
+                                          material);
     scene.addPrimitive(api::Shape::Cube, T::translate({0, -2, 0}) * T::scale({4, 0.1, 4}), material);
     const std::vector<api::SceneObject> objects = scene.objects();
     REQUIRE(objects.size() == 2);
     CHECK(objects[0].path == "root/transblock[0]/object[0]");
+    CHECK(objects[0].id == sphere);
     CHECK(objects[1].material.diffuse.y == 0.8);
 
     // The in-place append is what flattening the document gives, bit for bit.

@@ -350,7 +350,7 @@ int Scene::addMesh(const std::vector<float>& positions, const std::vector<uint32
 
 // A transblock of its own at the end of the root tree, holding the object; its instance
 // is appended to the flattened scene exactly as flattening would make it.
-void Scene::addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh) {
+int Scene::addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh) {
     checkIndex(material, impl_->materials.size(), "material");
     if (shape == Shape::Mesh) checkIndex(mesh, impl_->resources.meshes.size(), "mesh");
     invertible(internal(objectToWorld), "a primitive's transform");
@@ -381,6 +381,34 @@ void Scene::addPrimitive(Shape shape, const Transform& objectToWorld, int materi
     ++document.primitiveElements;
     block.items.push_back(std::move(node));
     document.rootToSet().tree.blocks.push_back(std::move(block));
+    return instance.sourceObject;
+}
+
+int Scene::addPrimitiveTo(int nodeId, Shape shape, const Transform& toNode, int material, int mesh) {
+    checkIndex(material, impl_->materials.size(), "material");
+    if (shape == Shape::Mesh) checkIndex(mesh, impl_->resources.meshes.size(), "mesh");
+    invertible(internal(toNode), "a primitive's transform");
+    int id = -1;
+    impl_->edit([&](ray::SceneDocument& document) {
+        std::optional<ray::DocumentPlace> place = ray::findBlock(document, nodeId);
+        if (!place)
+            badInput("transblock " + std::to_string(nodeId) + " does not exist; take ids from Scene::nodes()");
+        ray::PrimitiveNode node;
+        node.type = ray::PrimitiveType(int(shape));
+        node.id = id = document.nextObjectId++;
+        node.material = impl_->materials[size_t(material)];
+        node.mesh = shape == Shape::Mesh ? mesh : -1;
+        ++document.primitiveElements;
+        ray::Block own;
+        own.id = document.nextBlockId++;
+        own.transforms.push_back(ray::TransformOp::matrix(internal(toNode)));
+        ray::composeBlock(own);
+        own.items.push_back(std::move(node));
+        ray::TreeNode tree;
+        tree.blocks.push_back(std::move(own));
+        place->block->items.push_back(ray::Box<ray::TreeNode>(std::move(tree)));
+    });
+    return id;
 }
 
 size_t Scene::primitiveCount() const { return impl_->scene.primitives.size(); }
@@ -478,7 +506,10 @@ void Scene::removeObject(int id) {
 std::vector<SceneNode> Scene::nodes() const {
     std::vector<SceneNode> nodes;
     ray::forEachBlock(impl_->document, [&](ray::Block& block, const ray::DocumentPlace& place) {
-        nodes.push_back({block.id, place.path, external(block.toParent)});
+        SceneNode node{block.id, place.path, external(block.toParent), {}};
+        for (const ray::SceneItem& item : block.items)
+            if (const auto* master = std::get_if<ray::MasterReference>(&item)) node.masters.push_back(master->name);
+        nodes.push_back(std::move(node));
     });
     return nodes;
 }

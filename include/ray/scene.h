@@ -125,6 +125,7 @@ struct SceneNode {
     int id = -1;         ///< stable for the scene's life
     std::string path;    ///< its place in the tree: "root/transblock[1]"
     Transform toParent;  ///< its transforms composed (T1 · T2 · … · Tn)
+    std::vector<std::string> masters;  ///< the masters it places (`<object type="master">`), in order
 };
 
 class Scene;
@@ -176,7 +177,14 @@ public:
     int addMesh(const std::vector<float>& positions, const std::vector<uint32_t>& triangles,
                 const std::vector<float>& normals = {}, const std::vector<float>& uvs = {});
     /// Places a primitive (the unit shapes of SPEC §2; Shape::Mesh needs `mesh` from addMesh).
-    void addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh = -1);
+    /// Returns the new object's id (Scene::objects): it is in a transblock of its own at the
+    /// end of the root tree.
+    int addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh = -1);
+    /// Places a primitive inside transblock `nodeId` (from nodes()), in a transblock of its
+    /// own whose transform is `toNode` (object to the node's frame): inside a master it is
+    /// in every instance. Returns its id. Throws InputError for a node that does not exist,
+    /// a singular transform, or handles that do not exist.
+    int addPrimitiveTo(int nodeId, Shape shape, const Transform& toNode, int material, int mesh = -1);
 
     size_t primitiveCount() const;  ///< the primitives placed (a scenefile's, flattened, and added ones)
     size_t lightCount() const;  ///< the lights

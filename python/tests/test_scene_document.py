@@ -114,6 +114,14 @@ def test_bad_edits_raise_value_error_and_change_nothing():
     assert "removed" in repr(sphere)
 
 
+def test_a_primitive_added_in_a_master_is_in_every_instance():
+    scene = cs123ray.scene_from_string(TABLE, "table.xml")
+    leg_block, first_place = scene.nodes[0], scene.nodes[1]
+    assert first_place["masters"] == ["leg"] and leg_block["masters"] == []
+    foot = scene.add_primitive("sphere", T.translate(x=0, y=-0.5, z=0), material=scene.add_material(), node=leg_block["id"])
+    assert foot.in_master and foot.instances == 2 and scene.primitive_count == 5
+
+
 def test_lights_are_read_set_and_removed():
     scene = cs123ray.scene_from_string(TABLE, "table.xml")
     assert scene.lights[0]["position"] == (3, 4, 5)
@@ -129,8 +137,9 @@ def test_objects_added_in_code_are_objects_and_save(output):
     scene.set_camera(position=(0, 1, 4), look=(0, -1, -4))
     scene.add_light(position=(3, 4, 5))
     green = scene.add_material(diffuse=(0.2, 0.8, 0.2))
-    scene.add_primitive("sphere", T.scale(1.5, 1.5, 1.5), material=green)
+    added = scene.add_primitive("sphere", T.scale(1.5, 1.5, 1.5), material=green)
     (sphere,) = scene.objects
+    assert added == sphere
     assert sphere.path == "root/transblock[0]/object[0]" and sphere.material["diffuse"] == (0.2, 0.8, 0.2)
     path = output / "built.xml"
     scene.save(path)
