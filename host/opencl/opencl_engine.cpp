@@ -753,7 +753,8 @@ void packIfNeeded(OpenClEngine::Impl& e, const RenderSettings& settings, FrameSt
     if (sameShape && e.packedScene == e.scene) return;
     auto start = Clock::now();
     if (sameShape) {
-        const SceneDifference difference = compareScenes(*e.packedScene, *e.scene);
+        SceneDifference difference = compareScenes(*e.packedScene, *e.scene);
+        difference.camera = false;  // each frame's camera is its own (renderFrame's)
         if (!difference.any()) {
             e.packedScene = e.scene;
             return;
