@@ -51,7 +51,7 @@ std::vector<Device> listDevices() {
 
 // Hidden: libray.so exports the public interface only (cmake/libray.map).
 struct __attribute__((visibility("hidden"))) Renderer::Impl {
-    Scene scene;  // the caller's to edit (Renderer::scene)
+    std::shared_ptr<Scene> scene;  // the caller's to edit (Renderer::scene)
     // What frames render: a copy of the scene's flattened form, shared with the frame
     // source, which keeps what it prepared for it (the packed scene on OpenCL devices) from
     // frame to frame. Taken again when the scene was edited (frameScene()); the frame
@@ -67,7 +67,7 @@ struct __attribute__((visibility("hidden"))) Renderer::Impl {
     // The flattened scene as it is now, the same object as long as nothing but the camera
     // (each frame's own) changed.
     const std::shared_ptr<ray::Scene>& frameScene() {
-        const ray::Scene& now = scene.impl().scene;
+        const ray::Scene& now = scene->impl().scene;
         bool changed = !rendered;
         if (!changed) {
             ray::SceneDifference difference = ray::compareScenes(*rendered, now);
@@ -79,8 +79,11 @@ struct __attribute__((visibility("hidden"))) Renderer::Impl {
     }
 };
 
-Renderer::Renderer(const Scene& scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
-    impl_->scene = scene;
+Renderer::Renderer(const Scene& scene, const std::string& devices) : Renderer(std::make_shared<Scene>(scene), devices) {}
+
+Renderer::Renderer(std::shared_ptr<Scene> scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
+    if (!scene) throw InputError("error: the renderer's scene is null", "", 0);
+    impl_->scene = std::move(scene);
     impl_->devices = devices;
     if (!ray::isDeviceSelection(devices))
         throw InputError("error: the device selection must be auto, cpu, gpu, all, ref or an index from listDevices(), "
@@ -96,15 +99,15 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 const std::string& Renderer::devices() const { return impl_->devices; }
 
-Scene& Renderer::scene() { return impl_->scene; }
-const Scene& Renderer::scene() const { return impl_->scene; }
+Scene& Renderer::scene() { return *impl_->scene; }
+const Scene& Renderer::scene() const { return *impl_->scene; }
 
 void Renderer::setCamera(const Camera& camera) {
     detail::checkCamera(detail::toInternal(camera));
-    impl_->scene.setCamera(camera);
+    impl_->scene->setCamera(camera);
 }
 
-Camera Renderer::camera() const { return impl_->scene.camera(); }
+Camera Renderer::camera() const { return impl_->scene->camera(); }
 
 std::optional<Pick> Renderer::pick(int x, int y) {
     const Settings& s = impl_->settings;
@@ -120,7 +123,7 @@ std::optional<Pick> Renderer::pick(int x, int y) {
             impl_->picker = std::make_unique<ray::reference::SceneIntersector>(*scene);
         }
         const ray::RenderSettings settings = detail::toInternal(s);
-        const auto hit = ray::pickPixel(*scene, *impl_->picker, impl_->scene.impl().scene.camera, settings, x, y);
+        const auto hit = ray::pickPixel(*scene, *impl_->picker, impl_->scene->impl().scene.camera, settings, x, y);
         if (!hit) return std::nullopt;
         Pick pick;
         pick.instance = size_t(hit->primitive);
@@ -156,7 +159,7 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
         };
     return detail::translatingErrors([&] {
         const ray::RenderedFrame frame = impl_->frames->render(
-            impl_->frameScene(), impl_->scene.impl().scene.camera, detail::toInternal(impl_->settings), request);
+            impl_->frameScene(), impl_->scene->impl().scene.camera, detail::toInternal(impl_->settings), request);
         std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
         return external(frame);
     });

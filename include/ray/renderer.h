@@ -165,6 +165,11 @@ public:
     /// Renders `scene` (copied) on `devices`. Throws DeviceError when the selection names no
     /// device, InputError for a bad name.
     explicit Renderer(const Scene& scene, const std::string& devices = "auto");
+    /// Renders the caller's scene, shared rather than copied: an edit made through the
+    /// pointer is the renderer's (for a front end whose scene object outlives the renderer
+    /// or is held by it, as the Python module's renderer.scene). The same rule as for
+    /// scene(): no edit while a frame renders.
+    Renderer(std::shared_ptr<Scene> scene, const std::string& devices = "auto");
     ~Renderer();
     Renderer(Renderer&&) noexcept;  ///< takes the other's scene, devices and engine
     Renderer& operator=(Renderer&&) noexcept;  ///< takes the other's scene, devices and engine
