@@ -93,6 +93,10 @@ struct PrimitiveInstance {
     // The line of the <object type="primitive"> element in Scene::sourceFile this instance
     // comes from (0: not from a file), for messages and `ray explain`.
     int sourceLine = 0;
+    // The stable id of the document object (the <object type="primitive"> element, or the
+    // object made in code, scene/scene_document.h) this instance comes from; -1: none. A
+    // csg instance names its first operand's object, whose material it is shaded with.
+    int sourceObject = -1;
 };
 
 // Sets the instance's object-space box for its type (the unit cube, the torus's box, its

@@ -64,7 +64,6 @@ namespace ray {
 namespace {
 
 using loader::Diagnostics;
-using loader::NamedTree;
 
 // Runs `parse`, one of the XmlTree::parse; what is wrong with the XML becomes an
 // InputError in the loader's words.
@@ -89,54 +88,58 @@ XmlTree parseXml(const Diagnostics& diagnostics, Parse parse) {
     }
 }
 
-// The scene's root tree; a file without trees is an empty scene.
-NamedTree* findRoot(std::map<std::string, NamedTree>& trees, int scenefileLine, const Diagnostics& diagnostics) {
-    if (trees.empty()) {
-        diagnostics.warning(scenefileLine, "the scene has no <object type=\"tree\" name=\"root\">; it is empty");
-        return nullptr;
-    }
-    auto it = trees.find("root");
-    if (it == trees.end())
-        diagnostics.error(scenefileLine, "no tree named 'root' (the scene)",
-                          "name the scene's top-level tree <object type=\"tree\" name=\"root\">");
-    return &it->second;
+// Pass 1 over the parsed XML: the document (the XML tree goes once it is read).
+SceneDocument documentFromTree(XmlTree tree, const fs::path& file, const LoadOptions& options,
+                               const Diagnostics& diagnostics) {
+    SceneDocument document;
+    document.file = file;
+    FileSearch search{options.searchPaths, file.parent_path()};
+    loader::parseSceneDocument(tree.root(), diagnostics, search, document);  // a parsed tree always has a root
+    if (document.trees.empty())
+        diagnostics.warning(document.scenefileLine,
+                            "the scene has no <object type=\"tree\" name=\"root\">; it is empty");
+    return document;
 }
 
-// Passes 1 to 3 over the parsed XML (the header comment).
+// Passes 1 to 3 (the header comment); the flattened scene takes the loaded images and
+// meshes, the document goes.
 Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& options,
                         const Diagnostics& diagnostics) {
-    const XmlElement scenefile = tree.root();  // a parsed tree always has one
+    Resources resources;
     Scene scene;
-    scene.sourceFile = file;
-    FileSearch search{options.searchPaths, file.parent_path()};
-    loader::ParsedScene parsed = loader::parseSceneDocument(scenefile, diagnostics, search, scene);
-    // The parsed graph holds everything the later passes need: the XML tree goes now, and
-    // the flattened scene reuses its memory.
-    const int scenefileLine = scenefile.line();
-    const size_t primitiveElements = parsed.primitiveElements;
-    tree.clear();
-
-    loader::countInstances(parsed.trees, diagnostics);
-    NamedTree* root = findRoot(parsed.trees, scenefileLine, diagnostics);
-    if (!root) return scene;
-    if (root->instances > options.maxPrimitives)
-        diagnostics.error(root->line,
-                          "the scene flattens to " + std::to_string(root->instances) +
-                              " primitive instances, more than the limit of " +
-                              std::to_string(options.maxPrimitives),
-                          "use fewer levels of masters, or raise the limit with --max-primitives");
-    // Estimated from the count before a single instance is made (memory_limits.h).
-    if (auto shortfall = hostMemoryShortfall(root->instances * kHostBytesPerInstance))
-        diagnostics.error(root->line,
-                          "the scene flattens to " + std::to_string(root->instances) + " primitive instances, which " +
-                              *shortfall,
-                          "use fewer levels of masters or a machine with more memory");
-
-    scene.primitives.reserve(root->instances);
-    // One material per primitive element used, at most.
-    scene.materials.reserve(size_t(std::min<uint64_t>(primitiveElements, root->instances)));
-    loader::flattenScene(root->tree, diagnostics, options, scene);
+    {
+        SceneDocument document = documentFromTree(std::move(tree), file, options, diagnostics);
+        scene = loader::flattenWithDiagnostics(document, resources, diagnostics, options);
+    }
+    scene.images = std::move(resources.images);
+    scene.imageFiles = std::move(resources.imageFiles);
+    scene.meshes = std::move(resources.meshes);
+    scene.meshFiles = std::move(resources.meshFiles);
     return scene;
+}
+
+// The file, read a piece at a time, as XML.
+XmlTree readXmlFile(const fs::path& file, const Diagnostics& diagnostics) {
+    std::error_code ec;
+    if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
+        throw InputError(file.string() + ": error: this is a folder, not a scene file; give the path of a .xml "
+                                         "scene file (e.g. " + (file / "scene.xml").string() + ")");
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
+                         "); check the path");
+    // Read and parsed a piece at a time (xml_tree.h): the text of a large flat scene, tens
+    // of megabytes, is never held whole. A FIFO or a device is read like a file, to its end.
+    const XmlSource read = [&](char* buffer, size_t capacity) {
+        in.read(buffer, std::streamsize(capacity));
+        if (in.bad())
+            throw InputError(file.string() + ": error: the scene file could not be read to its end; check the disk");
+        return size_t(in.gcount());
+    };
+    // The file's size sizes the tree's arrays up front (unknown for a FIFO or a device).
+    std::uintmax_t size = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
+    if (ec) size = 0;
+    return parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, size_t(size)); });
 }
 
 }  // namespace
@@ -148,28 +151,67 @@ Scene loadSceneFromText(const std::string& xml, const fs::path& file, const Load
 }
 
 Scene loadScene(const fs::path& file, const LoadOptions& options) {
-    std::error_code ec;
-    if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
-        throw InputError(file.string() + ": error: this is a folder, not a scene file; give the path of a .xml "
-                                         "scene file (e.g. " + (file / "scene.xml").string() + ")");
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
-                         "); check the path");
-    // Read and parsed a piece at a time (xml_tree.h): the text of a large flat scene, tens
-    // of megabytes, is never held whole. A FIFO or a device is read like a file, to its end.
     Diagnostics diagnostics(file.string(), options);
-    const XmlSource read = [&](char* buffer, size_t capacity) {
-        in.read(buffer, std::streamsize(capacity));
-        if (in.bad())
-            throw InputError(file.string() + ": error: the scene file could not be read to its end; check the disk");
-        return size_t(in.gcount());
-    };
-    // The file's size sizes the tree's arrays up front (unknown for a FIFO or a device).
-    std::uintmax_t size = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
-    if (ec) size = 0;
-    XmlTree tree = parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, size_t(size)); });
-    return loadSceneFromTree(std::move(tree), file, options, diagnostics);
+    return loadSceneFromTree(readXmlFile(file, diagnostics), file, options, diagnostics);
 }
+
+SceneDocument loadSceneDocument(const fs::path& file, const LoadOptions& options) {
+    Diagnostics diagnostics(file.string(), options);
+    return documentFromTree(readXmlFile(file, diagnostics), file, options, diagnostics);
+}
+
+SceneDocument loadSceneDocumentFromText(const std::string& xml, const fs::path& file, const LoadOptions& options) {
+    Diagnostics diagnostics(file.string(), options);
+    XmlTree tree = parseXml(diagnostics, [&] { return XmlTree::parse(xml, kMaxElementDepth); });
+    return documentFromTree(std::move(tree), file, options, diagnostics);
+}
+
+Scene flattenDocument(SceneDocument& document, Resources& resources, const LoadOptions& options) {
+    Diagnostics diagnostics(document.file.string(), options);
+    Scene scene = loader::flattenWithDiagnostics(document, resources, diagnostics, options);
+    scene.images = resources.images;
+    scene.imageFiles = resources.imageFiles;
+    scene.meshes = resources.meshes;
+    scene.meshFiles = resources.meshFiles;
+    return scene;
+}
+
+namespace loader {
+
+Scene flattenWithDiagnostics(SceneDocument& document, Resources& resources, const Diagnostics& diagnostics,
+                             const LoadOptions& options) {
+    Scene scene;
+    scene.sourceFile = document.file;
+    scene.globals = document.globals;
+    scene.camera = document.camera;
+    scene.lights = document.lights;
+    countInstances(document.trees, diagnostics);
+    auto root = document.trees.find("root");
+    if (root == document.trees.end()) {
+        if (document.trees.empty()) return scene;  // an empty scene (documentFromTree warned)
+        diagnostics.error(document.scenefileLine, "no tree named 'root' (the scene)",
+                          "name the scene's top-level tree <object type=\"tree\" name=\"root\">");
+    }
+    const uint64_t instances = root->second.instances;
+    const int rootLine = root->second.line;
+    if (instances > options.maxPrimitives)
+        diagnostics.error(rootLine,
+                          "the scene flattens to " + std::to_string(instances) +
+                              " primitive instances, more than the limit of " + std::to_string(options.maxPrimitives),
+                          "use fewer levels of masters, or raise the limit with --max-primitives");
+    // Estimated from the count before a single instance is made (memory_limits.h).
+    if (auto shortfall = hostMemoryShortfall(instances * kHostBytesPerInstance))
+        diagnostics.error(rootLine,
+                          "the scene flattens to " + std::to_string(instances) + " primitive instances, which " +
+                              *shortfall,
+                          "use fewer levels of masters or a machine with more memory");
+    scene.primitives.reserve(instances);
+    // One material per primitive element used, at most.
+    scene.materials.reserve(size_t(std::min<uint64_t>(document.primitiveElements, instances)));
+    flattenScene(root->second.tree, diagnostics, options, resources, scene);
+    return scene;
+}
+
+}  // namespace loader
 
 }  // namespace ray

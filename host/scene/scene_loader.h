@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "scene/scene_document.h"
 
 namespace ray {
 
@@ -39,5 +40,17 @@ Scene loadScene(const std::filesystem::path& file, const LoadOptions& options = 
 // The same from XML text in memory; `file` names it in messages and anchors relative paths.
 Scene loadSceneFromText(const std::string& xml, const std::filesystem::path& file,
                         const LoadOptions& options = {});
+
+// The scene document (scene_document.h) of a file, or of XML text: pass 1 only, every
+// rule of the parse checked; what flattening checks (masters, cycles, limits, meshes) is
+// found by flattenDocument. Throws InputError.
+SceneDocument loadSceneDocument(const std::filesystem::path& file, const LoadOptions& options = {});
+SceneDocument loadSceneDocumentFromText(const std::string& xml, const std::filesystem::path& file,
+                                        const LoadOptions& options = {});
+
+// The document flattened (passes 2 and 3), images and meshes loaded into `resources` on
+// first use and copied into the scene. loadScene(file) is flattenDocument(loadSceneDocument
+// (file)), bit for bit. Throws InputError (in the document's file's name and lines).
+Scene flattenDocument(SceneDocument& document, Resources& resources, const LoadOptions& options = {});
 
 }  // namespace ray

@@ -23,6 +23,7 @@ public:
     // Counts every top-level tree, so that a bad master is reported even in a tree the
     // scene does not use.
     void countAll() {
+        for (auto& [name, tree] : trees_) tree.state = NamedTree::State::Uncounted;
         for (auto& [name, tree] : trees_) count(tree, tree.line);
     }
 
@@ -64,8 +65,8 @@ private:
 
     uint64_t count(SceneItem& item, int line) {
         if (std::holds_alternative<PrimitiveNode>(item)) return 1;
-        if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item)) return count(**subtree, line);
-        if (auto* csg = std::get_if<std::unique_ptr<CsgNode>>(&item)) {
+        if (auto* subtree = std::get_if<Box<TreeNode>>(&item)) return count(**subtree, line);
+        if (auto* csg = std::get_if<Box<CsgNode>>(&item)) {
             uint64_t total = 0;
             for (TreeNode& operand : (*csg)->operands) total = saturatingAdd(total, count(operand, line));
             return total;

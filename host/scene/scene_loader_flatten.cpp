@@ -12,8 +12,8 @@ namespace {
 
 class Flattener {
 public:
-    Flattener(const Diagnostics& diagnostics, const LoadOptions& options, Scene& scene)
-        : diagnostics_(diagnostics), options_(options), scene_(scene) {}
+    Flattener(const Diagnostics& diagnostics, const LoadOptions& options, Resources& resources, Scene& scene)
+        : diagnostics_(diagnostics), options_(options), resources_(resources), scene_(scene) {}
 
     // worldMotion: the enclosing blocks' end-of-shutter displacement, in world space. A
     // block's own <motion> is in its parent's frame (toWorld), so it adds
@@ -26,9 +26,9 @@ public:
             for (SceneItem& item : block.items) {
                 if (auto* primitive = std::get_if<PrimitiveNode>(&item))
                     addInstance(*primitive, blockToWorld, blockToObject, blockMotion);
-                else if (auto* subtree = std::get_if<std::unique_ptr<TreeNode>>(&item))
+                else if (auto* subtree = std::get_if<Box<TreeNode>>(&item))
                     flatten(**subtree, blockToWorld, blockToObject, blockMotion);
-                else if (auto* csg = std::get_if<std::unique_ptr<CsgNode>>(&item))
+                else if (auto* csg = std::get_if<Box<CsgNode>>(&item))
                     flattenCsg(**csg, blockToWorld, blockToObject, blockMotion);
                 else
                     flatten(std::get<MasterReference>(item).target->tree, blockToWorld, blockToObject, blockMotion);
@@ -119,7 +119,12 @@ private:
         PrimitiveInstance& instance = scene_.primitives.emplace_back();
         instance.type = PrimitiveType::Csg;
         instance.motion = build.motion;
-        instance.material = scene_.csgOperands[size_t(object.program.front().operand)].material;
+        // The first operand's material and object: a csg object is shaded with its first
+        // operand's material, so picking it names the object whose material to edit.
+        const PrimitiveInstance& first = scene_.csgOperands[size_t(object.program.front().operand)];
+        instance.material = first.material;
+        instance.sourceObject = first.sourceObject;
+        instance.sourceLine = first.sourceLine;
         instance.csg = int(scene_.csgObjects.size());
         csgBounds(object, lo, hi, instance.objectLo, instance.objectHi);
         scene_.csgObjects.push_back(std::move(build.object));
@@ -157,34 +162,46 @@ private:
         instance.material = materialOf(node);
         instance.mesh = meshOf(node);
         instance.sourceLine = node.line;
-        fitObjectBox(instance, scene_.meshes);
+        instance.sourceObject = node.id;
+        fitObjectBox(instance, resources_.meshes);
         return instance;
     }
 
     // One Material per primitive element, made on its first instance.
     int materialOf(PrimitiveNode& node) {
-        if (node.sceneMaterial >= 0) return node.sceneMaterial;
+        int& index = slot(sceneMaterial_, node.id);
+        if (index > 0) return index - 1;
         Material material = node.material;
         if (node.files && node.files->texture) material.texture.image = imageOf(*node.files->texture);
         if (node.files && node.files->bumpMap) material.bumpMap.image = imageOf(*node.files->bumpMap);
-        node.sceneMaterial = int(scene_.materials.size());
+        index = int(scene_.materials.size()) + 1;
         scene_.materials.push_back(material);
-        return node.sceneMaterial;
+        return index - 1;
     }
 
     int meshOf(PrimitiveNode& node) {
-        if (node.type != PrimitiveType::Mesh || node.sceneMesh >= 0) return node.sceneMesh;
-        node.sceneMesh = indexOf(node.files->meshFile, meshIndex_, [&](const fs::path& file) {
-            scene_.meshFiles.push_back(file);
-            scene_.meshes.push_back(loadObjMesh(file));  // an unreadable file is an InputError
-            return int(scene_.meshFiles.size()) - 1;
+        if (node.type != PrimitiveType::Mesh) return -1;
+        if (!node.files || node.files->meshFile.empty()) return node.mesh;  // made in code
+        int& index = slot(sceneMesh_, node.id);
+        if (index > 0) return index - 1;
+        index = 1 + indexOf(node.files->meshFile, resources_.meshIndex, [&](const fs::path& file) {
+            Resources& r = resources_;
+            r.meshes.push_back(loadObjMesh(file));  // an unreadable file is an InputError
+            r.meshFiles.push_back(file);
+            return int(r.meshFiles.size()) - 1;
         });
-        return node.sceneMesh;
+        return index - 1;
+    }
+
+    // The entry for object `id` (ids are dense: 0 up to the document's next id).
+    static int& slot(std::vector<int>& byObject, int id) {
+        if (size_t(id) >= byObject.size()) byObject.resize(size_t(id) + 1, 0);
+        return byObject[size_t(id)];
     }
 
     // Each file is read once; one that does not decode is remembered as -1 (no texture).
     int imageOf(const ImageReference& reference) {
-        return indexOf(reference.file, imageIndex_, [&](const fs::path& file) {
+        return indexOf(reference.file, resources_.imageIndex, [&](const fs::path& file) {
             Image image;
             if (options_.loadImages) {
                 try {
@@ -195,19 +212,25 @@ private:
                     return -1;
                 }
             }
-            scene_.images.push_back(std::move(image));
-            scene_.imageFiles.push_back(file);
-            return int(scene_.images.size()) - 1;
+            resources_.images.push_back(std::move(image));
+            resources_.imageFiles.push_back(file);
+            return int(resources_.images.size()) - 1;
         });
     }
 
     // Looks `file` up by its canonical path (so two spellings of one file share an
-    // entry), adding it with `add` the first time.
+    // entry), adding it with `add` the first time. Each spelling is made canonical once a
+    // flattening (weakly_canonical asks the file system, and a scene names one texture
+    // hundreds of times).
     template <typename Add>
-    static int indexOf(const fs::path& file, std::map<fs::path, int>& index, Add add) {
-        std::error_code ignored;
-        fs::path key = fs::weakly_canonical(file, ignored);
-        if (key.empty()) key = file;
+    int indexOf(const fs::path& file, std::map<fs::path, int>& index, Add add) {
+        auto [known, isNew] = canonical_.try_emplace(file);
+        if (isNew) {
+            std::error_code ignored;
+            known->second = fs::weakly_canonical(file, ignored);
+            if (known->second.empty()) known->second = file;
+        }
+        const fs::path& key = known->second;
         auto it = index.find(key);
         if (it != index.end()) return it->second;
         int added = add(key);
@@ -217,15 +240,19 @@ private:
 
     const Diagnostics& diagnostics_;
     const LoadOptions& options_;
+    Resources& resources_;
     Scene& scene_;
-    std::map<fs::path, int> imageIndex_, meshIndex_;
+    // By object id: its index in scene.materials, in resources_.meshes, + 1 (0: not yet).
+    std::vector<int> sceneMaterial_, sceneMesh_;
+    std::map<fs::path, fs::path> canonical_;
     CsgBuild* csg_ = nullptr;  // the csg object being flattened, if any
 };
 
 }  // namespace
 
-void flattenScene(TreeNode& root, const Diagnostics& diagnostics, const LoadOptions& options, Scene& scene) {
-    Flattener(diagnostics, options, scene).flatten(root, Affine::identity(), Affine::identity());
+void flattenScene(TreeNode& root, const Diagnostics& diagnostics, const LoadOptions& options, Resources& resources,
+                  Scene& scene) {
+    Flattener(diagnostics, options, resources, scene).flatten(root, Affine::identity(), Affine::identity());
 }
 
 }  // namespace ray::loader

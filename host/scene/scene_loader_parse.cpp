@@ -159,10 +159,11 @@ private:
 
 class SceneParser {
 public:
-    SceneParser(const Diagnostics& diagnostics, const FileSearch& search, Scene& scene)
-        : diagnostics_(diagnostics), search_(search), scene_(scene) {}
+    SceneParser(const Diagnostics& diagnostics, const FileSearch& search, SceneDocument& document)
+        : diagnostics_(diagnostics), search_(search), document_(document) {}
 
     void parseDocument(XmlElement root) {
+        document_.scenefileLine = root.line();
         if (!sameName(root.name(), "scenefile"))
             diagnostics_.error(root.line(), "the root element is " + tag(root) + ", not <scenefile>",
                                "give a CS123 scene file");
@@ -181,9 +182,6 @@ public:
         }
     }
 
-    std::map<std::string, NamedTree>& trees() { return trees_; }
-    size_t primitiveElements() const { return primitiveElements_; }
-
 private:
     // Containers (<globaldata>, <transblock> …) take no attributes: any is unknown.
     void expectNoAttributes(XmlElement element) const {
@@ -198,7 +196,7 @@ private:
     // <globaldata>
     void parseGlobals(XmlElement element) {
         expectNoAttributes(element);
-        GlobalCoefficients& g = scene_.globals;
+        GlobalCoefficients& g = document_.globals;
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             const char* name = child.name();
             double* target = sameName(name, "ambientcoeff")       ? &g.ka
@@ -216,7 +214,7 @@ private:
     // <cameradata>: look is a direction, focus a point; one or the other.
     void parseCamera(XmlElement element) {
         expectNoAttributes(element);
-        Camera& camera = scene_.camera;
+        Camera& camera = document_.camera;
         std::optional<Vec3> focus;
         int lookLine = 0, focusLine = 0;
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
@@ -288,7 +286,7 @@ private:
                 warnUnknown(child, element);
             }
         }
-        scene_.lights.push_back(light);
+        document_.lights.push_back(light);
     }
 
     LightType lightType(XmlElement element) const {
@@ -314,12 +312,13 @@ private:
                                "add name=\"root\" for the scene, or another name to use it as a master");
         values.expect(2, 0, "type name");
         std::string name = values.text(1);
-        auto [it, added] = trees_.try_emplace(name);
+        auto [it, added] = document_.trees.try_emplace(name);
         if (!added)
             diagnostics_.error(element.line(),
                                "a second tree named '" + name + "' (the first is on line " +
                                    std::to_string(it->second.line) + ")",
                                "give each top-level tree its own name");
+        document_.treeOrder.push_back(name);
         it->second.name = name;
         it->second.line = element.line();
         it->second.tree = parseTree(element);
@@ -339,6 +338,7 @@ private:
                                      "<object> outside a <transblock>; it is placed as if in a transblock "
                                      "without transforms");
                 Block block;
+                block.id = document_.nextBlockId++;
                 block.items.push_back(parseObject(child));
                 tree.blocks.push_back(std::move(block));
             } else {
@@ -352,6 +352,7 @@ private:
     Block parseBlock(XmlElement element) {
         expectNoAttributes(element);
         Block block;
+        block.id = document_.nextBlockId++;
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             if (sameName(child.name(), "object")) {
                 block.items.push_back(parseObject(child));
@@ -361,14 +362,14 @@ private:
                 parseMotion(child, block);
                 continue;
             }
-            std::optional<std::pair<Affine, Affine>> transform = parseTransform(child);
+            std::optional<TransformOp> transform = parseTransform(child);
             if (!transform) {
                 warnUnknown(child, element);
                 continue;
             }
-            block.toParent = block.toParent * transform->first;
-            block.fromParent = transform->second * block.fromParent;
+            block.transforms.push_back(*transform);
         }
+        composeBlock(block);
         return block;
     }
 
@@ -383,13 +384,11 @@ private:
         block.motion += displacement;
     }
 
-    // A transform element and its exact inverse; nullopt for other elements.
-    std::optional<std::pair<Affine, Affine>> parseTransform(XmlElement element) const {
+    // A transform element (TransformOp::affine gives it and its exact inverse); nullopt
+    // for other elements.
+    std::optional<TransformOp> parseTransform(XmlElement element) const {
         const char* name = element.name();
-        if (sameName(name, "translate")) {
-            Vec3 t = triple(element);
-            return std::pair{Affine::translation(t), Affine::translation(-t)};
-        }
+        if (sameName(name, "translate")) return op(TransformKind::Translate, triple(element));
         if (sameName(name, "rotate")) {
             Values values(element, diagnostics_);
             values.expect(4, 0, "x y z angle");
@@ -398,21 +397,30 @@ private:
             if (length(axis) == 0)
                 diagnostics_.error(element.line(), "the rotation axis is zero",
                                    "give the axis to rotate about, such as x=\"0\" y=\"1\" z=\"0\"");
-            return std::pair{Affine::rotation(axis, degrees), Affine::rotation(axis, -degrees)};
+            TransformOp rotation = op(TransformKind::Rotate, axis);
+            rotation.v[3] = degrees;
+            return rotation;
         }
         if (sameName(name, "scale")) {
             Vec3 s = triple(element);
             if (s.x == 0 || s.y == 0 || s.z == 0)
                 diagnostics_.error(element.line(), "a zero scale flattens what it holds to nothing",
                                    "use a small non-zero factor, or remove the object");
-            return std::pair{Affine::scaling(s), Affine::scaling({1 / s.x, 1 / s.y, 1 / s.z})};
+            return op(TransformKind::Scale, s);
         }
         if (sameName(name, "matrix")) return parseMatrix(element);
         return std::nullopt;
     }
 
     // <matrix> with four row children (row0…row3) of four values, row-major.
-    std::pair<Affine, Affine> parseMatrix(XmlElement element) const {
+    static TransformOp op(TransformKind kind, const Vec3& xyz) {
+        TransformOp result;
+        result.kind = kind;
+        result.v[0] = xyz.x, result.v[1] = xyz.y, result.v[2] = xyz.z;
+        return result;
+    }
+
+    TransformOp parseMatrix(XmlElement element) const {
         expectNoAttributes(element);
         std::vector<XmlElement> rows;
         for (XmlElement row = element.firstChild(); row; row = row.nextSibling())
@@ -431,11 +439,11 @@ private:
         if (lastRow[0] != 0 || lastRow[1] != 0 || lastRow[2] != 0 || lastRow[3] != 1)
             diagnostics_.error(rows[3].line(), "the matrix's last row is not 0 0 0 1",
                                "give an affine transform (translation in the last column)");
-        Affine inverse = m.inverse();
-        if (!std::isfinite(inverse.m[0][0]))
+        TransformOp matrix = TransformOp::matrix(m);
+        if (!std::isfinite(matrix.affine().second.m[0][0]))
             diagnostics_.error(element.line(), "the matrix is singular (it flattens what it holds)",
                                "give an invertible matrix");
-        return {m, inverse};
+        return matrix;
     }
 
     // <object type="primitive|tree|master" ...> inside a transblock.
@@ -448,7 +456,7 @@ private:
         if (sameName(type, "primitive")) return parsePrimitive(element, values);
         if (sameName(type, "tree")) {
             values.expect(1, 1, "type [name]");
-            return std::make_unique<TreeNode>(parseTree(element));
+            return Box<TreeNode>(parseTree(element));
         }
         if (sameName(type, "csg")) return parseCsg(element, values);
         if (sameName(type, "master")) {
@@ -464,7 +472,7 @@ private:
 
     // <object type="csg" operation="union|intersection|difference">: every child
     // <transblock> (or bare <object>) is one operand.
-    std::unique_ptr<CsgNode> parseCsg(XmlElement element, const Values& values) {
+    Box<CsgNode> parseCsg(XmlElement element, const Values& values) {
         const char* usage = "write <object type=\"csg\" operation=\"union\"> (or intersection, difference)";
         if (values.count() < 2)
             diagnostics_.error(element.line(), "a csg object needs an operation", usage);
@@ -481,7 +489,9 @@ private:
             if (sameName(child.name(), "transblock")) {
                 operand.blocks.push_back(parseBlock(child));
             } else if (sameName(child.name(), "object")) {
-                operand.blocks.emplace_back().items.push_back(parseObject(child));
+                Block& block = operand.blocks.emplace_back();
+                block.id = document_.nextBlockId++;
+                block.items.push_back(parseObject(child));
             } else {
                 warnUnknown(child, element);
                 continue;
@@ -493,16 +503,17 @@ private:
                                "a csg object needs two or more operands but has " +
                                    std::to_string(node->operands.size()),
                                "put each operand in a <transblock> of its own inside the csg object");
-        return node;
+        return Box<CsgNode>(std::move(node));
     }
 
     PrimitiveNode parsePrimitive(XmlElement element, const Values& values) {
-        ++primitiveElements_;
+        ++document_.primitiveElements;
         if (values.count() < 2)
             diagnostics_.error(element.line(), "a primitive needs a name",
                                "write name=\"cube\" (or sphere, cylinder, cone, torus, mesh)");
         PrimitiveNode node;
         node.line = element.line();
+        node.id = document_.nextObjectId++;
         node.type = primitiveType(element, values.text(1));
         if (node.type == PrimitiveType::Mesh) {
             if (values.count() < 3)
@@ -550,20 +561,31 @@ private:
         else if (sameName(name, "shininess")) m.shininess = obeying(element, rules::kShininess, single(element));
         else if (sameName(name, "ior")) m.ior = obeying(element, rules::kIor, single(element));
         else if (sameName(name, "blend")) m.blend = obeying(element, rules::kBlend, single(element));
-        else if (sameName(name, "texture")) node.filesToSet().texture = imageReference(element, m.texture, "texture");
-        else if (sameName(name, "bumpmap")) node.filesToSet().bumpMap = imageReference(element, m.bumpMap, "bump map");
+        else if (sameName(name, "texture")) imageReference(element, m.texture, "texture", node.filesToSet().texture, node.filesToSet().missingTexture);
+        else if (sameName(name, "bumpmap")) imageReference(element, m.bumpMap, "bump map", node.filesToSet().bumpMap, node.filesToSet().missingBumpMap);
         else warnUnknown(element, primitive);
     }
 
     // <texture file u v> or <bumpmap file u v>: sets the repeats and resolves the file.
     // A file that cannot be found is a warning (once per file name; scenes repeat one
     // texture hundreds of times): the surface keeps its material colors.
-    std::optional<ImageReference> imageReference(XmlElement element, TextureMap& map, const char* what) {
+    // The reference goes to `found`, or, as written, to `missing` when it is not found.
+    void imageReference(XmlElement element, TextureMap& map, const char* what, std::optional<ImageReference>& found,
+                        std::string& missing) {
+        found.reset();
+        missing.clear();
+        std::string reference;
+        found = resolveImage(element, map, what, reference);
+        if (!found) missing = reference;
+    }
+
+    std::optional<ImageReference> resolveImage(XmlElement element, TextureMap& map, const char* what,
+                                               std::string& reference) {
         Values values(element, diagnostics_);
         values.expect(1, 2, "file [u] [v]");
         map.repeatU = values.numberOr(1, 1.0);
         map.repeatV = values.numberOr(2, 1.0);
-        std::string reference = values.text(0);
+        reference = values.text(0);
         if (isBlank(reference.c_str())) {
             diagnostics_.warning(element.line(), std::string(what) + " without a file name; it is ignored");
             return std::nullopt;
@@ -643,19 +665,15 @@ private:
 
     const Diagnostics& diagnostics_;
     const FileSearch& search_;
-    Scene& scene_;
-    std::map<std::string, NamedTree> trees_;
+    SceneDocument& document_;
     std::map<std::string, std::optional<fs::path>> resolvedImages_;  // by reference as written
-    size_t primitiveElements_ = 0;
 };
 
 }  // namespace
 
-ParsedScene parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
-                               Scene& scene) {
-    SceneParser parser(diagnostics, search, scene);
-    parser.parseDocument(root);
-    return {std::move(parser.trees()), parser.primitiveElements()};
+void parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
+                        SceneDocument& document) {
+    SceneParser(diagnostics, search, document).parseDocument(root);
 }
 
 }  // namespace ray::loader

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "scene/csg.h"
+#include "scene/scene_document.h"
 #include "scene/file_search.h"
 #include "scene/scene_loader.h"
 #include "scene/xml_tree.h"
@@ -62,97 +63,43 @@ inline std::string joined(const std::vector<std::string>& items, const char* sep
 }
 
 // ---------------------------------------------------------------------------------------
-// The parsed scene graph
+// The parsed scene graph: the scene document (scene/scene_document.h)
 
-// A texture or bump map file, resolved, and the line that names it.
-struct ImageReference {
-    fs::path file;
-    int line = 0;
-};
-
-// What few primitives name, kept apart so that the common primitive stays small (a large
-// flat scene holds 10^5 of them).
-struct PrimitiveFiles {
-    std::optional<ImageReference> texture, bumpMap;
-    fs::path meshFile;  // resolved; meshes only
-};
-
-struct PrimitiveNode {
-    PrimitiveType type = PrimitiveType::Cube;
-    int line = 0;
-    Material material;  // image indices filled in on first use
-    std::unique_ptr<PrimitiveFiles> files;  // null when it names none
-    // Indices into the Scene, set when the first instance is made.
-    int sceneMaterial = -1;
-    int sceneMesh = -1;
-
-    PrimitiveFiles& filesToSet() {
-        if (!files) files = std::make_unique<PrimitiveFiles>();
-        return *files;
-    }
-};
-
-struct TreeNode;
-struct NamedTree;
-
-struct MasterReference {
-    std::string name;
-    int line = 0;
-    NamedTree* target = nullptr;  // set by the count pass
-};
-
-struct CsgNode;
-
-using SceneItem = std::variant<PrimitiveNode, std::unique_ptr<TreeNode>, MasterReference, std::unique_ptr<CsgNode>>;
-
-struct Block {
-    Affine toParent;    // T1 · T2 · … · Tn
-    Affine fromParent;  // its inverse, composed from the exact inverses of each Ti
-    Vec3 motion;        // <motion>: the end-of-shutter displacement, in the parent's frame
-    std::vector<SceneItem> items;
-};
-
-struct TreeNode {
-    std::vector<Block> blocks;
-};
-
-// <object type="csg" operation="..."> (scene/csg.h): each operand is written as a tree's
-// children are, one <transblock> (or one bare <object>) per operand.
-struct CsgNode {
-    CsgStepKind operation = CsgStepKind::Union;
-    int line = 0;
-    std::vector<TreeNode> operands;
-};
-
-struct NamedTree {
-    enum class State { Uncounted, Counting, Counted };
-    std::string name;
-    int line = 0;
-    TreeNode tree;
-    State state = State::Uncounted;
-    uint64_t instances = 0;
-    int levels = 0;  // how deep trees and masters nest inside it (set by the count pass)
-};
+using ray::Block;
+using ray::Box;
+using ray::CsgNode;
+using ray::ImageReference;
+using ray::MasterReference;
+using ray::NamedTree;
+using ray::PrimitiveFiles;
+using ray::PrimitiveNode;
+using ray::Resources;
+using ray::SceneDocument;
+using ray::SceneItem;
+using ray::TreeNode;
 
 // ---------------------------------------------------------------------------------------
 // The passes
 
-// Pass 1 (scene_loader_parse.cpp): the document into the scene's globals, camera and
-// lights (written to `scene`) and the graph of its top-level trees, every rule checked.
-struct ParsedScene {
-    std::map<std::string, NamedTree> trees;  // by name
-    size_t primitiveElements = 0;            // <object type="primitive"> elements read
-};
-ParsedScene parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
-                               Scene& scene);
+// Pass 1 (scene_loader_parse.cpp): the XML into `document`: its globals, camera, lights
+// and the graph of its top-level trees, every rule checked.
+void parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
+                        SceneDocument& document);
 
 // Pass 2 (scene_loader_count.cpp): every top-level tree's instance count and nesting
 // levels, masters resolved to their trees; a missing master, a cycle or nesting beyond
-// kMaxNestingLevels is an error.
+// kMaxNestingLevels is an error. Counts afresh each time (the document may have changed).
 void countInstances(std::map<std::string, NamedTree>& trees, const Diagnostics& diagnostics);
 
 // Pass 3 (scene_loader_flatten.cpp): the instances of `root` into `scene`, with their
-// materials, images and meshes, each loaded once.
-void flattenScene(TreeNode& root, const Diagnostics& diagnostics, const LoadOptions& options, Scene& scene);
+// materials; images and meshes are loaded into `resources` on first use (once per file),
+// and scene.images and scene.meshes are left for the caller to fill from it.
+void flattenScene(TreeNode& root, const Diagnostics& diagnostics, const LoadOptions& options, Resources& resources,
+                  Scene& scene);
+
+// Passes 2 and 3 over a parsed or edited document, with the limits (LoadOptions::
+// maxPrimitives, the host's memory) checked between them.
+Scene flattenWithDiagnostics(SceneDocument& document, Resources& resources, const Diagnostics& diagnostics,
+                             const LoadOptions& options);
 
 }  // namespace ray::loader
