@@ -605,6 +605,11 @@ void bindRendering(py::module_& m) {
         .def_property_readonly("normal", [](const api::Pick& p) { return py::make_tuple(p.normal.x, p.normal.y, p.normal.z); },
                                "The surface's outward unit normal there (world space), a tuple.")
         .def_readonly("distance", &api::Pick::distance, "From the eye to the point.")
+        .def_property_readonly("object", [](const api::Pick& p) -> py::object {
+            if (p.object < 0) return py::none();
+            return py::int_(p.object);
+        }, "The stable id of the scene's object (the scenefile's <object type=\"primitive\">) that the instance comes "
+           "from, or None for one placed in code.")
         .def("__repr__", &pickRepr);
 
     py::class_<PyRenderer>(m, "Renderer", "Renders one scene on one device selection, frame after frame.")

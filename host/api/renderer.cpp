@@ -127,6 +127,7 @@ std::optional<Pick> Renderer::pick(int x, int y) {
         if (!hit) return std::nullopt;
         Pick pick;
         pick.instance = size_t(hit->primitive);
+        pick.object = (*scene).primitives[size_t(hit->primitive)].sourceObject;
         pick.point = {hit->point.x, hit->point.y, hit->point.z};
         pick.normal = {hit->normal.x, hit->normal.y, hit->normal.z};
         pick.distance = hit->distance;

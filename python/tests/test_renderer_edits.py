@@ -36,7 +36,8 @@ def test_pick_finds_the_object_under_a_pixel_and_none_on_the_background():
         assert centre.distance > 0
         assert np.linalg.norm(centre.normal) == pytest.approx(1.0)
         assert renderer.pick(0, 0) is None  # the sky above the board
-        picks[device] = (centre.instance, centre.point, centre.normal, centre.distance)
+        assert isinstance(centre.object, int) and centre.object >= 0  # the scenefile's object
+        picks[device] = (centre.instance, centre.object, centre.point, centre.normal, centre.distance)
         with pytest.raises(ValueError):
             renderer.pick(320, 0)
         with pytest.raises(cs123ray.InputError):
