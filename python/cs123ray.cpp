@@ -434,6 +434,164 @@ void bindTransform(py::module_& m) {
         .def("__repr__", &transformRepr);
 }
 
+// ---------------------------------------------------------------------------------------
+// The scene as its file has it: objects, their edits, lights, saving
+
+const char* shapeName(api::Shape shape) {
+    static const char* const kNames[] = {"cube", "sphere", "cylinder", "cone", "torus", "mesh"};
+    return kNames[int(shape)];
+}
+
+const char* lightTypeName(api::LightType type) {
+    static const char* const kNames[] = {"point", "directional", "spot", "area"};
+    return kNames[int(type)];
+}
+
+// A color or a point as a Python tuple.
+py::tuple pyTuple(const api::Vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+py::dict materialDict(const api::Material& m) {
+    py::dict d;
+    d["diffuse"] = pyTuple(m.diffuse);
+    d["ambient"] = pyTuple(m.ambient);
+    d["specular"] = pyTuple(m.specular);
+    d["reflective"] = pyTuple(m.reflective);
+    d["transparent"] = pyTuple(m.transparent);
+    d["emissive"] = pyTuple(m.emissive);
+    d["shininess"] = m.shininess;
+    d["ior"] = m.ior;
+    d["blend"] = m.blend;
+    d["texture"] = m.texture.texture;
+    d["repeat"] = py::make_tuple(m.texture.repeatU, m.texture.repeatV);
+    d["bump_map"] = m.bumpMap.texture;
+    return d;
+}
+
+// `material` with the fields named in `fields` (add_material's names) replaced.
+api::Material updatedMaterial(api::Material m, const py::kwargs& fields) {
+    for (const auto& [key, value] : fields) {
+        const std::string name = py::str(key);
+        if (name == "diffuse") m.diffuse = vec3(value.cast<Triple>());
+        else if (name == "ambient") m.ambient = vec3(value.cast<Triple>());
+        else if (name == "specular") m.specular = vec3(value.cast<Triple>());
+        else if (name == "reflective") m.reflective = vec3(value.cast<Triple>());
+        else if (name == "transparent") m.transparent = vec3(value.cast<Triple>());
+        else if (name == "emissive") m.emissive = vec3(value.cast<Triple>());
+        else if (name == "shininess") m.shininess = value.cast<double>();
+        else if (name == "ior") m.ior = value.cast<double>();
+        else if (name == "blend") m.blend = value.cast<double>();
+        else if (name == "texture") m.texture.texture = value.cast<int>();
+        else if (name == "bump_map") m.bumpMap.texture = value.cast<int>();
+        else if (name == "repeat") {
+            const auto repeat = value.cast<std::array<double, 2>>();
+            m.texture.repeatU = m.bumpMap.repeatU = repeat[0];
+            m.texture.repeatV = m.bumpMap.repeatV = repeat[1];
+        } else
+            throw py::value_error("set_material takes diffuse, ambient, specular, reflective, transparent, emissive, "
+                                  "shininess, ior, blend, texture, repeat and bump_map, not '" + name + "'");
+    }
+    return m;
+}
+
+py::dict lightDict(const api::Light& l) {
+    py::dict d;
+    d["type"] = lightTypeName(l.type);
+    d["color"] = pyTuple(l.color);
+    d["position"] = pyTuple(l.position);
+    d["direction"] = pyTuple(l.direction);
+    d["attenuation"] = pyTuple(l.attenuation);
+    d["angle"] = l.angleDegrees;
+    d["penumbra"] = l.penumbraDegrees;
+    d["width"] = l.width;
+    d["height"] = l.height;
+    return d;
+}
+
+// `light` with the fields named in `fields` (add_light's names) replaced.
+api::Light updatedLight(api::Light l, const py::kwargs& fields) {
+    for (const auto& [key, value] : fields) {
+        const std::string name = py::str(key);
+        if (name == "type") l.type = lightType(value.cast<std::string>());
+        else if (name == "color") l.color = vec3(value.cast<Triple>());
+        else if (name == "position") l.position = vec3(value.cast<Triple>());
+        else if (name == "direction") l.direction = vec3(value.cast<Triple>());
+        else if (name == "attenuation") l.attenuation = vec3(value.cast<Triple>());
+        else if (name == "angle") l.angleDegrees = value.cast<double>();
+        else if (name == "penumbra") l.penumbraDegrees = value.cast<double>();
+        else if (name == "width") l.width = value.cast<double>();
+        else if (name == "height") l.height = value.cast<double>();
+        else
+            throw py::value_error("set_light takes type, color, position, direction, attenuation, angle, penumbra, "
+                                  "width and height, not '" + name + "'");
+    }
+    return l;
+}
+
+// A handle on one object of a scene: the scene (kept alive by `owner`, the Python object
+// holding it) and the object's stable id. Every use asks the scene, so a handle whose
+// object was removed raises InputError (a ValueError).
+struct PyObjectHandle {
+    py::object owner;
+    api::Scene* scene = nullptr;
+    int id = -1;
+
+    api::SceneObject get() const { return scene->object(id); }
+};
+
+// The handles of every object of `scene`, held by `owner` (a Scene, or a Renderer whose
+// scene it is).
+py::list objectHandles(const py::object& owner, api::Scene& scene) {
+    py::list handles;
+    for (const api::SceneObject& object : scene.objects()) handles.append(PyObjectHandle{owner, &scene, object.id});
+    return handles;
+}
+
+std::string objectRepr(const PyObjectHandle& h) {
+    try {
+        const api::SceneObject o = h.get();
+        return "<cs123ray.SceneObject " + std::to_string(o.id) + ": " + shapeName(o.shape) + " at " + o.path +
+               (o.instances == 1 ? "" : ", " + std::to_string(o.instances) + " instances") + ">";
+    } catch (const api::InputError&) {
+        return "<cs123ray.SceneObject " + std::to_string(h.id) + ": removed>";
+    }
+}
+
+void bindSceneObject(py::module_& m) {
+    py::class_<PyObjectHandle>(m, "SceneObject",
+                               "One object of a scene (an <object type=\"primitive\"> of its file, or one placed with "
+                               "add_primitive), from Scene.objects. An object inside a master is one object: editing "
+                               "it edits every instance. Once removed, every use raises InputError (a ValueError).")
+        .def_property_readonly("id", [](const PyObjectHandle& h) { return h.id; },
+                               "Its stable id (never reused in its scene).")
+        .def_property_readonly("path", [](const PyObjectHandle& h) { return h.get().path; },
+                               "Its place in the scenefile's tree: 'root/transblock[1]/object[0]', or in a master "
+                               "the master's name first ('leg/transblock[0]/object[0]').")
+        .def_property_readonly("shape", [](const PyObjectHandle& h) { return shapeName(h.get().shape); },
+                               "'cube', 'sphere', 'cylinder', 'cone', 'torus' or 'mesh'.")
+        .def_property_readonly("material", [](const PyObjectHandle& h) { return materialDict(h.get().material); },
+                               "Its material, as a dict of add_material's arguments.")
+        .def_property("transform", [](const PyObjectHandle& h) { return h.get().objectToWorld; },
+                      [](const PyObjectHandle& h, const api::Transform& t) { h.scene->setObjectToWorld(h.id, t); },
+                      "Object to world of its first instance (a Transform); setting it is set_transform.")
+        .def_property_readonly("in_master", [](const PyObjectHandle& h) { return h.get().inMaster; },
+                               "Whether it is in a master (a tree other than 'root').")
+        .def_property_readonly("instances", [](const PyObjectHandle& h) { return h.get().instances; },
+                               "How many instances of it are rendered.")
+        .def("set_material", [](const PyObjectHandle& h, const py::kwargs& fields) {
+            h.scene->setMaterial(h.id, updatedMaterial(h.get().material, fields));
+        }, "Changes the fields given (add_material's names: diffuse=(r, g, b), shininess=..., ...), keeping the "
+           "others; in every instance. Values the loader refuses raise InputError (a ValueError) and change nothing.")
+        .def("set_transform", [](const PyObjectHandle& h, const api::Transform& t) { h.scene->setObjectToWorld(h.id, t); },
+             py::arg("transform"),
+             "Places the object so that its first instance's object-to-world is `transform` (other instances, "
+             "through masters, keep their place relative to it). A singular transform raises InputError.")
+        .def("remove", [](const PyObjectHandle& h) { h.scene->removeObject(h.id); },
+             "Removes the object from its scene (from its master: from every instance).")
+        .def("__eq__", [](const PyObjectHandle& a, const PyObjectHandle& b) { return a.scene == b.scene && a.id == b.id; })
+        .def("__hash__", [](const PyObjectHandle& h) { return py::hash(py::make_tuple(size_t(h.scene), h.id)); })
+        .def("__repr__", &objectRepr);
+}
+
 // A Renderer and the scene it renders, which Python sees as renderer.scene: a Scene object
 // of its own (a copy of the one it was made with), shared with the C++ renderer, so that
 // edits through it are what the next frame renders.
@@ -460,11 +618,19 @@ py::dict statsDict(const std::optional<api::FrameStats>& stats) {
     return d;
 }
 
-std::string pickRepr(const api::Pick& p) {
+// What renderer.pick gives Python: the hit, and the scene's object as a SceneObject handle.
+struct PyPick {
+    api::Pick hit;
+    py::object object;  // a PyObjectHandle, or None
+    std::string path;
+};
+
+std::string pickRepr(const api::Pick& p, const std::string& path) {
     char text[160];
-    std::snprintf(text, sizeof text, "<cs123ray.Pick instance %zu at (%.4g, %.4g, %.4g), distance %.4g>", p.instance,
-                  p.point.x, p.point.y, p.point.z, p.distance);
-    return text;
+    std::snprintf(text, sizeof text, " at (%.4g, %.4g, %.4g), distance %.4g>", p.point.x, p.point.y, p.point.z,
+                  p.distance);
+    return "<cs123ray.Pick object " + std::to_string(p.object) + " (" + path + "), instance " +
+           std::to_string(p.instance) + text;
 }
 
 void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
@@ -560,6 +726,51 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
                                "How many primitives the scene holds.")
         .def_property_readonly("light_count", [](const PyScene& s) { return s.scene.lightCount(); },
                                "How many lights the scene holds.")
+        .def_property_readonly("objects", [](const py::object& self) {
+            return objectHandles(self, self.cast<PyScene&>().scene);
+        }, "Every object (SceneObject handles), in the scenefile's order; objects added in code last.")
+        .def("object", [](const py::object& self, int id) {
+            PyScene& s = self.cast<PyScene&>();
+            s.scene.object(id);  // raises InputError when there is none
+            return PyObjectHandle{self, &s.scene, id};
+        }, py::arg("id"), "The object with this id (a SceneObject); InputError when there is none.")
+        .def("object_of_instance", [](const py::object& self, size_t instance) {
+            PyScene& s = self.cast<PyScene&>();
+            return PyObjectHandle{self, &s.scene, s.scene.objectOfInstance(instance)};
+        }, py::arg("instance"), "The object that rendered primitive `instance` is an instance of.")
+        .def_property_readonly("nodes", [](const PyScene& s) {
+            py::list nodes;
+            for (const api::SceneNode& node : s.scene.nodes()) {
+                py::dict d;
+                d["id"] = node.id;
+                d["path"] = node.path;
+                d["transform"] = node.toParent;
+                nodes.append(d);
+            }
+            return nodes;
+        }, "Every transblock, as dicts of id, path ('root/transblock[1]') and transform (to its parent's frame).")
+        .def("set_node_transform", [](PyScene& s, int id, const api::Transform& t) { s.scene.setNodeTransform(id, t); },
+             py::arg("id"), py::arg("transform"),
+             "Replaces the transforms of transblock `id` (from nodes) with `transform`; it moves all it holds.")
+        .def_property_readonly("lights", [](const PyScene& s) {
+            py::list lights;
+            for (const api::Light& light : s.scene.lights()) lights.append(lightDict(light));
+            return lights;
+        }, "The lights, as dicts of add_light's arguments, in order.")
+        .def("set_light", [](PyScene& s, size_t index, const py::kwargs& fields) {
+            const std::vector<api::Light> lights = s.scene.lights();
+            if (index >= lights.size())
+                throw py::value_error("light " + std::to_string(index) + " does not exist (the scene has " +
+                                      std::to_string(lights.size()) + ")");
+            s.scene.setLight(index, updatedLight(lights[index], fields));
+        }, py::arg("index"), "Changes the fields given (add_light's names) of light `index`, keeping the others.")
+        .def("remove_light", [](PyScene& s, size_t index) { s.scene.removeLight(index); }, py::arg("index"),
+             "Removes light `index`; the later ones move down.")
+        .def("save", [](const PyScene& s, const std::filesystem::path& file) { s.scene.save(file); }, py::arg("file"),
+             "Writes the scene as a CS123 scenefile (whole or not at all) that loads back to the same render, "
+             "masters kept as masters, texture and mesh paths relative to `file`.")
+        .def("to_text", [](const PyScene& s) { return s.scene.toText(); },
+             "The scene as CS123 scenefile text (what save writes).")
         .def("__repr__", &sceneRepr);
 }
 
@@ -597,20 +808,21 @@ void bindRendering(py::module_& m) {
         return devices;
     }, "The OpenCL devices, as dicts (index, name, platform, gpu, cpu), numbered as device=<index> takes them.");
 
-    py::class_<api::Pick>(m, "Pick", "What a pixel shows (Renderer.pick): the surface its camera ray meets first.")
-        .def_readonly("instance", &api::Pick::instance,
-                      "The primitive instance hit: its index among the scene's primitives (flattened).")
-        .def_property_readonly("point", [](const api::Pick& p) { return py::make_tuple(p.point.x, p.point.y, p.point.z); },
+    py::class_<PyPick>(m, "Pick", "What a pixel shows (Renderer.pick): the surface its camera ray meets first.")
+        .def_property_readonly("object", [](const PyPick& p) { return p.object; },
+                               "The scene's object hit (a SceneObject of renderer.scene: its path, material, "
+                               "transform, edits).")
+        .def_property_readonly("object_id", [](const PyPick& p) { return p.hit.object; },
+                               "Its stable id (renderer.scene.object(id)).")
+        .def_readonly("path", &PyPick::path, "Its place in the scenefile's tree ('root/transblock[1]/object[0]').")
+        .def_property_readonly("instance", [](const PyPick& p) { return p.hit.instance; },
+                               "The primitive instance hit: its index among the scene's primitives (flattened).")
+        .def_property_readonly("point", [](const PyPick& p) { return pyTuple(p.hit.point); },
                                "The hit point (world space), a tuple.")
-        .def_property_readonly("normal", [](const api::Pick& p) { return py::make_tuple(p.normal.x, p.normal.y, p.normal.z); },
+        .def_property_readonly("normal", [](const PyPick& p) { return pyTuple(p.hit.normal); },
                                "The surface's outward unit normal there (world space), a tuple.")
-        .def_readonly("distance", &api::Pick::distance, "From the eye to the point.")
-        .def_property_readonly("object", [](const api::Pick& p) -> py::object {
-            if (p.object < 0) return py::none();
-            return py::int_(p.object);
-        }, "The stable id of the scene's object (the scenefile's <object type=\"primitive\">) that the instance comes "
-           "from, or None for one placed in code.")
-        .def("__repr__", &pickRepr);
+        .def_property_readonly("distance", [](const PyPick& p) { return p.hit.distance; }, "From the eye to the point.")
+        .def("__repr__", [](const PyPick& p) { return pickRepr(p.hit, p.path); });
 
     py::class_<PyRenderer>(m, "Renderer", "Renders one scene on one device selection, frame after frame.")
         .def(py::init([](const PyScene& s, const std::string& device) {
@@ -637,7 +849,13 @@ void bindRendering(py::module_& m) {
         .def("pick", [](PyRenderer& r, int x, int y) -> py::object {
             std::optional<api::Pick> hit = r.renderer->pick(x, y);
             if (!hit) return py::none();
-            return py::cast(*hit);
+            PyPick pick{*hit, py::none(), ""};
+            if (hit->object >= 0) {
+                // The handle holds the renderer's Scene object, as renderer.scene.objects' do.
+                pick.object = py::cast(PyObjectHandle{py::cast(r.scene), &r.scene->scene, hit->object});
+                pick.path = r.scene->scene.object(hit->object).path;
+            }
+            return py::cast(pick);
         }, py::arg("x"), py::arg("y"),
            "What the camera ray through the centre of pixel (x, y) (of the current width and height; row 0 at the "
            "top) meets first, as a Pick, or None on the background. Found on the host, so every device gives "
@@ -692,6 +910,7 @@ PYBIND11_MODULE(cs123ray, m) {
     bindTransform(m);
     py::class_<PyScene, std::shared_ptr<PyScene>> scene(m, "Scene", "A scene: Scene() builds one in code; load_scene() reads a scenefile.");
     bindScene(scene);
+    bindSceneObject(m);
     bindLoading(m);
     bindRendering(m);
 }

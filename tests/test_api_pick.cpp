@@ -47,6 +47,7 @@ TEST_CASE("API: pick finds the object under a pixel, nothing on the background, 
     const api::Pick& hit = *centres[0];
     CHECK(hit.instance < scene.primitiveCount());
     CHECK(hit.object >= 0);  // the scenefile's <object type="primitive"> it comes from
+    CHECK(hit.object == scene.objectOfInstance(hit.instance));
     CHECK(hit.distance > 0);
     const double n = std::sqrt(hit.normal.x * hit.normal.x + hit.normal.y * hit.normal.y + hit.normal.z * hit.normal.z);
     CHECK(n == Approx(1.0));
@@ -76,7 +77,9 @@ TEST_CASE("API: pick sees the renderer's scene as edited, and a later camera", "
     const auto inside = renderer.pick(0, 0);
     REQUIRE(inside);
     CHECK(inside->instance == scene.primitiveCount());
-    CHECK(inside->object == -1);  // placed in code: no scenefile object
+    // Placed in code: an object of the scene's own, as the scene names it.
+    CHECK(inside->object == renderer.scene().objectOfInstance(inside->instance));
+    CHECK(inside->object >= 0);
     CHECK(inside->distance == Approx(2.0));
 }
 

@@ -113,8 +113,8 @@ struct FrameStats {
 /// What a pixel shows (Renderer::pick): the surface its camera ray meets first.
 struct Pick {
     size_t instance = 0;    ///< the primitive instance hit: its index among the scene's primitives (flattened)
-    /// The stable id of the scene's object (the scenefile's `<object type="primitive">`) that
-    /// instance comes from; -1 for one with none (placed in code without a document).
+    /// The stable id of the scene's object (the scenefile's `<object type="primitive">`, or
+    /// one placed with addPrimitive) that instance comes from: Scene::objectOfInstance.
     int object = -1;
     Vec3 point;             ///< the hit point (world space)
     Vec3 normal;            ///< the surface's outward unit normal there (world space)

@@ -98,6 +98,35 @@ struct Globals {
     ///@}
 };
 
+/// An object of a scene: one `<object type="primitive">` of its scenefile, or one placed
+/// with Scene::addPrimitive. An object inside a master is one object however many times
+/// the master is placed: editing it (its material, its transform) edits the master, so
+/// every instance changes, as editing a component's definition does in a modeler.
+struct SceneObject {
+    int id = -1;  ///< stable for the scene's life (a removed object's id is never reused)
+    /// Its place in the scenefile's tree: "root/transblock[1]/object[0]", or in a master
+    /// "leg/transblock[0]/object[0]" (the master's name first); inline trees and csg objects
+    /// add their levels ("root/transblock[2]/object[0]/operand[1]/transblock[0]/object[0]").
+    std::string path;
+    Shape shape = Shape::Cube;  ///< its shape
+    /// Its material. A texture is a handle as from addTextureFromFile (a scenefile's
+    /// textures have handles too); it is -1 for an object no instance of which is rendered.
+    Material material;
+    /// Object to world of its first instance (in the order instances are rendered); for an
+    /// object with none (in a master no tree places), to its master's frame.
+    Transform objectToWorld;
+    bool inMaster = false;  ///< in a tree other than "root" (a master)
+    size_t instances = 0;   ///< how many instances of it are rendered (masters place it many times)
+};
+
+/// A transblock of a scene (`<transblock>`): the transform from its contents to its
+/// parent's frame. Editing it moves everything in it, in every instance of its master.
+struct SceneNode {
+    int id = -1;         ///< stable for the scene's life
+    std::string path;    ///< its place in the tree: "root/transblock[1]"
+    Transform toParent;  ///< its transforms composed (T1 · T2 · … · Tn)
+};
+
 class Scene;
 
 /// How a scenefile is read.
@@ -151,6 +180,59 @@ public:
 
     size_t primitiveCount() const;  ///< the primitives placed (a scenefile's, flattened, and added ones)
     size_t lightCount() const;  ///< the lights
+
+    /// \name The scene as its file has it: read it, edit it, save it
+    /// The scene keeps its scenefile's tree (transblocks, objects, masters), not only the
+    /// primitives it flattens to; every edit re-flattens it, so the next render shows it.
+    /// An edit that fails throws InputError and changes nothing.
+    ///@{
+
+    /// Every object, in the scenefile's order (masters in the order the file lists them,
+    /// objects added in code last).
+    std::vector<SceneObject> objects() const;
+    /// The object with this id. Throws InputError when there is none (removed, say).
+    SceneObject object(int id) const;
+    /// The object the rendered primitive `instance` (0 .. primitiveCount() - 1, as a
+    /// Renderer's pick reports it) is an instance of. Throws InputError out of range.
+    int objectOfInstance(size_t instance) const;
+    /// Replaces the object's material (in every instance). Throws InputError for values the
+    /// scenefile loader would refuse (a negative shininess, say), a texture handle that
+    /// does not exist, or an object that does not.
+    void setMaterial(int id, const Material& material);
+    /// Places the object so that its first instance's object-to-world transform is
+    /// `objectToWorld` (its other instances, through masters, keep their place relative to
+    /// it). Its transblock takes the transform if the object is alone in it; otherwise the
+    /// object gets a transblock of its own. Throws InputError for a singular transform.
+    void setObjectToWorld(int id, const Transform& objectToWorld);
+    /// Removes the object (from its master: from every instance). Throws InputError for an
+    /// object that does not exist, or whose removal would leave a csg operand empty.
+    void removeObject(int id);
+
+    /// Every transblock, in the scenefile's order.
+    std::vector<SceneNode> nodes() const;
+    /// Replaces the transblock's transforms with `toParent`. Throws InputError for a
+    /// singular transform or a transblock that does not exist.
+    void setNodeTransform(int nodeId, const Transform& toParent);
+
+    /// The lights, in order (index i is the scenefile's i-th `<lightdata>`).
+    std::vector<Light> lights() const;
+    /// Replaces light `index`. Throws InputError for an index out of range or values the
+    /// loader would refuse.
+    void setLight(size_t index, const Light& light);
+    /// Removes light `index` (the later ones move down). Throws InputError out of range.
+    void removeLight(size_t index);
+
+    /// The scene as CS123 scenefile text, which loads back to the same scene (masters as
+    /// masters, transforms as written); texture and mesh paths are relative to the folder of
+    /// the file it was loaded from (the current folder for a scene built in code). Throws
+    /// InputError for what a scenefile cannot hold: a texture or mesh made in memory.
+    std::string toText() const;
+    /// Writes toText() to `file` atomically (all of it, or the old file is left as it was),
+    /// with texture and mesh paths relative to `file`'s folder. Loading it renders the same
+    /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
+    /// cannot be written.
+    void save(const std::filesystem::path& file) const;
+    ///@}
 
     /// \cond INTERNAL
     struct Impl;

@@ -36,8 +36,12 @@ def test_pick_finds_the_object_under_a_pixel_and_none_on_the_background():
         assert centre.distance > 0
         assert np.linalg.norm(centre.normal) == pytest.approx(1.0)
         assert renderer.pick(0, 0) is None  # the sky above the board
-        assert isinstance(centre.object, int) and centre.object >= 0  # the scenefile's object
-        picks[device] = (centre.instance, centre.object, centre.point, centre.normal, centre.distance)
+        # The scenefile's object: a SceneObject of the renderer's scene, with its path in the tree.
+        assert isinstance(centre.object, cs123ray.SceneObject)
+        assert centre.object.id == centre.object_id
+        assert renderer.scene.object_of_instance(centre.instance) == centre.object
+        assert centre.path == centre.object.path and centre.path.startswith("root/")
+        picks[device] = (centre.instance, centre.object_id, centre.path, centre.point, centre.normal, centre.distance)
         with pytest.raises(ValueError):
             renderer.pick(320, 0)
         with pytest.raises(cs123ray.InputError):
@@ -69,11 +73,33 @@ def test_stats_and_edits_on_the_renderer_scene():
     renderer.render()
     assert renderer.stats["pack_seconds"] == 0 and renderer.stats["upload_seconds"] == 0
 
+    # A material edit, on the object under the centre pixel: its table only, no BVH.
+    picked = renderer.pick(160, 120)
+    picked.object.set_material(diffuse=(1, 0, 0))
+    recolored = renderer.render()
+    assert renderer.stats["bvh_build_seconds"] == 0
+    assert renderer.stats["pack_seconds"] > 0 and renderer.stats["upload_seconds"] > 0
+    assert not np.array_equal(recolored, first)
+    assert recolored[120, 160, 0] > 4 * max(recolored[120, 160, 1], recolored[120, 160, 2])  # red there
+    fresh = cs123ray.Renderer(renderer.scene, device="cpu")
+    fresh.set_options(width=320, height=240, aa="off")
+    assert np.array_equal(recolored, fresh.render())
+
+    # A transform edit: the tree refitted, no BVH build, the image a fresh renderer makes.
+    moved = picked.object.transform @ cs123ray.Transform.translate(0, 0.3, 0)
+    picked.object.set_transform(moved)
+    shifted = renderer.render()
+    assert renderer.stats["bvh_build_seconds"] == 0
+    assert not np.array_equal(shifted, recolored)
+    fresh = cs123ray.Renderer(renderer.scene, device="cpu")
+    fresh.set_options(width=320, height=240, aa="off")
+    assert np.array_equal(shifted, fresh.render())
+
     renderer.scene.add_light("point", color=(0.5, 0.2, 0.2), position=(0, 6, 0))
     lit = renderer.render()
     assert renderer.stats["bvh_build_seconds"] == 0
     assert renderer.stats["pack_seconds"] > 0 and renderer.stats["upload_seconds"] > 0
-    assert not np.array_equal(lit, first)
+    assert not np.array_equal(lit, shifted)
     # What a fresh renderer of the edited scene renders.
     fresh = cs123ray.Renderer(renderer.scene, device="cpu")
     fresh.set_options(width=320, height=240, aa="off")
@@ -89,17 +115,18 @@ def test_stats_and_edits_on_the_renderer_scene():
 @needs_chess
 @needs_cpu
 def test_a_table_edit_costs_little_beside_a_frame():
-    """A light edit then a frame: at most 25% + 5 ms over the median plain frame (medians of
+    """A material edit then a frame: at most 25% + 5 ms over the median plain frame (medians of
     alternating runs; bench/edit_frame.py measures this against a whole ray process)."""
     renderer = chess_renderer("cpu")
     renderer.render()
+    target = renderer.pick(160, 120).object
     plain, edited = [], []
     for i in range(9):
         start = time.perf_counter()
         renderer.render()
         plain.append(time.perf_counter() - start)
         start = time.perf_counter()
-        renderer.scene.add_light("point", color=(0.01, 0.01, 0.01), position=(0, 6 + i, 0))
+        target.set_material(diffuse=(i / 10, 0.2, 0.2))
         renderer.render()
         edited.append(time.perf_counter() - start)
         assert renderer.stats["bvh_build_seconds"] == 0
