@@ -163,6 +163,34 @@ try:
     assert open(copy).read() == written
     print("save as: copy.xml written beside it")
 
+    # A light and a transform edited in the panel change the view; undone, the view is back.
+    saved_centre = pixel(driver, CX, CY)
+    set_input(driver, "light-0-color", "#000000")  # the only light off: ambient alone
+    deadline = time.time() + 20
+    while pixel(driver, CX, CY)[0] >= saved_centre[0] - 20:
+        assert time.time() < deadline, f"the light edit did not darken the centre: {pixel(driver, CX, CY)}"
+        time.sleep(0.05)
+    driver.find_element(By.ID, "undo").click()
+    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+                 f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
+    status, state = viewer.json("GET", "/state")
+    assert state["lights"][0]["color"] == [1.0, 1.0, 1.0], state["lights"]
+    # The floor (the selected cube) lowered by 0.5 along its transblock's translate's y.
+    translate_y = driver.execute_script("return Number(document.getElementById('transform-0-1').value)")
+    edits = driver.execute_script("return window.rayViewer.edits")
+    set_input(driver, "transform-0-1", str(translate_y - 0.5))
+    wait(driver, f"window.rayViewer.edits > {edits}", timeout=20)
+    status, current = viewer.json("GET", f"/object?id={selected['object']}")
+    assert current["transform"][0]["v"][1] == translate_y - 0.5, current["transform"]
+    deadline = time.time() + 20
+    while pixel(driver, CX, CY)[:3] == saved_centre[:3]:
+        assert time.time() < deadline, "the transform edit did not change the view"
+        time.sleep(0.05)
+    driver.find_element(By.ID, "undo").click()
+    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+                 f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
+    print("panel: the light switched off darkened the view, the floor lowered changed it; each undone")
+
     # Without the token nothing is edited.
     body = json.dumps({"object": selected["object"], "material": {"diffuse": [0, 0, 1]}}).encode()
     status, _ = viewer.request("POST", "/edit", body, headers={})
