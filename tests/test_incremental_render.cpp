@@ -48,6 +48,13 @@ TEST_CASE("compareScenes tells a material, a light and a move apart", "[incremen
     CHECK(d.geometry);
     CHECK(d.transformsOnly);
 
+    // Bytes that differ for equal values (-0 for 0) are no difference: the byte-wise fast
+    // path falls back to comparing field by field.
+    ray::Scene signedZero = scene;
+    REQUIRE(signedZero.primitives[1].objectToWorld.m[0][1] == 0.0);
+    signedZero.primitives[1].objectToWorld.m[0][1] = -0.0;
+    CHECK_FALSE(ray::compareScenes(scene, signedZero).any());
+
     ray::Scene reshaped = scene;
     reshaped.primitives[1].type = ray::PrimitiveType::Sphere;
     d = ray::compareScenes(scene, reshaped);
