@@ -201,6 +201,8 @@ TEST_CASE("a worker past its tile's deadline is reported, and once dropped its t
     clock.now += Scheduler::kFirstTileSeconds - 1;
     CHECK(s.lateWorkers().empty());
     CHECK(s.deadline(1) == Scheduler::kFirstTileSeconds);
+    // A rank's silence is held to the usual deadline, even in its start-up.
+    CHECK(s.usualDeadline() == Scheduler::kDeadlineFloorSeconds);
     REQUIRE(frame.deliver(1, one[0]));
     REQUIRE(frame.deliver(2, two[0]));
     // Both started: the floor, as no tile time is known yet.
@@ -210,6 +212,7 @@ TEST_CASE("a worker past its tile's deadline is reported, and once dropped its t
     clock.now += 3;
     REQUIRE(frame.deliver(1, one[0]));
     CHECK(s.deadline(2) == Approx(Scheduler::kSlowestTileFactor * 3));
+    CHECK(s.usualDeadline() == Approx(Scheduler::kSlowestTileFactor * 3));
     // Worker 2 takes the last tile and stops answering.
     two = frame.handOut(2, 1);
     REQUIRE(two.size() == 1);
@@ -272,6 +275,7 @@ TEST_CASE("the --rank-timeout option replaces the deadline, first tiles included
     Scheduler s(ray::TileGrid(32, 16, 16), clock.function());
     s.setDeadline(2.5);
     CHECK(s.deadline(1) == 2.5);
+    CHECK(s.usualDeadline() == 2.5);
     s.handOut(1, 1);
     clock.now += 2;
     CHECK(s.lateWorkers().empty());

@@ -47,8 +47,10 @@ exit status: 0 success, 2 bad input or arguments, 3 device or runtime failure,
 across processes and machines (a build with MPI): mpirun [-q] -n N [--hostfile F] ray
 <scene.xml> ... renders one frame on N ranks, each on its own --device; rank 0 hands out
 the tiles, renders too and alone writes the image and the statistics (see docs/user-guide.md).
-  --rank-timeout S         under mpirun: a rank that holds a tile S seconds is taken for
-                           hung (default: from the tile times seen, at least 10 s); its
+  --rank-timeout S         under mpirun: a rank that holds a tile S seconds, or sends
+                           nothing for S seconds (a rank that answers sends a heartbeat each
+                           second, also while it compiles), is taken for hung (default: from
+                           the tile times seen, at least 10 s; a first tile 120 s); its
                            tiles go to the others. Exit 4: the image was written whole, but
                            a rank stopped answering and the job was ended without it
 )";

@@ -16,6 +16,12 @@
 // (a warning names it); any other error on a rank ends the job with MPI_Abort, never a
 // hang. mpirun itself ends the job when a rank dies. On Ctrl-C mpirun sends every rank
 // SIGTERM: they stop, rank 0 leaves the output untouched (or writes it with --partial).
+// A rank that stops (SIGSTOP, a wedged host) is told from a slow one by its heartbeats:
+// every worker's main thread beats each second it sends nothing else, from its start-up
+// (the scene loads on another thread) to its statistics, compiling included. Rank 0 takes
+// a worker silent for the usual deadline (10 s or more) for stopped, whatever it was
+// doing: it names it, renders the frame without it and ends the job with exit 4. Hence no
+// collective anywhere: a stopped rank would hold the others in it for ever.
 //
 // Threads: only each rank's main thread calls MPI (MPI_THREAD_FUNNELED): it runs the
 // message loop while the engine renders on other threads.

@@ -156,11 +156,19 @@ double TileScheduler::heldSeconds(const Claim& claim, double now) const {
     return now - start;
 }
 
+double TileScheduler::usualDeadlineLocked() const {
+    return fixedDeadline_ ? *fixedDeadline_ : std::max(kDeadlineFloorSeconds, kSlowestTileFactor * slowestTile_);
+}
+
 double TileScheduler::deadlineLocked(int worker) const {
     if (fixedDeadline_) return *fixedDeadline_;
-    const double fromTiles = std::max(kDeadlineFloorSeconds, kSlowestTileFactor * slowestTile_);
     const WorkerRecord* r = findRecord(worker);
-    return r && r->firstDelivery ? fromTiles : std::max(kFirstTileSeconds, fromTiles);
+    return r && r->firstDelivery ? usualDeadlineLocked() : std::max(kFirstTileSeconds, usualDeadlineLocked());
+}
+
+double TileScheduler::usualDeadline() const {
+    std::lock_guard lock(mutex_);
+    return usualDeadlineLocked();
 }
 
 double TileScheduler::deadline(int worker) const {

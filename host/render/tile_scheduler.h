@@ -75,6 +75,9 @@ public:
 
     // The deadline in force for `worker`'s tiles, in seconds.
     double deadline(int worker) const;
+    // The deadline of a worker past its start-up (no kFirstTileSeconds), in seconds: how long
+    // rank 0 lets a rank stay silent, heartbeats included, whatever it is doing.
+    double usualDeadline() const;
     // Replaces the deadline of every tile (--rank-timeout); seconds > 0.
     void setDeadline(double seconds);
     // A late tile: who holds it, which, and for how long.
@@ -120,6 +123,7 @@ private:
     bool holds(int tile, int worker) const;
     bool heldByLiveWorker(size_t tile) const;
     double deadlineLocked(int worker) const;
+    double usualDeadlineLocked() const;
     double heldSeconds(const Claim& claim, double now) const;
     void requeue(int tile);
 
