@@ -132,7 +132,7 @@ using SceneItem = std::variant<PrimitiveNode, Box<TreeNode>, MasterReference, Bo
 // <transblock>.
 struct Block {
     int id = -1;                          // stable (see above)
-    std::vector<TransformOp> transforms;  // as written, in order
+    std::vector<TransformOp> transforms;  // as written, in order (empty in a document only flattened)
     Affine toParent;    // T1 · T2 · … · Tn (composeBlock)
     Affine fromParent;  // its inverse, composed from the exact inverses of each Ti
     Vec3 motion;        // <motion>: the end-of-shutter displacement, in the parent's frame

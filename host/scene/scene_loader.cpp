@@ -90,11 +90,11 @@ XmlTree parseXml(const Diagnostics& diagnostics, Parse parse) {
 
 // Pass 1 over the parsed XML: the document (the XML tree goes once it is read).
 SceneDocument documentFromTree(XmlTree tree, const fs::path& file, const LoadOptions& options,
-                               const Diagnostics& diagnostics) {
+                               const Diagnostics& diagnostics, bool keepTransforms = true) {
     SceneDocument document;
     document.file = file;
     FileSearch search{options.searchPaths, file.parent_path()};
-    loader::parseSceneDocument(tree.root(), diagnostics, search, document);  // a parsed tree always has a root
+    loader::parseSceneDocument(tree.root(), diagnostics, search, document, keepTransforms);  // a parsed tree always has a root
     if (document.trees.empty())
         diagnostics.warning(document.scenefileLine,
                             "the scene has no <object type=\"tree\" name=\"root\">; it is empty");
@@ -108,7 +108,8 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
     Resources resources;
     Scene scene;
     {
-        SceneDocument document = documentFromTree(std::move(tree), file, options, diagnostics);
+        // Flattened and dropped: the transforms as written, for saving, are not kept.
+        SceneDocument document = documentFromTree(std::move(tree), file, options, diagnostics, false);
         scene = loader::flattenWithDiagnostics(document, resources, diagnostics, options);
     }
     scene.images = std::move(resources.images);

@@ -159,8 +159,9 @@ private:
 
 class SceneParser {
 public:
-    SceneParser(const Diagnostics& diagnostics, const FileSearch& search, SceneDocument& document)
-        : diagnostics_(diagnostics), search_(search), document_(document) {}
+    SceneParser(const Diagnostics& diagnostics, const FileSearch& search, SceneDocument& document,
+                bool keepTransforms)
+        : diagnostics_(diagnostics), search_(search), document_(document), keepTransforms_(keepTransforms) {}
 
     void parseDocument(XmlElement root) {
         document_.scenefileLine = root.line();
@@ -367,9 +368,15 @@ private:
                 warnUnknown(child, element);
                 continue;
             }
-            block.transforms.push_back(*transform);
+            if (keepTransforms_) {
+                block.transforms.push_back(*transform);
+            } else {  // composed as composeBlock does, in the same order
+                auto [to, from] = transform->affine();
+                block.toParent = block.toParent * to;
+                block.fromParent = from * block.fromParent;
+            }
         }
-        composeBlock(block);
+        if (keepTransforms_) composeBlock(block);
         return block;
     }
 
@@ -666,14 +673,15 @@ private:
     const Diagnostics& diagnostics_;
     const FileSearch& search_;
     SceneDocument& document_;
+    const bool keepTransforms_;
     std::map<std::string, std::optional<fs::path>> resolvedImages_;  // by reference as written
 };
 
 }  // namespace
 
 void parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
-                        SceneDocument& document) {
-    SceneParser(diagnostics, search, document).parseDocument(root);
+                        SceneDocument& document, bool keepTransforms) {
+    SceneParser(diagnostics, search, document, keepTransforms).parseDocument(root);
 }
 
 }  // namespace ray::loader

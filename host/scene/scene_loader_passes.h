@@ -82,9 +82,11 @@ using ray::TreeNode;
 // The passes
 
 // Pass 1 (scene_loader_parse.cpp): the XML into `document`: its globals, camera, lights
-// and the graph of its top-level trees, every rule checked.
+// and the graph of its top-level trees, every rule checked. Without keepTransforms each
+// block keeps only its composition, not its transforms as written: what flattening needs
+// and not what saving does (a flat scene of 10^5 blocks loads in half the memory).
 void parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
-                        SceneDocument& document);
+                        SceneDocument& document, bool keepTransforms = true);
 
 // Pass 2 (scene_loader_count.cpp): every top-level tree's instance count and nesting
 // levels, masters resolved to their trees; a missing master, a cycle or nesting beyond
