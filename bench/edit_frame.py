@@ -2,7 +2,7 @@
 process rendering the same view (issue 33's incremental re-render).
 
 Usage: /usr/bin/python3 bench/edit_frame.py [--ray build/ray] [--scene chess.xml]
-       [--size 320x240] [--device cpu] [--runs 15] [--edit material|light] [--json FILE]
+       [--size 320x240] [--device cpu] [--runs 15] [--edit material|light|transform] [--json FILE]
 
 Each round runs, alternating so that a machine's drift weighs on all three alike:
   frame    renderer.render() with nothing edited (the median frame);
@@ -14,6 +14,8 @@ and the two checks of the issue: edit <= 1.25 * frame + 5 ms, edit <= process / 
 --edit material: object.set_material (a diffuse color) where the module has the scene document
 (scene.objects), else scene.add_material: either repacks and uploads the material table only.
 --edit light: scene.add_light (a faint point light): the light table only.
+--edit transform: object.set_transform (moved up a little each round): its records, the tree
+refitted (no BVH build).
 Needs PYTHONPATH to hold the cs123ray module (build/python)."""
 import argparse
 import json
@@ -34,7 +36,7 @@ parser.add_argument("--scene", default=str(root.parent / "shared" / "cs123" / "s
 parser.add_argument("--size", default="320x240")
 parser.add_argument("--device", default="cpu")
 parser.add_argument("--runs", type=int, default=15)
-parser.add_argument("--edit", choices=["material", "light"], default="material")
+parser.add_argument("--edit", choices=["material", "light", "transform"], default="material")
 parser.add_argument("--json")
 args = parser.parse_args()
 width, height = (int(v) for v in args.size.split("x"))
@@ -52,6 +54,9 @@ def edit(i):
     shade = (i % 10) / 10
     if args.edit == "light":
         scene.add_light("point", color=(0.001, 0.001, 0.001), position=(0, 6 + i, 0))
+    elif args.edit == "transform":
+        target = objects[len(objects) // 2]
+        target.set_transform(cs123ray.Transform.translate(0, 0.001, 0) @ target.transform)
     elif objects is not None:
         target = objects[len(objects) // 2]
         target.set_material(diffuse=(shade, 0.2, 0.2))
@@ -86,8 +91,8 @@ def summary(values):
 
 result = {
     "scene": args.scene, "size": args.size, "device": args.device, "runs": args.runs, "edit": args.edit,
-    "edit_api": "set_material" if (args.edit == "material" and objects is not None) else
-                ("add_material" if args.edit == "material" else "add_light"),
+    "edit_api": {"material": "set_material" if objects is not None else "add_material", "light": "add_light",
+                 "transform": "set_transform"}[args.edit],
     "frame": summary(frame), "edit_and_frame": summary(edited), "ray_process": summary(process),
     "edited_pack_ms_median": statistics.median(t[0] for t in tables) * 1e3,
     "edited_bvh_build_seconds_max": max(t[1] for t in tables),
