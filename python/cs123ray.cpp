@@ -10,8 +10,11 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <future>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -274,11 +277,14 @@ std::string dtypeName(const py::object& dtype) {
 
 // Renders a frame as an H x W x 3 array: float32 (linear, unclamped) or uint8 (the bytes
 // ray's 8-bit images hold).
-py::array renderArray(api::Renderer& renderer, const py::object& dtype, const py::object& progress) {
+// stats: the frame's statistics, if wanted.
+py::array renderArray(api::Renderer& renderer, const py::object& dtype, const py::object& progress,
+                      api::FrameStats* stats = nullptr) {
     const std::string name = dtypeName(dtype);
     const api::Settings& s = renderer.settings();
     py::array_t<float> rgb({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
-    renderWatched(renderer, rgb.mutable_data(), size_t(rgb.size()), progress);
+    api::FrameStats frame = renderWatched(renderer, rgb.mutable_data(), size_t(rgb.size()), progress);
+    if (stats) *stats = frame;
     if (name == "float32") return rgb;
     py::array_t<uint8_t> bytes({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
     std::transform(rgb.data(), rgb.data() + rgb.size(), bytes.mutable_data(), api::toByte);
@@ -586,7 +592,48 @@ void bindSceneObject(py::module_& m) {
         .def("__repr__", &objectRepr);
 }
 
-void bindScene(py::class_<PyScene>& scene) {
+// A Renderer and the scene it renders, which Python sees as renderer.scene: a Scene object
+// of its own (a copy of the one it was made with), shared with the C++ renderer, so that
+// edits through it are what the next frame renders.
+struct PyRenderer {
+    std::shared_ptr<PyScene> scene;
+    std::unique_ptr<api::Renderer> renderer;
+    std::optional<api::FrameStats> stats;  // the last frame's
+};
+
+// The last frame's statistics (renderer.stats); empty before the first frame.
+py::dict statsDict(const std::optional<api::FrameStats>& stats) {
+    py::dict d;
+    if (!stats) return d;
+    d["device"] = stats->device;
+    d["primary_rays"] = stats->primaryRays;
+    d["shadow_rays"] = stats->shadowRays;
+    d["secondary_rays"] = stats->secondaryRays;
+    d["pack_seconds"] = stats->packSeconds;
+    d["bvh_build_seconds"] = stats->bvhBuildSeconds;
+    d["upload_seconds"] = stats->uploadSeconds;
+    d["kernel_build_seconds"] = stats->kernelBuildSeconds;
+    d["render_seconds"] = stats->renderSeconds;
+    d["cancelled"] = stats->cancelled;
+    return d;
+}
+
+// What renderer.pick gives Python: the hit, and the scene's object as a SceneObject handle.
+struct PyPick {
+    api::Pick hit;
+    py::object object;  // a PyObjectHandle, or None
+    std::string path;
+};
+
+std::string pickRepr(const api::Pick& p, const std::string& path) {
+    char text[160];
+    std::snprintf(text, sizeof text, " at (%.4g, %.4g, %.4g), distance %.4g>", p.point.x, p.point.y, p.point.z,
+                  p.distance);
+    return "<cs123ray.Pick object " + std::to_string(p.object) + " (" + path + "), instance " +
+           std::to_string(p.instance) + text;
+}
+
+void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
     scene.def(py::init<>(), "An empty scene: the default camera, no lights, no primitives.")
         .def_readonly("warnings", &PyScene::warnings, "The loader's warnings, complete ('scene.xml:7: warning: ...').")
         .def("set_camera", [](PyScene& s, Triple position, Triple look, Triple up, double heightAngle, double aperture,
@@ -770,14 +817,60 @@ void bindRendering(py::module_& m) {
         return devices;
     }, "The OpenCL devices, as dicts (index, name, platform, gpu, cpu), numbered as device=<index> takes them.");
 
-    py::class_<api::Renderer>(m, "Renderer", "Renders one scene on one device selection, frame after frame.")
+    py::class_<PyPick>(m, "Pick", "What a pixel shows (Renderer.pick): the surface its camera ray meets first.")
+        .def_property_readonly("object", [](const PyPick& p) { return p.object; },
+                               "The scene's object hit (a SceneObject of renderer.scene: its path, material, "
+                               "transform, edits).")
+        .def_property_readonly("object_id", [](const PyPick& p) { return p.hit.object; },
+                               "Its stable id (renderer.scene.object(id)).")
+        .def_readonly("path", &PyPick::path, "Its place in the scenefile's tree ('root/transblock[1]/object[0]').")
+        .def_property_readonly("instance", [](const PyPick& p) { return p.hit.instance; },
+                               "The primitive instance hit: its index among the scene's primitives (flattened).")
+        .def_property_readonly("point", [](const PyPick& p) { return pyTuple(p.hit.point); },
+                               "The hit point (world space), a tuple.")
+        .def_property_readonly("normal", [](const PyPick& p) { return pyTuple(p.hit.normal); },
+                               "The surface's outward unit normal there (world space), a tuple.")
+        .def_property_readonly("distance", [](const PyPick& p) { return p.hit.distance; }, "From the eye to the point.")
+        .def("__repr__", [](const PyPick& p) { return pickRepr(p.hit, p.path); });
+
+    py::class_<PyRenderer>(m, "Renderer", "Renders one scene on one device selection, frame after frame.")
         .def(py::init([](const PyScene& s, const std::string& device) {
-            return std::make_unique<api::Renderer>(s.scene, device);
+            auto r = std::make_unique<PyRenderer>();
+            r->scene = std::make_shared<PyScene>(s);
+            // The renderer shares the scene object Python sees as renderer.scene.
+            r->renderer = std::make_unique<api::Renderer>(std::shared_ptr<api::Scene>(r->scene, &r->scene->scene), device);
+            return r;
         }), py::arg("scene"), py::arg("device") = "auto",
            "device: 'auto' (a GPU, else an OpenCL CPU), 'cpu', 'gpu', 'all', an index from list_devices(), a list "
-           "of indices ('0,2'), or 'ref' (the double-precision host renderer, no OpenCL). The scene is copied.")
-        .def_property_readonly("device", &api::Renderer::devices, "The device selection it was made with.")
-        .def("set_camera", [](api::Renderer& r, Triple position, Triple look, Triple up, double heightAngle) {
+           "of indices ('0,2'), or 'ref' (the double-precision host renderer, no OpenCL). The scene is copied: "
+           "renderer.scene is the renderer's own, and edits to it are what the next frame renders.")
+        .def_property_readonly("device", [](const PyRenderer& r) { return r.renderer->devices(); },
+                               "The device selection it was made with.")
+        .def_property_readonly("scene", [](const PyRenderer& r) { return r.scene; },
+                               "The scene it renders (its own copy): edit it between frames, and each frame takes "
+                               "the edits made since the last (on OpenCL devices only what changed is packed and "
+                               "uploaded again; see stats).")
+        .def_property_readonly("stats", [](const PyRenderer& r) { return statsDict(r.stats); },
+                               "The last frame's statistics, a dict (empty before the first frame): device, "
+                               "primary_rays, shadow_rays, secondary_rays, pack_seconds, bvh_build_seconds, "
+                               "upload_seconds (0 where the frame kept what an earlier one packed or uploaded), "
+                               "kernel_build_seconds, render_seconds, cancelled.")
+        .def("pick", [](PyRenderer& r, int x, int y) -> py::object {
+            std::optional<api::Pick> hit = r.renderer->pick(x, y);
+            if (!hit) return py::none();
+            PyPick pick{*hit, py::none(), ""};
+            if (hit->object >= 0) {
+                // The handle holds the renderer's Scene object, as renderer.scene.objects' do.
+                pick.object = py::cast(PyObjectHandle{py::cast(r.scene), &r.scene->scene, hit->object});
+                pick.path = r.scene->scene.object(hit->object).path;
+            }
+            return py::cast(pick);
+        }, py::arg("x"), py::arg("y"),
+           "What the camera ray through the centre of pixel (x, y) (of the current width and height; row 0 at the "
+           "top) meets first, as a Pick, or None on the background. Found on the host, so every device gives "
+           "the same answer. A pixel outside the image raises InputError (a ValueError).")
+        .def("set_camera", [](PyRenderer& pr, Triple position, Triple look, Triple up, double heightAngle) {
+            api::Renderer& r = *pr.renderer;
             api::Camera c = r.camera();
             c.position = vec3(position);
             c.look = vec3(look);
@@ -786,17 +879,20 @@ void bindRendering(py::module_& m) {
             r.setCamera(c);
         }, py::arg("position"), py::arg("look"), py::arg("up") = Triple{0, 1, 0}, py::arg("height_angle") = 45.0,
            "Moves the camera for the next frames (the lens stays as the scene set it).")
-        .def("set_options", [](api::Renderer& r, const py::kwargs& options) {
-            r.setSettings(settingsFrom(options, r.settings()));
+        .def("set_options", [](PyRenderer& pr, const py::kwargs& options) {
+            pr.renderer->setSettings(settingsFrom(options, pr.renderer->settings()));
         }, ("Changes render options for the next frames, as keywords: " + optionNames() +
             " (width and height together). A wrong type raises TypeError, a value out of range InputError (a "
             "ValueError).").c_str())
-        .def("render", [](api::Renderer& r, const py::object& dtype, const py::object& progress) {
-            return renderArray(r, dtype, progress);
+        .def("render", [](PyRenderer& r, const py::object& dtype, const py::object& progress) {
+            api::FrameStats stats;
+            py::array image = renderArray(*r.renderer, dtype, progress, &stats);
+            r.stats = stats;
+            return image;
         }, py::arg("dtype") = "float32", py::arg("progress") = py::none(),
            "Renders a frame: an H x W x 3 array, float32 (linear, unclamped) or uint8 (the bytes of ray's 8-bit "
            "images). progress(fraction) is called now and then; Ctrl-C raises KeyboardInterrupt within a second.")
-        .def("__repr__", &rendererRepr);
+        .def("__repr__", [](const PyRenderer& r) { return rendererRepr(*r.renderer); });
 
     m.def("render", [](const PyScene& s, const std::string& device, const py::object& dtype,
                        const py::object& progress, const py::kwargs& options) {
@@ -821,7 +917,7 @@ PYBIND11_MODULE(cs123ray, m) {
     m.attr("__version__") = api::version();
     registerErrors(m);
     bindTransform(m);
-    py::class_<PyScene> scene(m, "Scene", "A scene: Scene() builds one in code; load_scene() reads a scenefile.");
+    py::class_<PyScene, std::shared_ptr<PyScene>> scene(m, "Scene", "A scene: Scene() builds one in code; load_scene() reads a scenefile.");
     bindScene(scene);
     bindSceneObject(m);
     bindLoading(m);

@@ -11,6 +11,9 @@
 #include "devices/renderer.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
+#include "reference/reference_bvh.h"
+#include "reference/reference_renderer.h"
+#include "scene/scene_difference.h"
 
 namespace ray::api {
 
@@ -48,16 +51,39 @@ std::vector<Device> listDevices() {
 
 // Hidden: libray.so exports the public interface only (cmake/libray.map).
 struct __attribute__((visibility("hidden"))) Renderer::Impl {
-    // Shared with the frame source, which keeps what it prepared for it (the packed scene
-    // on OpenCL devices) from frame to frame; setCamera changes its camera only.
-    std::shared_ptr<ray::Scene> scene;
+    std::shared_ptr<Scene> scene;  // the caller's to edit (Renderer::scene)
+    // What frames render: a copy of the scene's flattened form, shared with the frame
+    // source, which keeps what it prepared for it (the packed scene on OpenCL devices) from
+    // frame to frame. Taken again when the scene was edited (frameScene()); the frame
+    // source then prepares only what the edit changed.
+    std::shared_ptr<ray::Scene> rendered;
+    // pick's search structure, over `picked` (rebuilt after an edit).
+    std::shared_ptr<const ray::Scene> picked;
+    std::unique_ptr<ray::reference::SceneIntersector> picker;
     std::string devices;
     Settings settings;
     std::unique_ptr<ray::FrameSource> frames;  // devices/renderer.h makeFrameSource
+
+    // The flattened scene as it is now, the same object as long as nothing but the camera
+    // (each frame's own) changed.
+    const std::shared_ptr<ray::Scene>& frameScene() {
+        const ray::Scene& now = scene->impl().scene;
+        bool changed = !rendered;
+        if (!changed) {
+            ray::SceneDifference difference = ray::compareScenes(*rendered, now);
+            difference.camera = false;
+            changed = difference.any();
+        }
+        if (changed) rendered = std::make_shared<ray::Scene>(now);
+        return rendered;
+    }
 };
 
-Renderer::Renderer(const Scene& scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
-    impl_->scene = std::make_shared<ray::Scene>(scene.impl().scene);
+Renderer::Renderer(const Scene& scene, const std::string& devices) : Renderer(std::make_shared<Scene>(scene), devices) {}
+
+Renderer::Renderer(std::shared_ptr<Scene> scene, const std::string& devices) : impl_(std::make_unique<Impl>()) {
+    if (!scene) throw InputError("error: the renderer's scene is null", "", 0);
+    impl_->scene = std::move(scene);
     impl_->devices = devices;
     if (!ray::isDeviceSelection(devices))
         throw InputError("error: the device selection must be auto, cpu, gpu, all, ref or an index from listDevices(), "
@@ -73,13 +99,41 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 const std::string& Renderer::devices() const { return impl_->devices; }
 
+Scene& Renderer::scene() { return *impl_->scene; }
+const Scene& Renderer::scene() const { return *impl_->scene; }
+
 void Renderer::setCamera(const Camera& camera) {
-    ray::Camera internalCamera = detail::toInternal(camera);
-    detail::checkCamera(internalCamera);
-    impl_->scene->camera = internalCamera;
+    detail::checkCamera(detail::toInternal(camera));
+    impl_->scene->setCamera(camera);
 }
 
-Camera Renderer::camera() const { return detail::toPublic(impl_->scene->camera); }
+Camera Renderer::camera() const { return impl_->scene->camera(); }
+
+std::optional<Pick> Renderer::pick(int x, int y) {
+    const Settings& s = impl_->settings;
+    if (x < 0 || y < 0 || x >= s.width || y >= s.height)
+        throw InputError("error: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                             std::to_string(s.width) + "x" + std::to_string(s.height) + " image",
+                         "", 0);
+    return detail::translatingErrors([&]() -> std::optional<Pick> {
+        const std::shared_ptr<ray::Scene>& scene = impl_->frameScene();
+        if (impl_->picked != scene) {
+            impl_->picker.reset();
+            impl_->picked = scene;
+            impl_->picker = std::make_unique<ray::reference::SceneIntersector>(*scene);
+        }
+        const ray::RenderSettings settings = detail::toInternal(s);
+        const auto hit = ray::pickPixel(*scene, *impl_->picker, impl_->scene->impl().scene.camera, settings, x, y);
+        if (!hit) return std::nullopt;
+        Pick pick;
+        pick.instance = size_t(hit->primitive);
+        pick.object = (*scene).primitives[size_t(hit->primitive)].sourceObject;
+        pick.point = {hit->point.x, hit->point.y, hit->point.z};
+        pick.normal = {hit->normal.x, hit->normal.y, hit->normal.z};
+        pick.distance = hit->distance;
+        return pick;
+    });
+}
 
 void Renderer::setSettings(const Settings& settings) {
     detail::checkSettings(settings);
@@ -105,8 +159,8 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
             onTile({tile.rect.x, tile.rect.y, tile.rect.width, tile.rect.height, tile.rgb});
         };
     return detail::translatingErrors([&] {
-        const ray::RenderedFrame frame =
-            impl_->frames->render(impl_->scene, impl_->scene->camera, detail::toInternal(impl_->settings), request);
+        const ray::RenderedFrame frame = impl_->frames->render(
+            impl_->frameScene(), impl_->scene->impl().scene.camera, detail::toInternal(impl_->settings), request);
         std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
         return external(frame);
     });

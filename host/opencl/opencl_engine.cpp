@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <map>
 #include <mutex>
@@ -168,13 +169,20 @@ struct DeviceSlot {
     // Touched only by the thread (or by the engine while the thread is idle).
     cl::Context context;
     cl::CommandQueue queue;
-    std::shared_ptr<const PackedScene> uploaded;  // what the scene's buffers hold (CPU devices read it in place)
+    std::shared_ptr<const PackedScene> uploaded;  // the packing the scene's buffers are up to date with
     size_t checkedTilePixels = 0;  // the tile size checkDeviceLimits last passed with them
-    // The scene's buffers, in the order of PackedScene::forEachBuffer (renderTile's).
+    // The scene's buffers, in the order of PackedScene::forEachBuffer (renderTile's), each
+    // with the version of the table it holds and the packing it was uploaded from: after an
+    // edit a buffer whose table kept its version is kept, and a CPU device, which reads the
+    // table in place, keeps that packing alive with it.
     std::array<cl::Buffer, kSceneBufferCount> sceneBuffers;
+    std::array<uint64_t, kSceneBufferCount> bufferVersions{};
+    std::array<std::shared_ptr<const PackedScene>, kSceneBufferCount> bufferOwners;
     // Lets go of the scene's buffers: before the packed tables they may use in place change.
     void releaseScene() {
         sceneBuffers = {};
+        bufferVersions = {};
+        bufferOwners = {};
         uploaded.reset();
     }
     // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
@@ -559,14 +567,22 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     double uploadSeconds = 0, buildSeconds = 0;
     auto start = Clock::now();
     if (slot.uploaded != frame.packed) {
-        slot.releaseScene();
+        // Only the tables this packing changed (a new packing changes every one).
         const bool inPlace = slot.device.isCpu && !sceneCopiedForTests();
         size_t next = 0;
+        bool uploadedAny = false;
         packed.forEachBuffer([&](const auto& table, SceneBufferName) {
-            slot.sceneBuffers[next++] = uploadBuffer(slot.context, table, inPlace);
+            const size_t i = next++;
+            if (slot.sceneBuffers[i]() && slot.bufferVersions[i] == packed.versions[i]) return;
+            slot.sceneBuffers[i] = cl::Buffer();  // before its table's owner may go
+            slot.bufferOwners[i].reset();
+            slot.sceneBuffers[i] = uploadBuffer(slot.context, table, inPlace);
+            slot.bufferVersions[i] = packed.versions[i];
+            slot.bufferOwners[i] = frame.packed;
+            uploadedAny = true;
         });
         slot.uploaded = frame.packed;
-        uploadSeconds = secondsSince(start);
+        if (uploadedAny) uploadSeconds = secondsSince(start);
     }
     const int depth = frame.settings.maxDepth;
     auto found = slot.programs.find(depth);
@@ -650,19 +666,25 @@ void serveFrames(std::shared_ptr<DeviceSlot> slot) {
 }  // namespace
 
 struct OpenClEngine::Impl {
-    const Scene& scene;
+    std::shared_ptr<const Scene> scene;        // what the next frame renders
+    std::shared_ptr<const Scene> packedScene;  // what `packed` was packed from
     std::vector<OpenClDevice> selection;
     std::vector<std::shared_ptr<DeviceSlot>> slots;
     std::shared_ptr<const PackedScene> packed;
     int packedGridSide = -1;
     bool packedTrilinear = false;
     uint64_t frames = 0;
+    uint64_t tableVersions = 0;  // the last version given to a packed table
 
-    Impl(const Scene& s, std::vector<OpenClDevice> d) : scene(s), selection(std::move(d)) {}
+    Impl(std::shared_ptr<const Scene> s, std::vector<OpenClDevice> d) : scene(std::move(s)), selection(std::move(d)) {}
 };
 
+// The caller keeps the scene alive: a shared pointer that does not own it.
 OpenClEngine::OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices)
-    : impl_(std::make_unique<Impl>(scene, std::move(devices))) {
+    : OpenClEngine(std::shared_ptr<const Scene>(&scene, [](const Scene*) {}), std::move(devices)) {}
+
+OpenClEngine::OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices)
+    : impl_(std::make_unique<Impl>(std::move(scene), std::move(devices))) {
     if (impl_->selection.empty()) throw DeviceError("no OpenCL device selected; see ray --list-devices");
     for (const OpenClDevice& d : impl_->selection) {
         auto slot = std::make_shared<DeviceSlot>();
@@ -694,6 +716,8 @@ OpenClEngine::~OpenClEngine() {
     }
 }
 
+void OpenClEngine::setScene(std::shared_ptr<const Scene> scene) { impl_->scene = std::move(scene); }
+
 const std::vector<OpenClDevice>& OpenClEngine::devices() const { return impl_->selection; }
 
 int OpenClEngine::devicesLeft() const {
@@ -707,27 +731,65 @@ int OpenClEngine::devicesLeft() const {
 
 namespace {
 
-// Repacks the scene when a setting that shapes the buffers changed (or on the first frame).
-void packIfNeeded(const Scene& scene, const RenderSettings& settings,
-                  std::shared_ptr<const PackedScene>& packed, int& gridSide, bool& trilinear,
-                  const std::vector<std::shared_ptr<DeviceSlot>>& slots, FrameStats& stats) {
+// Each table's bytes, in the order of PackedScene::forEachBuffer.
+std::array<std::pair<const void*, size_t>, kSceneBufferCount> tableBytes(const PackedScene& packed) {
+    std::array<std::pair<const void*, size_t>, kSceneBufferCount> bytes;
+    size_t next = 0;
+    packed.forEachBuffer([&](const auto& table, SceneBufferName) {
+        bytes[next++] = {table.data(), table.size() * sizeof(table[0])};
+    });
+    return bytes;
+}
+
+// Packs the scene on the first frame, after a setting that shapes the buffers changed, or
+// after the scene changed (setScene): then only what differs from the packed scene is
+// packed again when it can be (scene_packing.h repackScene: no BVH build for a material or
+// light edit, a refit for moved primitives), and each table that came out the same keeps
+// its version, so that the devices keep its buffer.
+void packIfNeeded(OpenClEngine::Impl& e, const RenderSettings& settings, FrameStats& stats) {
     const int side = areaLightGridSide(settings);
     const bool tri = settings.textureFilter == TextureFilter::Trilinear;
-    if (packed && side == gridSide && tri == trilinear) return;
+    const bool sameShape = e.packed && side == e.packedGridSide && tri == e.packedTrilinear;
+    if (sameShape && e.packedScene == e.scene) return;
+    auto start = Clock::now();
+    if (sameShape) {
+        SceneDifference difference = compareScenes(*e.packedScene, *e.scene);
+        difference.camera = false;  // each frame's camera is its own (renderFrame's)
+        if (!difference.any()) {
+            e.packedScene = e.scene;
+            return;
+        }
+        if (std::optional<PackedScene> edited = repackScene(*e.packed, *e.scene, settings, difference)) {
+            const auto before = tableBytes(*e.packed), after = tableBytes(*edited);
+            for (size_t i = 0; i < kSceneBufferCount; ++i) {
+                const bool same = before[i].second == after[i].second &&
+                                  (before[i].second == 0 ||
+                                   std::memcmp(before[i].first, after[i].first, before[i].second) == 0);
+                edited->versions[i] = same ? e.packed->versions[i] : ++e.tableVersions;
+            }
+            stats.packSeconds = secondsSince(start);
+            stats.bvhBuildSeconds = 0;
+            e.packed = std::make_shared<PackedScene>(std::move(*edited));
+            e.packedScene = e.scene;
+            return;
+        }
+    }
     // Idle devices let go of the old tables now (CPU devices read them in place); a busy one
     // keeps them alive until it uploads the new ones.
-    packed.reset();
-    for (const auto& slot : slots) {
+    e.packed.reset();
+    for (const auto& slot : e.slots) {
         std::lock_guard lock(slot->mutex);
         if (!slot->busy) slot->releaseScene();
     }
-    auto start = Clock::now();
-    auto fresh = std::make_shared<PackedScene>(packScene(scene, settings));
+    start = Clock::now();
+    auto fresh = std::make_shared<PackedScene>(packScene(*e.scene, settings));
+    for (uint64_t& version : fresh->versions) version = ++e.tableVersions;
     stats.packSeconds = secondsSince(start);
     stats.bvhBuildSeconds = fresh->bvhBuildSeconds;
-    packed = std::move(fresh);
-    gridSide = side;
-    trilinear = tri;
+    e.packed = std::move(fresh);
+    e.packedScene = e.scene;
+    e.packedGridSide = side;
+    e.packedTrilinear = tri;
 }
 
 std::string hungMessage(double silentSeconds) {
@@ -750,13 +812,13 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     Impl& e = *impl_;
     FrameResult result;
     FrameStats& stats = result.stats;
-    packIfNeeded(e.scene, settings, e.packed, e.packedGridSide, e.packedTrilinear, e.slots, stats);
+    packIfNeeded(e, settings, stats);
 
     if (options.eightBit)
         result.bytes = ByteImage(settings.width, settings.height);
     else
         result.image = Image(settings.width, settings.height);
-    const int side = frameTileSide(settings, e.scene, options.cancel != nullptr, options.tileSize);
+    const int side = frameTileSide(settings, *e.scene, options.cancel != nullptr, options.tileSize);
     auto frame = std::make_shared<Frame>();
     frame->options = &options;
     frame->source = options.tiles;
@@ -769,7 +831,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     frame->stats = &stats;
     frame->packed = e.packed;
     frame->settings = settings;
-    frame->params = makeRenderParams(camera, e.scene.globals, settings, *e.packed);
+    frame->params = makeRenderParams(camera, e.scene->globals, settings, *e.packed);
     frame->tilePixels = size_t(side) * size_t(side);  // a guide: launches grow their buffers as needed
     frame->workGroupSize = size_t(options.workGroupSize);
     frame->pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);

@@ -109,6 +109,8 @@ public:
     // Keeps a reference to the scene, which must outlive the engine. Nothing is packed,
     // built or uploaded until the first frame. Throws DeviceError for an empty selection.
     OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices);
+    // The same, owning a share of the scene.
+    OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices);
     ~OpenClEngine();
     OpenClEngine(const OpenClEngine&) = delete;
     OpenClEngine& operator=(const OpenClEngine&) = delete;
@@ -118,11 +120,18 @@ public:
     // any), InputError for bad settings.
     FrameResult renderFrame(const Camera& camera, const RenderSettings& settings, const FrameOptions& options = {});
 
+    // The scene of the next frames: an edited copy of the one before (an editor's). The
+    // next frame packs and uploads only what differs from the scene it packed (a material
+    // or light edit: its table; moved primitives: their records and a refitted tree; no BVH
+    // build for either), and a whole packing for anything else.
+    void setScene(std::shared_ptr<const Scene> scene);
+
     const std::vector<OpenClDevice>& devices() const;
     int devicesLeft() const;
 
-private:
     struct Impl;
+
+private:
     std::unique_ptr<Impl> impl_;
 };
 

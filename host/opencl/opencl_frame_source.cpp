@@ -44,14 +44,16 @@ OpenClFrameSource::~OpenClFrameSource() = default;
 
 RenderedFrame OpenClFrameSource::render(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                                         const RenderSettings& settings, const FrameRequest& request) {
-    // A new scene (the file was saved) is packed and uploaded once; every other frame, a
-    // camera or settings change, reuses what the engine holds. The scene is kept alive
-    // here as long as the engine refers to it.
-    if (scene != scene_) {
-        engine_.reset();
-        scene_ = scene;
-        engine_ = std::make_unique<OpenClEngine>(*scene_, devices_);
+    // A new scene (the file was saved, or an editor's edit) is handed to the engine, which
+    // packs and uploads what differs from the scene it holds (opencl_engine.h setScene);
+    // every other frame, a camera or settings change, reuses what the engine holds. The
+    // engine shares the scene, so it outlives nothing it refers to.
+    if (!engine_) {
+        engine_ = std::make_unique<OpenClEngine>(scene, devices_);
+    } else if (scene != scene_) {
+        engine_->setScene(scene);
     }
+    scene_ = scene;
     FrameResult result = engine_->renderFrame(camera, settings, engineOptions(request));
     RenderedFrame frame;
     frame.image = std::move(result.image);

@@ -226,6 +226,55 @@ void forEachSlice(size_t n, const Body& body) {
     for (std::future<void>& f : others) f.get();
 }
 
+// Each primitive's motion in BVH order, or nothing when nothing moves.
+void packMotions(const Scene& scene, PackedScene& packed) {
+    packed.motions.clear();
+    bool anyMotion = std::any_of(scene.primitives.begin(), scene.primitives.end(),
+                                 [](const PrimitiveInstance& p) { return p.motion != Vec3{}; });
+    if (anyMotion)
+        for (uint32_t index : packed.primitiveOrder) packed.motions.push_back(toFloat4(scene.primitives[index].motion));
+}
+
+void setLane(gpu::float4& lanes, int lane, float value) { (&lanes.x)[lane] = value; }
+
+// The box of a wide node's child `c` (one of the scene's tree: its leaves index the
+// primitives table), refitted bottom up from the primitives' boxes of `scene`.
+BoundingBox refitNode(const Scene& scene, PackedScene& packed, const std::vector<BoundingBox>& bounds, int node) {
+    BoundingBox all;
+    for (int c = 0; c < 4; ++c) {
+        gpu::RayWideBvhNode& n = packed.nodes[size_t(node)];
+        const int index = (&n.index.x)[c], count = (&n.count.x)[c];
+        if (index < 0) continue;
+        BoundingBox box;
+        if (count > 0) {
+            for (int k = index; k < index + count; ++k) box.expand(bounds[packed.primitiveOrder[size_t(k)]]);
+        } else {
+            box = refitNode(scene, packed, bounds, index);
+        }
+        gpu::RayWideBvhNode& m = packed.nodes[size_t(node)];  // the same node: refitNode does not grow the table
+        setLane(m.minX, c, box.min[0]);
+        setLane(m.minY, c, box.min[1]);
+        setLane(m.minZ, c, box.min[2]);
+        setLane(m.maxX, c, box.max[0]);
+        setLane(m.maxY, c, box.max[1]);
+        setLane(m.maxZ, c, box.max[2]);
+        all.expand(box);
+    }
+    return all;
+}
+
+// Moved primitives: the scene's tree keeps its shape (and the primitives their places in
+// it), each node's boxes grown or shrunk to what its primitives cover now. Rays walk it
+// as they walk a new tree; a tree refitted after large moves is slower, not wrong.
+void refitSceneTree(const Scene& scene, PackedScene& packed) {
+    if (packed.sceneNodes == 0 || scene.primitives.empty()) return;
+    std::vector<BoundingBox> bounds(scene.primitives.size());
+    forEachSlice(bounds.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) bounds[i] = worldBounds(scene.primitives[i]);
+    });
+    refitNode(scene, packed, bounds, 0);
+}
+
 }  // namespace
 
 size_t PackedScene::totalBytes() const {
@@ -244,6 +293,7 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
     });
     FlatBvh bvh = buildBvh(bounds);
     packed.nodes = widenBvh(bvh.nodes);
+    packed.sceneNodes = packed.nodes.size();
     for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
     // The build time counts the meshes' trees with the scene's.
     packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -255,13 +305,48 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
         }
     });
     packCsgPrograms(scene, bvh.primitiveOrder, packed);
-    bool anyMotion = std::any_of(scene.primitives.begin(), scene.primitives.end(),
-                                 [](const PrimitiveInstance& p) { return p.motion != Vec3{}; });
-    if (anyMotion)
-        for (uint32_t index : bvh.primitiveOrder) packed.motions.push_back(toFloat4(scene.primitives[index].motion));
+    packed.primitiveOrder = std::move(bvh.primitiveOrder);
+    packMotions(scene, packed);
     for (const Material& m : scene.materials) packed.materials.push_back(packMaterial(m, scene));
     for (const Light& l : scene.lights) packed.lights.push_back(packLight(l, settings));
     packTextures(scene, settings.textureFilter == TextureFilter::Trilinear, packed);
+    return packed;
+}
+
+std::optional<PackedScene> repackScene(const PackedScene& previous, const Scene& scene, const RenderSettings& settings,
+                                       const SceneDifference& difference) {
+    if (difference.geometry && !difference.transformsOnly) return std::nullopt;
+    if (previous.primitiveOrder.size() != scene.primitives.size()) return std::nullopt;
+    PackedScene packed = previous;
+    packed.bvhBuildSeconds = 0;
+    if (difference.geometry) {
+        refitSceneTree(scene, packed);
+        packMotions(scene, packed);
+    }
+    if (difference.geometry || difference.primitiveMaterials) {
+        packed.primitives.clear();
+        packed.primitives.resize(scene.primitives.size());
+        forEachSlice(packed.primitives.size(), [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const uint32_t index = packed.primitiveOrder[i];
+                packed.primitives[i] = packPrimitive(scene.primitives[index], int(index), packed.meshRoots);
+            }
+        });
+        packCsgPrograms(scene, packed.primitiveOrder, packed);
+    }
+    if (difference.materials || difference.images) {
+        packed.materials.clear();
+        for (const Material& m : scene.materials) packed.materials.push_back(packMaterial(m, scene));
+    }
+    if (difference.lights) {
+        packed.lights.clear();
+        for (const Light& l : scene.lights) packed.lights.push_back(packLight(l, settings));
+    }
+    if (difference.images) {
+        packed.textures.clear();
+        packed.texels.clear();
+        packTextures(scene, settings.textureFilter == TextureFilter::Trilinear, packed);
+    }
     return packed;
 }
 

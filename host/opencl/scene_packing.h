@@ -1,12 +1,15 @@
 // Packing a flattened Scene into the device buffers of cl/shared_types.h.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "accel/bvh.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
+#include "scene/scene_difference.h"
 #include "shared_types.h"
 
 namespace ray {
@@ -31,7 +34,15 @@ struct PackedScene {
 #undef RAY_SCENE_TABLE
     // meshRoots[i]: mesh i's root node in `nodes` (its BVH's nodes follow the scene's).
     std::vector<int> meshRoots;
+    // primitiveOrder[i]: the scene's primitive at place i of the primitives table (BVH
+    // order); sceneNodes: how many of `nodes` are the scene's tree (the meshes' follow).
+    // Kept so that an edit can repack the records or refit the tree (repackScene).
+    std::vector<uint32_t> primitiveOrder;
+    size_t sceneNodes = 0;
     double bvhBuildSeconds = 0;
+    // Each table's version: equal in two packings when the table is the same, so that a
+    // device holding one packing uploads only the tables another changed (opencl_engine.cpp).
+    std::array<uint64_t, kSceneBufferCount> versions{};
 
     // Calls visit(table, SceneBufferName) for each table, in the list's order: the order of
     // renderTile's scene parameters.
@@ -49,6 +60,16 @@ struct PackedScene {
 // everything.
 // Settings that shape the buffers: the area lights' sample grid.
 PackedScene packScene(const Scene& scene, const RenderSettings& settings = {});
+
+// An edited scene packed from the packing of the scene before the edit (`previous`, made
+// with the same settings), when their difference (compareScenes(before, scene)) has no
+// geometry or only moved primitives: the tables of what changed are packed again (the
+// materials, the lights, the textures, the primitive records), the others copied; moved
+// primitives have the scene's tree refitted around their new boxes (the tree keeps its
+// shape and order, so no BVH is built: bvhBuildSeconds is 0, the meshes' trees are kept).
+// Returns nothing when the difference needs a whole packing (packScene).
+std::optional<PackedScene> repackScene(const PackedScene& previous, const Scene& scene, const RenderSettings& settings,
+                                       const SceneDifference& difference);
 
 // The launch parameters for an image (the tile fields are set per launch).
 gpu::RayRenderParams makeRenderParams(const Scene& scene, const RenderSettings& settings, const PackedScene& packed);

@@ -644,4 +644,23 @@ const char* branchStopName(BranchStop stop) {
     return "?";
 }
 
+std::optional<PickedSurface> pickPixel(const Scene& scene, const reference::SceneIntersector& intersector,
+                                       const Camera& camera, const RenderSettings& settings, int x, int y) {
+    if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
+        throw std::out_of_range("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                                std::to_string(settings.width) + "x" + std::to_string(settings.height) + " image");
+    const CameraModel model(camera, settings);
+    const Ray ray = model.pinholeRay(x + 0.5, y + 0.5);
+    const std::optional<SceneHit> hit = intersector.closestHit(ray.origin, ray.direction, 0, INFINITY, 0);
+    if (!hit) return std::nullopt;
+    const PrimitiveInstance& instance = surfaceInstance(scene, *hit);
+    PickedSurface picked;
+    picked.primitive = hit->primitive;
+    picked.csgOperand = hit->csgOperand;
+    picked.point = ray.origin + hit->local.t * ray.direction;
+    picked.normal = normalize(instance.worldToObject.transposeTransformVector(hit->local.normal));
+    picked.distance = hit->local.t;
+    return picked;
+}
+
 }  // namespace ray

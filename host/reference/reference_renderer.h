@@ -7,10 +7,12 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "image/image.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
+#include "reference/reference_bvh.h"
 #include "reference/trace_observer.h"
 
 namespace ray {
@@ -44,5 +46,21 @@ Image renderReference(const Scene& scene, const RenderSettings& settings,
 // outside the image.
 Vec3 renderReferencePixel(const Scene& scene, const RenderSettings& settings, int x, int y, TraceObserver* observer,
                           const ReferenceRenderOptions& options = {}, RayCounts* counts = nullptr);
+
+// What the camera ray through the centre of pixel (x, y) of a settings.width ×
+// settings.height image meets first: picking an object on screen. The ray is the pinhole
+// ray (a lens's centre), at shutter time 0, found in double precision on the host, so the
+// answer does not depend on the device that renders the image. Nothing: the background.
+struct PickedSurface {
+    int primitive = -1;   // index into Scene::primitives
+    int csgOperand = -1;  // a csg object's hit: the operand whose surface it is
+    Vec3 point;           // the hit point (world space)
+    Vec3 normal;          // the surface's outward unit normal there (world space)
+    double distance = 0;  // from the eye to the point
+};
+// intersector: over `scene` (made once by a caller that picks often). Throws
+// std::out_of_range for a pixel outside the image.
+std::optional<PickedSurface> pickPixel(const Scene& scene, const reference::SceneIntersector& intersector,
+                                       const Camera& camera, const RenderSettings& settings, int x, int y);
 
 }  // namespace ray

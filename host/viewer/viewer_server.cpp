@@ -19,6 +19,7 @@
 #include "explain/explanation_report.h"
 #include "render/settings_table.h"
 #include "viewer/access_token.h"
+#include "viewer/scene_editor.h"
 #include "viewer/viewer_page.h"
 
 namespace ray {
@@ -171,8 +172,8 @@ json frameKindJson(const FrameKind& kind) {
 class Session {
 public:
     Session(const ViewerOptions& options, std::unique_ptr<FrameSource> source)
-        : options_(options), source_(std::move(source)) {
-        scene_ = std::make_shared<Scene>(loadScene(options.scene, options.load));
+        : options_(options), source_(std::move(source)), editor_(options.scene, options.load) {
+        scene_ = editor_.scene();
         sceneTime_ = lastWrite();
         view_ = {scene_->camera, options.settings};
     }
@@ -190,6 +191,7 @@ public:
                    {"height", view_.settings.height}, {"depth", view_.settings.maxDepth},
                    {"dof", dofControl(view_.settings)}, {"error", sceneError_}, {"view", requested_},
                    {"scene_version", sceneVersion_}};
+        state.update(editorStateLocked());
         for (const SettingSpec& spec : renderSettingsTable())
             if (!viewerOwnControl(spec.name)) state[std::string(spec.name)] = settingJson(view_.settings, spec);
         return state;
@@ -200,6 +202,61 @@ public:
         std::lock_guard lock(mutex_);
         view_ = parseView(body, view_);
         newRequest();
+    }
+
+    // The editor's part of the state: where "save scene" writes, whether there is something
+    // to undo or redo, the lights. Called with mutex_ held.
+    json editorStateLocked() const {
+        return {{"file", std::filesystem::absolute(editor_.file()).lexically_normal().string()},
+                {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
+                {"can_redo", editor_.canRedo()}, {"lights", editor_.lightsJson()},
+                {"editable", !options_.token.empty()}};
+    }
+
+    // What pixel (x, y) of the current view shows (SceneEditor::pick).
+    json pick(int x, int y) {
+        std::lock_guard lock(mutex_);
+        return editor_.pick(view_.camera, view_.settings, x, y);
+    }
+
+    json object(int id) {
+        std::lock_guard lock(mutex_);
+        return editor_.objectJson(id);
+    }
+
+    // An edit, undo, redo or save from the page; answers the editor's state after it (and
+    // the edited object). A change to the scene re-renders the view, preview first.
+    json edit(const std::string& action, const std::string& body) {
+        std::lock_guard lock(mutex_);
+        json request = body.empty() ? json::object() : json::parse(body);
+        json out = json::object();
+        if (action == "edit") {
+            editor_.edit(request);
+            if (request.contains("object")) out["object"] = editor_.objectJson(request["object"].get<int>());
+        } else if (action == "undo") {
+            out["done"] = editor_.undo();
+        } else if (action == "redo") {
+            out["done"] = editor_.redo();
+        } else if (action == "save") {
+            std::optional<std::filesystem::path> as;
+            if (request.contains("as")) {
+                if (!request["as"].is_string()) throw EditError("save as: the name must be a string");
+                as = std::filesystem::path(request["as"].get<std::string>());
+            }
+            const std::filesystem::path saved = editor_.save(as);
+            // Its own save is not a change on disk to reload (which would clear the history).
+            sceneTime_ = lastWrite();
+            log("saved " + saved.string());
+            out["saved"] = saved.string();
+        }
+        if (editor_.scene() != scene_) {
+            scene_ = editor_.scene();
+            ++sceneVersion_;
+            newRequest();
+        }
+        out.update(editorStateLocked());
+        out["scene_version"] = sceneVersion_;
+        return out;
     }
 
     // The explanation names the view and scene it was made for, so that the page can tell
@@ -409,10 +466,10 @@ private:
             sceneTime_ = time;
             const std::string name = options_.scene.filename().string();
             try {
-                auto scene = std::make_shared<Scene>(loadScene(options_.scene, options_.load));
-                log("reloaded " + name);
                 std::lock_guard lock(mutex_);
-                scene_ = scene;
+                editor_.reload();
+                log("reloaded " + name + (editor_.canUndo() ? "" : " (the edits' history starts again)"));
+                scene_ = editor_.scene();
                 sceneError_.clear();
                 errorIsFrames_ = false;
                 ++sceneVersion_;
@@ -429,6 +486,7 @@ private:
 
     const ViewerOptions& options_;
     std::unique_ptr<FrameSource> source_;
+    SceneEditor editor_;  // the document, its edits and history, under mutex_
     std::mutex mutex_;
     std::condition_variable changed_;
     std::shared_ptr<const Scene> scene_;
@@ -479,7 +537,7 @@ httplib::Server::HandlerResponse checkAccess(const httplib::Request& request, ht
     return Result::Unhandled;
 }
 
-void defineRoutes(httplib::Server& server, Session& session) {
+void defineRoutes(httplib::Server& server, Session& session, bool editable) {
     server.Get("/", [](const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-store");
         response.set_content(kViewerPage, "text/html; charset=utf-8");
@@ -506,6 +564,43 @@ void defineRoutes(httplib::Server& server, Session& session) {
             badRequest(response, e.what());
         }
     });
+    server.Get("/pick", [&](const httplib::Request& request, httplib::Response& response) {
+        try {
+            int x = std::stoi(request.get_param_value("x")), y = std::stoi(request.get_param_value("y"));
+            response.set_content(session.pick(x, y).dump(), "application/json");
+        } catch (const std::exception& e) {
+            badRequest(response, e.what());
+        }
+    });
+    server.Get("/object", [&](const httplib::Request& request, httplib::Response& response) {
+        try {
+            response.set_content(session.object(std::stoi(request.get_param_value("id"))).dump(), "application/json");
+        } catch (const std::exception& e) {
+            badRequest(response, e.what());
+        }
+    });
+    // Editing: only with the access token (a viewer started with --no-token shows the scene
+    // and does not change it or its file).
+    for (const char* action : {"edit", "undo", "redo", "save"}) {
+        server.Post(std::string("/") + action, [&session, action, editable = editable](const httplib::Request& request,
+                                                                                     httplib::Response& response) {
+            if (!editable) {
+                response.status = 403;
+                response.set_content(json{{"error", "this viewer was started with --no-token: editing the scene "
+                                                    "needs the access token; start ray view without --no-token"}}
+                                         .dump(),
+                                     "application/json");
+                return;
+            }
+            try {
+                response.set_content(session.edit(action, request.body).dump(), "application/json");
+            } catch (const json::exception& e) {
+                badRequest(response, std::string("the edit is not JSON as expected: ") + e.what());
+            } catch (const std::exception& e) {
+                badRequest(response, e.what());
+            }
+        });
+    }
     server.Get("/events", [&](const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-cache");
         auto cursor = std::make_shared<Session::Cursor>();
@@ -566,7 +661,7 @@ void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source
     server.set_read_timeout(5, 0);
     server.set_keep_alive_max_count(100);
     server.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
-    defineRoutes(server, session);
+    defineRoutes(server, session, !options.token.empty());
     int port = options.port;
     if (port == 0) port = server.bind_to_any_port(options.address);
     else if (!server.bind_to_port(options.address, port)) port = -1;

@@ -1,9 +1,14 @@
 // `ray view`: an HTTP server in the process serving one page of its own (web/index.html,
 // embedded at build time), the frame tile by tile as server-sent events, camera and
-// settings changes, the scene file watched, and "explain this pixel".
+// settings changes, the scene file watched, "explain this pixel", and the modeler: the
+// object under a click (/pick, /object), edits of its material and transform and of the
+// lights, undo, redo and saving (POST /edit, /undo, /redo, /save: viewer/scene_editor.h).
 //
-// Only six routes exist (/, /settings, /state, /view, /events, /explain); nothing is ever read from
-// disk for a request, so no path can reach a file. Every request must carry the access
+// Only these routes exist (/, /settings, /state, /view, /events, /explain, /pick, /object,
+// /edit, /undo, /redo, /save); nothing is ever read from disk for a request, so no path can
+// reach a file, and only /save writes one (the scenefile, or a .xml file the user names).
+// The editing routes answer 403 in a viewer without a token (--no-token): only the
+// viewer's user may change the scene or its file. Every request must carry the access
 // token (viewer/access_token.h) unless the viewer was started with --no-token: without it
 // the answer is 403, whatever the path. Request bodies are capped, every number is
 // range-checked, and each change cancels the frame in flight: the renderer works on the

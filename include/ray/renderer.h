@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -109,6 +110,17 @@ struct FrameStats {
     bool cancelled = false;                 ///< stopped early: unrendered pixels are black
 };
 
+/// What a pixel shows (Renderer::pick): the surface its camera ray meets first.
+struct Pick {
+    size_t instance = 0;    ///< the primitive instance hit: its index among the scene's primitives (flattened)
+    /// The stable id of the scene's object (the scenefile's `<object type="primitive">`, or
+    /// one placed with addPrimitive) that instance comes from: Scene::objectOfInstance.
+    int object = -1;
+    Vec3 point;             ///< the hit point (world space)
+    Vec3 normal;            ///< the surface's outward unit normal there (world space)
+    double distance = 0;    ///< from the eye to the point
+};
+
 /// Called now and then with the fraction of the frame done, from a worker thread.
 using ProgressCallback = std::function<void(double fraction)>;
 
@@ -131,7 +143,7 @@ using TileCallback = std::function<void(const Tile& tile)>;
 /// llvmpipe: docs/user-guide.md, "Which device"), "cpu", "gpu", "all", an index from
 /// listDevices(), a list of indices ("0,2": the devices share each frame), or "ref", the
 /// double-precision host reference renderer (no OpenCL needed). The Renderer keeps its own
-/// copy of the scene. On OpenCL devices the scene is packed and uploaded on the first frame
+/// copy of the scene (scene(), editable between frames). On OpenCL devices the scene is packed and uploaded on the first frame
 /// and kept: later frames with another camera or settings cost only their rendering
 /// (FrameStats::packSeconds and uploadSeconds are 0), except when the area-light samples or
 /// the trilinear filter change, which reshape the packed tables.
@@ -156,9 +168,28 @@ public:
     /// Renders `scene` (copied) on `devices`. Throws DeviceError when the selection names no
     /// device, InputError for a bad name.
     explicit Renderer(const Scene& scene, const std::string& devices = "auto");
+    /// Renders the caller's scene, shared rather than copied: an edit made through the
+    /// pointer is the renderer's (for a front end whose scene object outlives the renderer
+    /// or is held by it, as the Python module's renderer.scene). The same rule as for
+    /// scene(): no edit while a frame renders.
+    Renderer(std::shared_ptr<Scene> scene, const std::string& devices = "auto");
     ~Renderer();
     Renderer(Renderer&&) noexcept;  ///< takes the other's scene, devices and engine
     Renderer& operator=(Renderer&&) noexcept;  ///< takes the other's scene, devices and engine
+
+    /// The scene it renders: its own copy, which the caller may edit between frames. Each
+    /// frame takes the edits made since the last: on OpenCL devices only the tables an edit
+    /// changed are packed and uploaded again (a material or light edit builds no BVH; moved
+    /// primitives have their tree refitted), as FrameStats' pack, BVH and upload times show.
+    Scene& scene();
+    const Scene& scene() const;  ///< the scene it renders
+
+    /// What the camera ray through the centre of pixel (x, y) of the current settings' size
+    /// (row 0 at the top) meets first, with the current camera and the scene as it is now
+    /// (edits included); nothing on the background. Found on the host in double precision
+    /// (the pinhole ray, at shutter time 0), so every device selection gives the same
+    /// answer. Throws InputError for a pixel outside the image.
+    std::optional<Pick> pick(int x, int y);
 
     /// The device selection it was made with ("auto", "ref", "0,2", ...).
     const std::string& devices() const;

@@ -1,0 +1,144 @@
+// ray view's editor (host/viewer/scene_editor.h): edits checked whole and refused without a
+// change, undo and redo, merged quick edits, saving that loads back to the edited scene.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <cstring>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "scene/scene_loader.h"
+#include "viewer/scene_editor.h"
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path copyOfShadows(const std::string& name) {
+    const fs::path folder = fs::temp_directory_path() / ("ray_scene_editor_" + name + "_" + std::to_string(::getpid()));
+    fs::create_directories(folder);
+    const fs::path file = folder / "shadows.xml";
+    fs::copy_file(ray::test::scenesDir() / "shadows.xml", file, fs::copy_options::overwrite_existing);
+    return file;
+}
+
+ray::RenderSettings sized(int width, int height) {
+    ray::RenderSettings s;
+    s.width = width;
+    s.height = height;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("SceneEditor: pick names the object, an edit changes its material and can be undone and redone",
+          "[viewer][editor]") {
+    ray::SceneEditor editor(copyOfShadows("edit"), {});
+    const auto before = editor.scene();
+    const json picked = editor.pick(before->camera, sized(320, 240), 160, 120);
+    REQUIRE(picked["object"].is_number_integer());
+    const int id = picked["object"];
+    CHECK(picked["path"] == "root/transblock[0]/object[0]");
+    CHECK(editor.pick(before->camera, sized(320, 240), 0, 0)["object"].is_null());
+    CHECK_THROWS_AS(editor.pick(before->camera, sized(320, 240), 320, 0), ray::EditError);
+
+    editor.edit({{"object", id}, {"material", {{"diffuse", {1, 0, 0}}}}});
+    const auto after = editor.scene();
+    CHECK(after != before);
+    const int instance = picked["instance"];
+    CHECK(after->materials[size_t(after->primitives[size_t(instance)].material)].diffuse == ray::Vec3{1, 0, 0});
+    CHECK(editor.modified());
+    CHECK(editor.canUndo());
+    CHECK(editor.objectJson(id)["material"]["diffuse"] == json({1.0, 0.0, 0.0}));
+
+    REQUIRE(editor.undo());
+    CHECK(editor.scene()->materials[size_t(editor.scene()->primitives[size_t(instance)].material)].diffuse ==
+          before->materials[size_t(before->primitives[size_t(instance)].material)].diffuse);
+    CHECK_FALSE(editor.modified());
+    REQUIRE(editor.redo());
+    CHECK(editor.objectJson(id)["material"]["diffuse"] == json({1.0, 0.0, 0.0}));
+    CHECK_FALSE(editor.redo());
+}
+
+TEST_CASE("SceneEditor: a bad edit is refused with a message and changes nothing", "[viewer][editor]") {
+    ray::SceneEditor editor(copyOfShadows("bad"), {});
+    const auto scene = editor.scene();
+    const uint64_t version = editor.version();
+    auto refused = [&](const json& edit, const std::string& words) {
+        INFO(edit.dump());
+        try {
+            editor.edit(edit);
+            FAIL("accepted");
+        } catch (const ray::EditError& e) {
+            CHECK_THAT(e.what(), Catch::Matchers::Contains(words));
+        }
+        CHECK(editor.scene() == scene);
+        CHECK(editor.version() == version);
+        CHECK_FALSE(editor.canUndo());
+    };
+    refused({{"object", 0}, {"material", {{"diffuse", {-1, 0, 0}}}}}, "diffuse must be 0 or more");
+    refused({{"object", 0}, {"material", {{"ior", 0}}}}, "ior");
+    refused({{"object", 0}, {"material", {{"blend", 2}}}}, "blend");
+    refused({{"object", 0}, {"material", {{"glow", 2}}}}, "no field 'glow'");
+    refused(json::parse(R"({"object": 0, "material": {"diffuse": [1, 0, 0]}, "transform": []})"),
+            "its material or its transform");
+    refused(json::parse(R"({"object": 0})"), "its material or its transform");
+    refused({{"object", 0}, {"material", {{"diffuse", {1, 0, 0}}, {"shininess", -1}}}}, "shininess");
+    refused({{"object", 99}, {"material", {{"diffuse", {1, 0, 0}}}}}, "no object 99");
+    refused({{"object", 0}, {"transform", {{{"kind", "scale"}, {"v", {0, 1, 1}}}}}}, "scale of 0");
+    refused({{"object", 0}, {"transform", {{{"kind", "rotate"}, {"v", {0, 0, 0, 30}}}}}}, "axis");
+    refused({{"object", 0}, {"transform", {{{"kind", "shear"}, {"v", {1, 1, 1}}}}}}, "kind");
+    refused({{"light", 3}, {"color", {1, 1, 1}}}, "no light 3");
+    refused({{"light", 0}, {"attenuation", {0, 0, 0}}}, "divides by zero");
+    refused({{"light", 0}, {"color", {1, 1}}}, "[x, y, z]");
+    refused(json::array(), "JSON object");
+}
+
+TEST_CASE("SceneEditor: quick edits of one thing are one step; transforms and lights; save loads back",
+          "[viewer][editor]") {
+    const fs::path file = copyOfShadows("save");
+    ray::SceneEditor editor(file, {});
+    const auto original = editor.scene();
+    for (double r : {0.2, 0.4, 0.6}) editor.edit({{"object", 1}, {"material", {{"diffuse", {r, 0, 0}}}}});
+    editor.edit({{"object", 1}, {"transform", {{{"kind", "translate"}, {"v", {-1.8, 0.5, 0}}}}}});
+    editor.edit({{"light", 0}, {"color", {0.5, 0.25, 1}}});
+    REQUIRE(editor.undo());  // the light
+    REQUIRE(editor.undo());  // the transform
+    REQUIRE(editor.undo());  // the three colors at once
+    CHECK_FALSE(editor.canUndo());
+    CHECK(editor.objectJson(1)["material"]["diffuse"] == json({0.9, 0.3, 0.3}));  // as the file has it
+    REQUIRE(editor.redo());
+    REQUIRE(editor.redo());
+    REQUIRE(editor.redo());
+    CHECK(editor.objectJson(1)["material"]["diffuse"] == json({0.6, 0.0, 0.0}));
+    CHECK(editor.objectJson(1)["transform"] == json::parse(R"([{"kind": "translate", "v": [-1.8, 0.5, 0.0]}])"));
+
+    const fs::path saved = editor.save();
+    CHECK(fs::equivalent(saved, file));
+    CHECK_FALSE(editor.modified());
+    const ray::Scene loaded = ray::loadScene(file);
+    const ray::Scene& edited = *editor.scene();
+    REQUIRE(loaded.primitives.size() == edited.primitives.size());
+    for (size_t i = 0; i < loaded.primitives.size(); ++i) {
+        CHECK(std::memcmp(loaded.primitives[i].objectToWorld.m, edited.primitives[i].objectToWorld.m,
+                          sizeof loaded.primitives[i].objectToWorld.m) == 0);
+        CHECK(loaded.materials[size_t(loaded.primitives[i].material)].diffuse ==
+              edited.materials[size_t(edited.primitives[i].material)].diffuse);
+    }
+    CHECK(loaded.lights[0].color == ray::Vec3{0.5, 0.25, 1});
+    CHECK(original->lights[0].color != loaded.lights[0].color);
+
+    const fs::path copy = editor.save(fs::path("copy.xml"));
+    CHECK(copy == file.parent_path() / "copy.xml");
+    CHECK(fs::exists(copy));
+    CHECK_THROWS_AS(editor.save(fs::path("copy.txt")), ray::EditError);
+
+    // A change on disk: loaded again, the history starts again.
+    std::ofstream(file) << std::ifstream(ray::test::scenesDir() / "shadows.xml").rdbuf();
+    editor.reload();
+    CHECK_FALSE(editor.canUndo());
+    CHECK(editor.scene()->lights[0].color == original->lights[0].color);
+}

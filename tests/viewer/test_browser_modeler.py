@@ -1,0 +1,215 @@
+"""ray view as a modeler, in headless Chromium (Selenium) as a user uses it: a click selects
+the object under the pointer and marks it; its color input set to red turns the view's centre
+red within seconds; a bad value is refused with the server's message and changes nothing;
+undo and redo; "save scene" writes the file it opened (the page names it) and `ray` renders
+that file red there; save as writes another; without the token nothing can be edited.
+Usage: python3 test_browser_modeler.py RAY_BINARY SCENE (scenes/shadows.xml)
+Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+try:
+    from selenium import webdriver
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.by import By
+except ImportError:
+    print("SKIPPED: python3-selenium is not installed")
+    sys.exit(0)
+if not shutil.which("chromedriver") or not (shutil.which("chromium") or shutil.which("chromium-browser")):
+    print("SKIPPED: chromium or chromium-driver is not installed")
+    sys.exit(0)
+
+from viewer_harness import Viewer
+
+ray, scene = sys.argv[1], sys.argv[2]
+WIDTH, HEIGHT = 640, 480  # the viewer's default size
+CX, CY = WIDTH // 2, HEIGHT // 2
+
+
+def wait(driver, condition, timeout=120):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        value = driver.execute_script("return " + condition)
+        if value:
+            return value
+        time.sleep(0.05)
+    raise TimeoutError(condition)
+
+
+def pixel(driver, x, y, canvas_id="view"):
+    return driver.execute_script(
+        f"return Array.from(document.getElementById('{canvas_id}').getContext('2d').getImageData({x}, {y}, 1, 1).data)")
+
+
+def red(rgb):
+    """Red, not the grey it was: the floor at the centre is half lit (about 110, 12, 12)."""
+    return rgb[0] >= 80 and rgb[0] >= 4 * max(rgb[1], rgb[2])
+
+
+def read_ppm(path):
+    data = open(path, "rb").read()
+    parts = data.split(maxsplit=4)
+    assert parts[0] == b"P6" and int(parts[3]) == 255
+    return int(parts[1]), int(parts[2]), parts[4]
+
+
+def rendered_centre(path):
+    """The centre pixel of `ray FILE 640 480 --device cpu`."""
+    ppm = os.path.join(tempfile.mkdtemp(), "saved.ppm")
+    subprocess.run([ray, path, str(WIDTH), str(HEIGHT), "--device", "cpu", "-o", ppm, "--quiet"], check=True)
+    w, h, data = read_ppm(ppm)
+    i = 3 * (CY * w + CX)
+    return list(data[i:i + 3])
+
+
+def set_input(driver, element_id, value):
+    """What the browser does when the user picks a value: the input's value, then its input event."""
+    driver.execute_script(
+        "const e = document.getElementById(arguments[0]); e.value = arguments[1];"
+        "e.dispatchEvent(new Event('input', { bubbles: true }));", element_id, value)
+
+
+viewer = Viewer(ray, scene, "--device", "cpu")
+options = webdriver.ChromeOptions()
+for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,900", "--disable-dev-shm-usage"]:
+    options.add_argument(flag)
+driver = webdriver.Chrome(options=options)
+try:
+    driver.get(viewer.url)
+    wait(driver, "window.rayViewer.restFrame")
+    before = pixel(driver, CX, CY)
+    assert not red(before), before
+    file_shown = driver.find_element(By.ID, "file").text
+    assert file_shown == os.path.realpath(viewer.scene) or file_shown == os.path.abspath(viewer.scene), file_shown
+    print(f"page: the scene file is named ({file_shown}); centre pixel {before[:3]}")
+
+    # A click selects the object under the pointer and marks it.
+    canvas = driver.find_element(By.ID, "view")
+    rect = driver.execute_script("return document.getElementById('view').getBoundingClientRect().toJSON()")
+    ActionChains(driver).move_to_element_with_offset(canvas, int(CX + 0.5 - rect["width"] / 2),
+                                                     int(CY + 0.5 - rect["height"] / 2)).click().perform()
+    selected = wait(driver, "window.rayViewer.selected")
+    assert selected["pixel"] == [CX, CY], selected
+    assert "selected:" in driver.find_element(By.ID, "selection").text
+    marker = driver.execute_script(
+        "return Array.from(document.getElementById('marker').getContext('2d').getImageData(0, 0, 640, 480).data)")
+    near = [marker[4 * (j * WIDTH + i) + 3] for j in range(CY - 9, CY + 10) for i in range(CX - 9, CX + 10)]
+    assert sum(1 for a in near if a > 0) >= 20, "the selected object is not marked"
+    assert driver.find_element(By.ID, "material-diffuse").get_attribute("type") == "color"
+    print(f"click: selected {selected['type']} {selected['path']} (object {selected['object']}), marked")
+
+    # Its color set to red: the view's centre turns red within seconds.
+    version = driver.execute_script("return window.rayViewer.sceneVersion")
+    start = time.time()
+    set_input(driver, "material-diffuse", "#ff0000")
+    wait(driver, f"window.rayViewer.sceneVersion > {version}", timeout=30)
+    deadline = start + 20
+    while not red(pixel(driver, CX, CY)):
+        assert time.time() < deadline, f"the centre is not red after 20 s: {pixel(driver, CX, CY)}"
+        time.sleep(0.05)
+    turned = time.time() - start
+    print(f"color input set to #ff0000: the centre turned red in {turned:.2f} s ({pixel(driver, CX, CY)[:3]})")
+
+    # A bad value: the server's message in the page, nothing changed.
+    errors = driver.execute_script("return window.rayViewer.editErrors.length")
+    set_input(driver, "material-shininess", "-5")
+    wait(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=30)
+    error = driver.execute_script("return window.rayViewer.editErrors.at(-1)")
+    assert error["status"] == 400 and "shininess" in error["error"], error
+    assert "shininess" in driver.find_element(By.ID, "edit-error").text
+    status, current = viewer.json("GET", f"/object?id={selected['object']}")
+    assert status == 200 and current["material"]["shininess"] == selected["material"]["shininess"], current
+    assert current["material"]["diffuse"] == [1, 0, 0], current
+    print(f"bad value: HTTP 400 '{error['error']}', shown in the page; the object unchanged")
+
+    # Undo brings the color back, redo makes it red again.
+    driver.find_element(By.ID, "undo").click()
+    deadline = time.time() + 20
+    while red(pixel(driver, CX, CY)):
+        assert time.time() < deadline, "undo did not bring the color back"
+        time.sleep(0.05)
+    driver.find_element(By.ID, "redo").click()
+    deadline = time.time() + 20
+    while not red(pixel(driver, CX, CY)):
+        assert time.time() < deadline, "redo did not make it red again"
+        time.sleep(0.05)
+    print("undo: the old color back; redo: red again")
+
+    # Save scene: the file it opened, which `ray` then renders red at the centre.
+    original = open(viewer.scene).read()
+    driver.find_element(By.ID, "save-scene").click()
+    saved = wait(driver, "window.rayViewer.saved", timeout=30)
+    assert os.path.samefile(saved, viewer.scene), (saved, viewer.scene)
+    assert "saved to" in driver.find_element(By.ID, "saved").text
+    written = open(viewer.scene).read()
+    assert written != original and 'r="1" g="0" b="0"' in written
+    centre = rendered_centre(viewer.scene)
+    assert red(centre), centre
+    print(f"save scene: {saved} written; ray renders it with the centre {centre}")
+    # Its own save is not taken for a change on disk: the history stays (undo is still there).
+    time.sleep(1.0)
+    assert driver.execute_script("return !document.getElementById('undo').disabled")
+
+    # Save as: another file beside it.
+    set_input(driver, "save-as-name", "copy.xml")
+    driver.find_element(By.ID, "save-as").click()
+    wait(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('copy.xml')", timeout=30)
+    copy = os.path.join(os.path.dirname(viewer.scene), "copy.xml")
+    assert open(copy).read() == written
+    print("save as: copy.xml written beside it")
+
+    # A light and a transform edited in the panel change the view; undone, the view is back.
+    saved_centre = pixel(driver, CX, CY)
+    set_input(driver, "light-0-color", "#000000")  # the only light off: ambient alone
+    deadline = time.time() + 20
+    while pixel(driver, CX, CY)[0] >= saved_centre[0] - 20:
+        assert time.time() < deadline, f"the light edit did not darken the centre: {pixel(driver, CX, CY)}"
+        time.sleep(0.05)
+    driver.find_element(By.ID, "undo").click()
+    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+                 f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
+    status, state = viewer.json("GET", "/state")
+    assert state["lights"][0]["color"] == [1.0, 1.0, 1.0], state["lights"]
+    # The floor (the selected cube) lowered by 0.5 along its transblock's translate's y.
+    translate_y = driver.execute_script("return Number(document.getElementById('transform-0-1').value)")
+    edits = driver.execute_script("return window.rayViewer.edits")
+    set_input(driver, "transform-0-1", str(translate_y - 0.5))
+    wait(driver, f"window.rayViewer.edits > {edits}", timeout=20)
+    status, current = viewer.json("GET", f"/object?id={selected['object']}")
+    assert current["transform"][0]["v"][1] == translate_y - 0.5, current["transform"]
+    deadline = time.time() + 20
+    while pixel(driver, CX, CY)[:3] == saved_centre[:3]:
+        assert time.time() < deadline, "the transform edit did not change the view"
+        time.sleep(0.05)
+    driver.find_element(By.ID, "undo").click()
+    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+                 f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
+    print("panel: the light switched off darkened the view, the floor lowered changed it; each undone")
+
+    # Without the token nothing is edited.
+    body = json.dumps({"object": selected["object"], "material": {"diffuse": [0, 0, 1]}}).encode()
+    status, _ = viewer.request("POST", "/edit", body, headers={})
+    assert status == 403, status
+    status, current = viewer.json("GET", f"/object?id={selected['object']}")
+    assert current["material"]["diffuse"] == [1, 0, 0]
+    print("without the token: POST /edit is 403, nothing changed")
+finally:
+    driver.quit()
+    viewer.close()
+
+# A viewer started open (--no-token) shows the scene and edits nothing.
+open_viewer = Viewer(ray, scene, "--device", "cpu", "--no-token", "--width", "64", "--height", "48")
+try:
+    status, answer = open_viewer.json("POST", "/edit", json.dumps({"light": 0, "color": [1, 0, 0]}).encode())
+    assert status == 403 and "token" in answer["error"], (status, answer)
+    status, answer = open_viewer.json("POST", "/save", b"{}")
+    assert status == 403, status
+    print("--no-token: editing and saving refused (403)")
+finally:
+    open_viewer.close()
+print("modeler browser test passed")
