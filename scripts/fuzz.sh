@@ -8,7 +8,8 @@
 # --build-dir DIR where to build (default build-fuzz beside this script's checkout); the
 #                 grown corpora are kept in DIR/corpus/<target>, crashes in DIR/artifacts/
 # --only TARGET   run one target (fuzz_scene_loader, fuzz_image_reader, fuzz_obj_loader)
-# --seconds-from-env  $RAY_FUZZ_SECONDS, else 20 (the test suite's fuzz_smoke)
+# --seconds-from-env  $RAY_FUZZ_SECONDS, else 5 (the test suite's fuzz_smoke: a few seconds a
+#                 target find what breaks at once; CI's .ci/run sets a longer run)
 # --no-install    do not apt-get clang when it is missing: print "SKIPPED:" and exit 0
 #                 (what the test suite does)
 #
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
     --build-dir) build="$2"; shift 2 ;;
     --only) only="$2"; shift 2 ;;
     --no-install) install=0; shift ;;
-    --seconds-from-env) seconds="${RAY_FUZZ_SECONDS:-20}"; shift ;;
+    --seconds-from-env) seconds="${RAY_FUZZ_SECONDS:-5}"; shift ;;
     *) echo "fuzz.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
