@@ -10,7 +10,7 @@
 # script tests), and by CTest after the discovered Catch2 tests (TEST_INCLUDE_FILES).
 set(RAY_TEST_COSTS
   [=[fuzz_smoke]=] 614
-  [=[kernel matches host on every course scene]=] 315
+  [=[kernel matches host on every course scene]=] 120
   [=[kernel_resources]=] 229
   [=[rusticl]=] 192
   [=[every course scene renders on the OpenCL CPU device or fails clearly, and on two devices alike]=] 177
