@@ -13,12 +13,12 @@ set(RAY_TEST_COSTS
   [=[kernel matches host on every course scene]=] 120
   [=[kernel_resources]=] 229
   [=[rusticl]=] 192
-  [=[every course scene renders on the OpenCL CPU device or fails clearly, and on two devices alike]=] 177
+  [=[every course scene renders on the OpenCL CPU device or fails clearly, and on two devices alike]=] 141
   [=[soak]=] 114
   [=[kernel_short_stack]=] 94
   [=[both renderers match the course's pending renders that ray has matched]=] 93
   [=[kernel matches host on the course's refraction and area-light scenes]=] 90
-  [=[every course scene renders on the reference renderer or fails clearly]=] 85
+  [=[every course scene renders on the reference renderer or fails clearly]=] 60
   [=[multi_device]=] 61
   [=[viewer_hostile_clients]=] 60
   [=[mpi]=] 56

@@ -87,18 +87,12 @@ const std::map<std::string, double> kChaoticScenes = {
     {"ayidi_refract2_plane.xml", 0.95},
 };
 
-// The course scenes whose pixels cost a hundred times the others' (16 samples an area light,
-// each of up to 64 camera samples, past thousands of spheres), compared at a quarter of the
-// pixels: recursiveSpheres4_area took 128 s of this test's 315 at 96×72 (2 cores, ctest -j2),
-// dof-recursiveSpheres4 20 s. At 48×36 each still fails when the kernel breaks the convention
-// it tests: area lights twice their size (cl/optics.cl areaLightPoint, 2a and 2b: 90.6% of
-// the pixels within 3/255) and a lens of twice the radius (cl/render.cl cameraRay: 94.6%),
-// while recursiveSpheres4 (neither) stays at 99.9%.
-const std::map<std::string, std::pair<int, int>> kSmallerScenes = {
-    {"recursiveSpheres4_area.xml", {48, 36}},
-    {"dof-recursiveSpheres4.xml", {48, 36}},
-};
-
+// The course scenes whose pixels cost a hundred times the others' (test::isCostlyCourseScene)
+// are compared at 48×36: recursiveSpheres4_area took 128 s of this test's 315 at 96×72 (2
+// cores, ctest -j2), dof-recursiveSpheres4 20 s. At 48×36 each still fails when the kernel
+// breaks the convention it tests: area lights twice their size (cl/optics.cl areaLightPoint,
+// 2a and 2b: 90.6% of the pixels within 3/255) and a lens of twice the radius (cl/render.cl
+// cameraRay: 94.6%), while recursiveSpheres4 (neither) stays at 99.9%.
 TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") {
     auto device = cpuDevice();
     if (!device) {
@@ -121,10 +115,8 @@ TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") 
             ++elsewhere;  // compared with these very settings by the optics test (test_optics.cpp)
             continue;
         }
-        auto smaller = kSmallerScenes.find(name);
-        RenderSettings settings = smaller == kSmallerScenes.end()
-                                      ? test::settingsFromOptions("", 96, 72)
-                                      : test::settingsFromOptions("", smaller->second.first, smaller->second.second);
+        RenderSettings settings = test::isCostlyCourseScene(name) ? test::settingsFromOptions("", 48, 36)
+                                                                  : test::settingsFromOptions("", 96, 72);
         std::optional<Scene> scene;
         try {
             scene = test::loadSceneQuietly(file);
