@@ -8,7 +8,10 @@
 # --build-dir DIR where to build (default build-fuzz beside this script's checkout); the
 #                 grown corpora are kept in DIR/corpus/<target>, crashes in DIR/artifacts/
 # --only TARGET   run one target (fuzz_scene_loader, fuzz_image_reader, fuzz_obj_loader)
-# --seconds-from-env  $RAY_FUZZ_SECONDS, else 20 (the test suite's fuzz_smoke)
+# --seconds-from-env  $RAY_FUZZ_SECONDS, else 5 (the test suite's fuzz_smoke: a few seconds a
+#                 target find what breaks at once; CI's .ci/run sets a longer run)
+# --jobs N        build with N jobs (default: one a core; CTest's fuzz_smoke: 1, since CTest
+#                 runs another test on each other core)
 # --no-install    do not apt-get clang when it is missing: print "SKIPPED:" and exit 0
 #                 (what the test suite does)
 #
@@ -22,13 +25,15 @@ seconds=60
 build="$here/build-fuzz"
 only=""
 install=1
+jobs="$(nproc)"
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --build-dir) build="$2"; shift 2 ;;
     --only) only="$2"; shift 2 ;;
     --no-install) install=0; shift ;;
-    --seconds-from-env) seconds="${RAY_FUZZ_SECONDS:-20}"; shift ;;
+    --jobs) jobs="$2"; shift 2 ;;
+    --seconds-from-env) seconds="${RAY_FUZZ_SECONDS:-5}"; shift ;;
     *) echo "fuzz.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -55,7 +60,7 @@ fi
 
 cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DRAY_FUZZ=ON -DRAY_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" --target fuzzers -j"$(nproc)" >/dev/null
+cmake --build "$build" --target fuzzers -j"$jobs" >/dev/null
 
 shared="${RAY_SHARED_DIR:-$here/../shared}/cs123"
 seeds_for() {

@@ -3,6 +3,8 @@
 #   scripts/install-deps.sh           what the build and the tests need
 #   scripts/install-deps.sh --bench   that, and what bench/ needs beyond it: POV-Ray 3.7
 #                                     (the baseline) and matplotlib (the plots)
+#   scripts/install-deps.sh --missing prints the missing packages of the first, one line
+#                                     (empty when none), and installs nothing
 set -euo pipefail
 
 packages=(cmake make g++ pkg-config
@@ -18,10 +20,13 @@ packages=(cmake make g++ pkg-config
           # the kernel as GPU drivers build it: scripts/kernel_resources.py (clang-15 and
           # libclc for AMD and NVIDIA), tests/rusticl.sh (Mesa's OpenCL), tests/oclgrind.sh
           clang-15 llvm-15 libclc-15 mesa-opencl-icd oclgrind)
+list_only=0
 if [ "${1:-}" = "--bench" ]; then
     packages+=(povray python3-matplotlib)  # bench/povray_side_by_side.py
+elif [ "${1:-}" = "--missing" ]; then
+    list_only=1
 elif [ $# -gt 0 ]; then
-    echo "usage: $0 [--bench]" >&2
+    echo "usage: $0 [--bench | --missing]" >&2
     exit 2
 fi
 
@@ -29,6 +34,10 @@ missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+if [ "$list_only" = 1 ]; then
+    echo "${missing[*]}"
+    exit 0
+fi
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "installing: ${missing[*]}"

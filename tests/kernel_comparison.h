@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "devices/renderer.h"
@@ -18,6 +19,16 @@
 #include "test_support.h"
 
 namespace ray::test {
+
+// The course's refraction and area-light scenes, which the optics test (test_optics.cpp)
+// compares kernel with host at 96×72 with the default settings, as the corpus test
+// (test_kernel_vs_host.cpp) would: that test leaves them to it rather than render them twice
+// (shadow_test_area alone took 30 s of either).
+inline const std::set<std::string> kOpticsCourseScenes = {
+    "refract.xml",       "refract2.xml",      "refract_box.xml",        "refract_whitted.xml",
+    "ayidi_refract.xml", "area_light_1.xml",  "area_light_2.xml",       "shadow_test_area.xml",
+    "refract_whitted_area.xml"};
+constexpr int kOpticsWidth = 96, kOpticsHeight = 72;
 
 // The first OpenCL CPU device (PoCL here), or nullopt: callers then skip(). RAY_TEST_DEVICE
 // (a --device value: gpu, an index) runs the kernel-versus-host tests on another device

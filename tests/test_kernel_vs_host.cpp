@@ -87,6 +87,12 @@ const std::map<std::string, double> kChaoticScenes = {
     {"ayidi_refract2_plane.xml", 0.95},
 };
 
+// The course scenes whose pixels cost a hundred times the others' (test::isCostlyCourseScene)
+// are compared at 48×36: recursiveSpheres4_area took 128 s of this test's 315 at 96×72 (2
+// cores, ctest -j2), dof-recursiveSpheres4 20 s. At 48×36 each still fails when the kernel
+// breaks the convention it tests: area lights twice their size (cl/optics.cl areaLightPoint,
+// 2a and 2b: 90.6% of the pixels within 3/255) and a lens of twice the radius (cl/render.cl
+// cameraRay: 94.6%), while recursiveSpheres4 (neither) stays at 99.9%.
 TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") {
     auto device = cpuDevice();
     if (!device) {
@@ -102,10 +108,15 @@ TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") 
     for (const auto& entry : fs::directory_iterator(*shared / "cs123" / "scenes"))
         if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
     std::sort(scenes.begin(), scenes.end());
-    RenderSettings settings = test::settingsFromOptions("", 96, 72);
-    int compared = 0;
+    int compared = 0, elsewhere = 0;
     for (const fs::path& file : scenes) {
         const std::string name = file.filename().string();
+        if (test::kOpticsCourseScenes.count(name)) {
+            ++elsewhere;  // compared with these very settings by the optics test (test_optics.cpp)
+            continue;
+        }
+        RenderSettings settings = test::isCostlyCourseScene(name) ? test::settingsFromOptions("", 48, 36)
+                                                                  : test::settingsFromOptions("", 96, 72);
         std::optional<Scene> scene;
         try {
             scene = test::loadSceneQuietly(file);
@@ -117,8 +128,9 @@ TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") 
                               chaotic == kChaoticScenes.end() ? 0.99 : chaotic->second);
         ++compared;
     }
-    std::printf("compared %d course scenes\n", compared);
-    CHECK(compared >= 200);
+    std::printf("compared %d course scenes (and %d in the optics test)\n", compared, elsewhere);
+    CHECK(elsewhere == int(test::kOpticsCourseScenes.size()));
+    CHECK(compared + elsewhere >= 200);
 }
 
 TEST_CASE("kernel matches host on the course scenes with reference renders", "[kernel][kvh]") {

@@ -102,11 +102,10 @@ TEST_CASE("kernel matches host on the course's refraction and area-light scenes"
         test::skip(!device ? "no OpenCL CPU device (install pocl-opencl-icd)" : "../shared/cs123 is absent");
         return;
     }
-    for (const char* scene : {"refract.xml", "refract2.xml", "refract_box.xml", "refract_whitted.xml",
-                              "ayidi_refract.xml", "area_light_1.xml", "area_light_2.xml", "shadow_test_area.xml",
-                              "refract_whitted_area.xml"}) {
+    // The corpus test (test_kernel_vs_host.cpp) leaves these scenes to this one.
+    for (const std::string& scene : test::kOpticsCourseScenes) {
         SECTION(scene) {
-            RenderSettings settings = test::settingsFromOptions("", 96, 72);
+            RenderSettings settings = test::settingsFromOptions("", test::kOpticsWidth, test::kOpticsHeight);
             test::compareKernelWithHost(*device, *shared / "cs123" / "scenes" / scene, settings,
                                         std::string("optics_") + fs::path(scene).stem().string());
         }
