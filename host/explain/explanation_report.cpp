@@ -26,16 +26,6 @@ std::string number(double value) {
     return s.str();
 }
 
-const char* lightTypeName(LightType type) {
-    switch (type) {
-        case LightType::Point: return "point";
-        case LightType::Directional: return "directional";
-        case LightType::Spot: return "spot";
-        case LightType::Area: return "area";
-    }
-    return "?";
-}
-
 // Motion blur draws a shutter time per sample; in a scene where nothing moves it changes
 // nothing, and is not shown.
 bool sceneMoves(const Scene& scene) {

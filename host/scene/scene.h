@@ -37,6 +37,8 @@ struct Camera {
 };
 
 enum class LightType { Point, Directional, Spot, Area };
+// The scenefile's name of the type (<type v="..."/> in <lightdata>).
+const char* lightTypeName(LightType type);
 
 struct Light {
     LightType type = LightType::Point;

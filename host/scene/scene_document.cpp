@@ -242,16 +242,6 @@ std::string escaped(const std::string& text) {
     return out;
 }
 
-const char* lightTypeName(LightType type) {
-    switch (type) {
-        case LightType::Point: return "point";
-        case LightType::Directional: return "directional";
-        case LightType::Spot: return "spot";
-        case LightType::Area: return "area";
-    }
-    return "point";
-}
-
 const char* csgOperationName(CsgStepKind kind) {
     switch (kind) {
         case CsgStepKind::Intersection: return "intersection";

@@ -17,6 +17,16 @@ const char* primitiveTypeName(PrimitiveType type) {
     return "unknown";
 }
 
+const char* lightTypeName(LightType type) {
+    switch (type) {
+        case LightType::Point: return "point";
+        case LightType::Directional: return "directional";
+        case LightType::Spot: return "spot";
+        case LightType::Area: return "area";
+    }
+    return "point";
+}
+
 void fitObjectBox(PrimitiveInstance& instance, const std::vector<TriangleMesh>& meshes) {
     if (instance.type == PrimitiveType::Torus) {
         constexpr double ringRadius = RAY_TORUS_MAJOR_RADIUS, tubeRadius = RAY_TORUS_MINOR_RADIUS;

@@ -6,24 +6,12 @@ refreshed after an orbit and a reload; a broken save's error does not squeeze th
 Usage: python3 test_browser.py RAY_BINARY SCENE [SCREENSHOT.png]
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
 import time
 
-try:
-    from selenium import webdriver
-    from selenium.webdriver.common.action_chains import ActionChains
-    from selenium.webdriver.common.by import By
-except ImportError:
-    print("SKIPPED: python3-selenium is not installed")
-    sys.exit(0)
-if not shutil.which("chromedriver") or not (shutil.which("chromium") or shutil.which("chromium-browser")):
-    print("SKIPPED: chromium or chromium-driver is not installed")
-    sys.exit(0)
-
-from viewer_harness import Viewer
+from viewer_harness import Viewer, headless_chromium_or_skip
 
 ray, scene = sys.argv[1], sys.argv[2]
 screenshot = sys.argv[3] if len(sys.argv) > 3 else None
@@ -80,12 +68,10 @@ def explain_pixel(driver, canvas, x, y):
     return driver.execute_script("return window.rayViewer.lastExplain")
 
 
+driver = headless_chromium_or_skip(WINDOW_WIDTH, WINDOW_HEIGHT)
+from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402 (Selenium is known present)
+from selenium.webdriver.common.by import By  # noqa: E402
 viewer = Viewer(ray, scene, "--device", "cpu")
-options = webdriver.ChromeOptions()
-for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", f"--window-size={WINDOW_WIDTH},{WINDOW_HEIGHT}",
-             "--disable-dev-shm-usage"]:
-    options.add_argument(flag)
-driver = webdriver.Chrome(options=options)
 try:
     # The viewport, not the window, is 1280 px wide (a window's frame would take from it).
     inner = driver.execute_script("return [window.innerWidth, window.innerHeight]")

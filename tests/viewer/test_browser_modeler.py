@@ -7,24 +7,12 @@ Usage: python3 test_browser_modeler.py RAY_BINARY SCENE (scenes/shadows.xml)
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
 import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
 import time
 
-try:
-    from selenium import webdriver
-    from selenium.webdriver.common.action_chains import ActionChains
-    from selenium.webdriver.common.by import By
-except ImportError:
-    print("SKIPPED: python3-selenium is not installed")
-    sys.exit(0)
-if not shutil.which("chromedriver") or not (shutil.which("chromium") or shutil.which("chromium-browser")):
-    print("SKIPPED: chromium or chromium-driver is not installed")
-    sys.exit(0)
-
-from viewer_harness import Viewer
+from viewer_harness import Viewer, headless_chromium_or_skip
 
 ray, scene = sys.argv[1], sys.argv[2]
 WIDTH, HEIGHT = 640, 480  # the viewer's default size
@@ -74,11 +62,10 @@ def set_input(driver, element_id, value):
         "e.dispatchEvent(new Event('input', { bubbles: true }));", element_id, value)
 
 
+driver = headless_chromium_or_skip(1280, 900)
+from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402 (Selenium is known present)
+from selenium.webdriver.common.by import By  # noqa: E402
 viewer = Viewer(ray, scene, "--device", "cpu")
-options = webdriver.ChromeOptions()
-for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,900", "--disable-dev-shm-usage"]:
-    options.add_argument(flag)
-driver = webdriver.Chrome(options=options)
 try:
     driver.get(viewer.url)
     wait(driver, "window.rayViewer.restFrame")

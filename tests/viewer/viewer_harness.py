@@ -8,6 +8,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -97,3 +98,22 @@ class Viewer:
     def log(self):
         """Everything the viewer printed so far."""
         return "".join(self.output)
+
+
+def headless_chromium_or_skip(width, height):
+    """A headless Chromium (Selenium's Chrome driver) with a width x height window, as the
+    browser tests use it; prints SKIPPED and exits when Selenium, Chromium or chromedriver
+    is missing."""
+    try:
+        from selenium import webdriver
+    except ImportError:
+        print("SKIPPED: python3-selenium is not installed")
+        sys.exit(0)
+    if not shutil.which("chromedriver") or not (shutil.which("chromium") or shutil.which("chromium-browser")):
+        print("SKIPPED: chromium or chromium-driver is not installed")
+        sys.exit(0)
+    options = webdriver.ChromeOptions()
+    for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", f"--window-size={width},{height}",
+                 "--disable-dev-shm-usage"]:
+        options.add_argument(flag)
+    return webdriver.Chrome(options=options)
