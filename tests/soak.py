@@ -71,6 +71,8 @@ class Frames:
         self.started = 0          # the latest frame id announced
         self.done = 0             # the latest frame id finished
         self.images = {}          # frame id -> RGB bytes (the latest few)
+        self.latest_view = 0      # the highest view request number a frame was started for
+        self.final_done = {}      # view request number -> the frame id of its final frame
         self.tiles = {}
         self.size = {}
         self.connection = http.client.HTTPConnection("127.0.0.1", viewer.port, timeout=600)
@@ -94,6 +96,7 @@ class Frames:
         with self.lock:
             if event == "frame":
                 self.started = data["frame"]
+                self.latest_view = max(self.latest_view, data["view"])
                 self.size[data["frame"]] = (data["width"], data["height"])
                 self.tiles[data["frame"]] = bytearray(data["width"] * data["height"] * 3)
                 for old in [f for f in self.tiles if f < data["frame"] - 2]:
@@ -106,6 +109,8 @@ class Frames:
                     image[at:at + data["w"] * 3] = rgb[row * data["w"] * 3:(row + 1) * data["w"] * 3]
             elif event == "done":
                 self.done = data["frame"]
+                if data["final"]:
+                    self.final_done[data["view"]] = data["frame"]
                 if data["frame"] in self.tiles:
                     self.images[data["frame"]] = bytes(self.tiles[data["frame"]])
                     for old in [f for f in self.images if f < data["frame"] - 2]:
@@ -127,15 +132,23 @@ class Frames:
         raise TimeoutError("the viewer did not finish its frame")
 
     def render(self, viewer, view, timeout=120):
-        """The pixels of `view` (a /view body): requested once the viewer is idle."""
-        before = self.wait_idle()
+        """The pixels of `view` (a /view body): its final frame (refined, not the preview),
+        requested once the viewer is idle. Frames are told apart by their view request
+        number: the refinement of the view before may still start and finish after the
+        request was sent (the viewer refines a view once it has rested for 350 ms)."""
+        self.wait_idle()
+        with self.lock:
+            before = self.latest_view
         status, _ = viewer.request("POST", "/view", json.dumps(view))
         assert status == 200, status
         deadline = time.time() + timeout
         with self.lock:
-            while not (self.done > before and self.done == self.started) and time.time() < deadline:
+            while time.time() < deadline:
+                newer = [v for v in self.final_done if v > before]
+                if newer:
+                    return self.images.get(self.final_done[min(newer)])
                 self.lock.wait(0.1)
-            return self.images.get(self.done)
+            return None
 
     def close(self):
         self.connection.close()
