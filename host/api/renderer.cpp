@@ -13,7 +13,6 @@
 #include "opencl/opencl_device.h"
 #include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
-#include "scene/scene_difference.h"
 
 namespace ray::api {
 
@@ -64,17 +63,16 @@ struct __attribute__((visibility("hidden"))) Renderer::Impl {
     Settings settings;
     std::unique_ptr<ray::FrameSource> frames;  // devices/renderer.h makeFrameSource
 
-    // The flattened scene as it is now, the same object as long as nothing but the camera
-    // (each frame's own) changed.
+    // The flattened scene as it is now, the same object as long as the scene is in the
+    // state it was last taken in (Scene::Impl::revision); after an edit, a copy that the
+    // frame source compares with what it prepared, to prepare only what changed.
+    uint64_t renderedRevision = 0;
     const std::shared_ptr<ray::Scene>& frameScene() {
-        const ray::Scene& now = scene->impl().scene;
-        bool changed = !rendered;
-        if (!changed) {
-            ray::SceneDifference difference = ray::compareScenes(*rendered, now);
-            difference.camera = false;
-            changed = difference.any();
+        const Scene::Impl& now = scene->impl();
+        if (!rendered || renderedRevision != now.revision) {
+            rendered = std::make_shared<ray::Scene>(now.scene);
+            renderedRevision = now.revision;
         }
-        if (changed) rendered = std::make_shared<ray::Scene>(now);
         return rendered;
     }
 };

@@ -9,6 +9,7 @@
 // primitives by the thousand.
 #include "ray/scene.h"
 
+#include <atomic>
 #include <cmath>
 #include <map>
 
@@ -43,7 +44,7 @@ Transform external(const ray::Affine& a) {
 
 ray::TextureMap internal(const TextureUse& use) { return {use.texture, use.repeatU, use.repeatV}; }
 
-Vec3 external(const ray::Vec3& v) { return {v.x, v.y, v.z}; }
+Vec3 external(const ray::Vec3& v) { return detail::toPublic(v); }
 
 ray::Material internal(const Material& material) {
     ray::Material m;
@@ -198,6 +199,11 @@ SceneObject describe(const ray::Scene& scene, const InstanceIndex& index,
 
 }  // namespace
 
+uint64_t Scene::Impl::newRevision() {
+    static std::atomic<uint64_t> last{0};
+    return ++last;
+}
+
 void Scene::Impl::edit(const std::function<void(ray::SceneDocument&)>& change) {
     detail::translatingErrors([&] {
         ray::SceneDocument changed = document;
@@ -205,6 +211,7 @@ void Scene::Impl::edit(const std::function<void(ray::SceneDocument&)>& change) {
         ray::Scene flattened = ray::flattenDocument(changed, resources, options);
         document = std::move(changed);
         scene = std::move(flattened);
+        this->changed();
     });
 }
 
@@ -234,6 +241,7 @@ void loadInto(Scene::Impl& impl, const LoadOptions& options, std::vector<std::st
         ray::LoadOptions load = internal(options, warnings);
         impl.document = read(load);
         impl.scene = ray::flattenDocument(impl.document, impl.resources, load);
+        impl.changed();
         load.warn = [](const std::string&) {};  // what later flattenings find, loading reported
         impl.options = load;
     });
@@ -261,7 +269,7 @@ void Scene::setCamera(const Camera& camera) {
     ray::Camera internalCamera = detail::toInternal(camera);
     detail::checkCamera(internalCamera);
     impl_->scene.camera = internalCamera;
-    impl_->document.camera = internalCamera;
+    impl_->document.camera = internalCamera;  // not changed(): each frame reads the camera itself
 }
 
 Globals Scene::globals() const {
@@ -272,12 +280,14 @@ Globals Scene::globals() const {
 void Scene::setGlobals(const Globals& globals) {
     impl_->scene.globals = {globals.ka, globals.kd, globals.ks, globals.kt};
     impl_->document.globals = impl_->scene.globals;
+    impl_->changed();
 }
 
 void Scene::addLight(const Light& light) {
     detail::checkLight(light);
     impl_->scene.lights.push_back(internal(light));
     impl_->document.lights.push_back(internal(light));
+    impl_->changed();
 }
 
 int Scene::addMaterial(const Material& material) {
@@ -300,6 +310,7 @@ int Scene::addTextureFromFile(const std::filesystem::path& file) {
     impl_->resources.imageFiles.push_back(file);
     impl_->scene.images.push_back(std::move(image));
     impl_->scene.imageFiles.push_back(file);
+    impl_->changed();
     return int(impl_->scene.images.size() - 1);
 }
 
@@ -313,6 +324,7 @@ int Scene::addTextureFromPixels(int width, int height, const std::vector<float>&
     impl_->resources.imageFiles.push_back("<memory>");
     impl_->scene.images.push_back(std::move(image));
     impl_->scene.imageFiles.push_back("<memory>");
+    impl_->changed();
     return int(impl_->scene.images.size() - 1);
 }
 
@@ -345,6 +357,7 @@ int Scene::addMesh(const std::vector<float>& positions, const std::vector<uint32
     impl_->resources.meshFiles.push_back("<memory>");
     impl_->scene.meshes.push_back(std::move(mesh));
     impl_->scene.meshFiles.push_back("<memory>");
+    impl_->changed();
     return int(impl_->scene.meshes.size() - 1);
 }
 
@@ -376,6 +389,7 @@ int Scene::addPrimitive(Shape shape, const Transform& objectToWorld, int materia
 
     impl_->scene.materials.push_back(node.material);
     impl_->scene.primitives.push_back(instance);
+    impl_->changed();
     ++document.nextObjectId;
     ++document.nextBlockId;
     ++document.primitiveElements;
@@ -538,12 +552,14 @@ void Scene::setLight(size_t index, const Light& light) {
     l.radius = impl_->document.lights[index].radius;  // read and kept, not in the API
     impl_->document.lights[index] = l;
     impl_->scene.lights[index] = l;
+    impl_->changed();
 }
 
 void Scene::removeLight(size_t index) {
     checkIndex(int(std::min<size_t>(index, size_t(INT32_MAX))), impl_->document.lights.size(), "light");
     impl_->document.lights.erase(impl_->document.lights.begin() + std::ptrdiff_t(index));
     impl_->scene.lights.erase(impl_->scene.lights.begin() + std::ptrdiff_t(index));
+    impl_->changed();
 }
 
 std::string Scene::toText() const {
