@@ -37,14 +37,6 @@ const std::set<std::string> kMissingTextures = {
     "/course/cs123/data/image/terrian/grass.jpg",  // sic: test_bumpmap.xml misspells terrain
 };
 
-std::vector<fs::path> corpusScenes(const fs::path& folder) {
-    std::vector<fs::path> scenes;
-    for (const fs::directory_entry& entry : fs::directory_iterator(folder))
-        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
-    std::sort(scenes.begin(), scenes.end());
-    return scenes;
-}
-
 // The file name quoted in a "... file 'NAME' not found" warning.
 std::string quotedFile(const std::string& warning) {
     size_t start = warning.find("file '");
@@ -61,7 +53,7 @@ TEST_CASE("every course scene loads, or fails with a clear error", "[corpus]") {
         ray::test::skip("../shared/cs123 is absent: the course corpus is not here");
         return;
     }
-    std::vector<fs::path> scenes = corpusScenes(*shared / "cs123" / "scenes");
+    std::vector<fs::path> scenes = ray::test::courseScenes(*shared);
     REQUIRE(scenes.size() == 215);
 
     std::map<std::string, std::string> failures;  // scene -> message

@@ -32,10 +32,7 @@ void renderCorpus(const std::string& device, bool cooperative = false) {
         ray::test::skip("../shared/cs123 is absent");
         return;
     }
-    std::vector<fs::path> scenes;
-    for (const auto& entry : fs::directory_iterator(*shared / "cs123" / "scenes"))
-        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
-    std::sort(scenes.begin(), scenes.end());
+    std::vector<fs::path> scenes = ray::test::courseScenes(*shared);
     REQUIRE(scenes.size() == 215);
 
     const fs::path out = ray::test::outputDir() / ("corpus_" + device);

@@ -201,10 +201,7 @@ TEST_CASE("every course scene saves and loads back to a byte-identical 64x48 ren
         ray::test::skip("../shared/cs123 is absent: the course corpus is not here");
         return;
     }
-    std::vector<fs::path> scenes;
-    for (const auto& entry : fs::directory_iterator(*shared / "cs123" / "scenes"))
-        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
-    std::sort(scenes.begin(), scenes.end());
+    std::vector<fs::path> scenes = ray::test::courseScenes(*shared);
     REQUIRE(scenes.size() == 215);
     const fs::path folder = outputFile("corpus");
     fs::create_directories(folder);

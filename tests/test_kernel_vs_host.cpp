@@ -104,10 +104,7 @@ TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") 
         test::skip("../shared/cs123 is absent: no course scenes");
         return;
     }
-    std::vector<fs::path> scenes;
-    for (const auto& entry : fs::directory_iterator(*shared / "cs123" / "scenes"))
-        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
-    std::sort(scenes.begin(), scenes.end());
+    std::vector<fs::path> scenes = test::courseScenes(*shared);
     int compared = 0, elsewhere = 0;
     for (const fs::path& file : scenes) {
         const std::string name = file.filename().string();

@@ -1,6 +1,7 @@
 // Helpers shared by the tests: where the data is, and comparing images.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -30,6 +31,15 @@ inline std::optional<std::filesystem::path> sharedDir() {
     if (const char* env = std::getenv("RAY_SHARED_DIR")) dir = env;
     if (std::filesystem::is_directory(dir / "cs123")) return dir;
     return std::nullopt;
+}
+
+// The course corpus's scenes (shared / "cs123" / "scenes" / *.xml), sorted by name.
+inline std::vector<std::filesystem::path> courseScenes(const std::filesystem::path& shared) {
+    std::vector<std::filesystem::path> scenes;
+    for (const auto& entry : std::filesystem::directory_iterator(shared / "cs123" / "scenes"))
+        if (entry.path().extension() == ".xml") scenes.push_back(entry.path());
+    std::sort(scenes.begin(), scenes.end());
+    return scenes;
 }
 
 // The course scenes whose pixels cost a hundred times the others' (16 shadow rays an area
