@@ -89,6 +89,8 @@ TEST_CASE("SceneEditor: a bad edit is refused with a message and changes nothing
     refused({{"object", 0}, {"material", {{"diffuse", {1, 0, 0}}, {"shininess", -1}}}}, "shininess");
     refused({{"object", 99}, {"material", {{"diffuse", {1, 0, 0}}}}}, "no object 99");
     refused({{"object", 0}, {"transform", {{{"kind", "scale"}, {"v", {0, 1, 1}}}}}}, "scale of 0");
+    refused({{"object", 0}, {"transform", {{{"kind", "matrix"}, {"v", {1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0}}}}}},
+            "the matrix is singular");
     refused({{"object", 0}, {"transform", {{{"kind", "rotate"}, {"v", {0, 0, 0, 30}}}}}}, "axis");
     refused({{"object", 0}, {"transform", {{{"kind", "shear"}, {"v", {1, 1, 1}}}}}}, "kind");
     refused({{"light", 3}, {"color", {1, 1, 1}}}, "no light 3");

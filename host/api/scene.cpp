@@ -126,12 +126,9 @@ void checkIndex(int index, size_t count, const char* what) {
 
 // The inverse of a transform given for an object or a transblock; singular: InputError.
 ray::Affine invertible(const ray::Affine& transform, const std::string& what) {
-    ray::Affine inverse = transform.inverse();
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c)
-            if (!std::isfinite(inverse.m[r][c]) || !std::isfinite(transform.m[r][c]))
-                badInput(what + " is singular (a zero scale?); it must be invertible");
-    return inverse;
+    const ray::TransformOp op = ray::TransformOp::matrix(transform);
+    if (auto why = op.whySingular()) badInput(what + ": " + *why + " (a zero scale?); it must be invertible");
+    return op.affine().second;
 }
 
 [[noreturn]] void noObject(int id) {

@@ -22,6 +22,28 @@ TransformOp TransformOp::matrix(const Affine& m) {
     return op;
 }
 
+std::optional<std::string> TransformOp::whySingular() const {
+    switch (kind) {
+        case TransformKind::Rotate:
+            if (v[0] == 0 && v[1] == 0 && v[2] == 0) return "the rotation axis is zero";
+            break;
+        case TransformKind::Scale:
+            if (v[0] == 0 || v[1] == 0 || v[2] == 0)
+                return "a zero scale (a scale of 0 on an axis) flattens what it holds to nothing";
+            break;
+        case TransformKind::Matrix: {
+            const auto [to, from] = affine();
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 4; ++c)
+                    if (!std::isfinite(to.m[r][c]) || !std::isfinite(from.m[r][c]))
+                        return "the matrix is singular (it flattens what it holds)";
+            break;
+        }
+        case TransformKind::Translate: break;
+    }
+    return std::nullopt;
+}
+
 std::pair<Affine, Affine> TransformOp::affine() const {
     const Vec3 xyz{v[0], v[1], v[2]};
     switch (kind) {

@@ -80,6 +80,10 @@ struct TransformOp {
     // The transform and its exact inverse (the inverse of a matrix is computed; NaNs when
     // it is singular).
     std::pair<Affine, Affine> affine() const;
+    // Why the transform flattens what it holds (a zero rotation axis, a zero scale, a
+    // singular matrix): the one rule the loader, the API and the viewer's edits refuse
+    // with; nullopt when it is invertible.
+    std::optional<std::string> whySingular() const;
 };
 
 // A texture or bump map file, resolved, and the line that names it.

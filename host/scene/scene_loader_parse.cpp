@@ -401,19 +401,18 @@ private:
             values.expect(4, 0, "x y z angle");
             Vec3 axis = values.vec3();
             double degrees = values.number(3);
-            if (length(axis) == 0)
-                diagnostics_.error(element.line(), "the rotation axis is zero",
-                                   "give the axis to rotate about, such as x=\"0\" y=\"1\" z=\"0\"");
             TransformOp rotation = op(TransformKind::Rotate, axis);
             rotation.v[3] = degrees;
+            if (auto why = rotation.whySingular())
+                diagnostics_.error(element.line(), *why,
+                                   "give the axis to rotate about, such as x=\"0\" y=\"1\" z=\"0\"");
             return rotation;
         }
         if (sameName(name, "scale")) {
-            Vec3 s = triple(element);
-            if (s.x == 0 || s.y == 0 || s.z == 0)
-                diagnostics_.error(element.line(), "a zero scale flattens what it holds to nothing",
-                                   "use a small non-zero factor, or remove the object");
-            return op(TransformKind::Scale, s);
+            TransformOp scale = op(TransformKind::Scale, triple(element));
+            if (auto why = scale.whySingular())
+                diagnostics_.error(element.line(), *why, "use a small non-zero factor, or remove the object");
+            return scale;
         }
         if (sameName(name, "matrix")) return parseMatrix(element);
         return std::nullopt;
@@ -447,9 +446,7 @@ private:
             diagnostics_.error(rows[3].line(), "the matrix's last row is not 0 0 0 1",
                                "give an affine transform (translation in the last column)");
         TransformOp matrix = TransformOp::matrix(m);
-        if (!std::isfinite(matrix.affine().second.m[0][0]))
-            diagnostics_.error(element.line(), "the matrix is singular (it flattens what it holds)",
-                               "give an invertible matrix");
+        if (auto why = matrix.whySingular()) diagnostics_.error(element.line(), *why, "give an invertible matrix");
         return matrix;
     }
 

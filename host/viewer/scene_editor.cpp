@@ -101,10 +101,7 @@ std::vector<TransformOp> transformsFrom(const json& j) {
             throw EditError(kind + " takes " + std::to_string(n) + " numbers" +
                             (op.kind == TransformKind::Rotate ? " (the axis x, y, z and the angle in degrees)" : ""));
         for (size_t i = 0; i < n; ++i) op.v[i] = numberFrom(v[i], kind);
-        if (op.kind == TransformKind::Rotate && op.v[0] == 0 && op.v[1] == 0 && op.v[2] == 0)
-            throw EditError("a rotation's axis must not be (0, 0, 0)");
-        if (op.kind == TransformKind::Scale && (op.v[0] == 0 || op.v[1] == 0 || op.v[2] == 0))
-            throw EditError("a scale of 0 flattens the object to nothing; give each axis a non-zero factor");
+        if (auto why = op.whySingular()) throw EditError(kind + ": " + *why + "; it must be invertible");
         ops.push_back(op);
     }
     return ops;
