@@ -51,6 +51,19 @@ const OiioModule& requireModule(const fs::path& file) {
 
 }  // namespace
 
+std::string preloadOiioModule() {
+    const OiioModule& module = oiioModule();
+    if (module.failure.empty()) {
+        // A file of no known extension makes OpenImageIO try every format, which readies each
+        // of its readers (about 1 s under full unwinding, once per process).
+        char error[256] = "";
+        void* handle = nullptr;
+        RayOiioImageInfo info{};
+        if (module.open("/dev/null", &handle, &info, error, sizeof error)) module.close(handle);
+    }
+    return module.failure;
+}
+
 Image readImageWithOiio(const fs::path& file) {
     const OiioModule& module = requireModule(file);
     char error[1024] = "";
