@@ -1,6 +1,7 @@
-/* The kernel: one work-item per pixel. A pixel's samples (SPEC §3) each trace a tree of
- * rays (a reflected and a refracted branch per hit) with an explicit stack, since
- * OpenCL C has no recursion. */
+/* A pixel's samples (SPEC §3), each tracing a tree of rays (a reflected and a refracted
+ * branch per hit) with an explicit stack, since OpenCL C has no recursion: renderPixel,
+ * one pixel a work-item (GPUs), and the pieces the packet path of CPU devices shares
+ * (cl/packet_render.cl). The entry point is cl/kernel.cl. */
 
 #ifndef RAY_MAX_FRAMES
 #define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
@@ -313,29 +314,29 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
     frame->color = packFloat3(unpackFloat3(frame->color) + lights.sum);
 }
 
-/* The color of one camera ray: the tree of reflected rays below it, depth first. Each ray
- * of the tree is shaded at the one shadeFrame call below (which traces it and its shadow
- * rays at one traceBvh call), the loop's first step whenever a frame has just been pushed
- * (a GPU compiler inlines every call site). Inline on PoCL as
- * well: there a call of its own cost chess 1% more instructions. */
+/* The color of one camera ray's tree of reflected and refracted rays, depth first, from
+ * `ray`, the ray of tree->frames[0]: pushed, it is yet to be traced and shaded; not, its
+ * frame is shaded already (the packet path, cl/packet_render.cl, traces camera rays and
+ * their shadow rays a packet at a time and hands the rest of each tree to this walk). Each
+ * ray of the tree is shaded at the one shadeFrame call below (which traces it and its
+ * shadow rays at one traceBvh call), the loop's first step whenever a frame has just been
+ * pushed (a GPU compiler inlines every call site). Inline on PoCL as well: there a call of
+ * its own cost chess 1% more instructions. */
 static inline RAY_INLINED_OFF_POCL
-float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray,
-                                    PixelTrace* counter) {
-    RayTree tree;
-    Frame* stack = tree.frames;
+float3 walkRayTree(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, Ray ray, bool pushed,
+                   PixelTrace* counter) {
+    Frame* stack = tree->frames;
     int top = 0;
-    counter->primary++;
-    bool pushed = true; /* stack[top] awaits shading along `ray` */
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
-            shadeFrame(scene, params, &tree, top, ray, &ray, counter);
+            shadeFrame(scene, params, tree, top, ray, &ray, counter);
             pushed = false;
         }
         if (frame->nextChild < frame->childCount) {
             if (frame->nextChild++ == 1) { /* the second; the first is in place already (spawnChild) */
                 Frame* child = &stack[top + 1];
-                const ChildRay* second = &tree.seconds[top];
+                const ChildRay* second = &tree->seconds[top];
                 child->weightInParent = second->weight;
                 child->medium = frame->secondMedium;
                 child->enteredIor = second->enteredIor;
@@ -353,6 +354,16 @@ float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, 
         stack[top].color = packFloat3(unpackFloat3(stack[top].color) + folded);
     }
 }
+
+#ifndef RAY_PACKET_WIDTH /* the packet path: cl/packet_render.cl */
+/* The color of one camera ray (walkRayTree). */
+static inline RAY_INLINED_OFF_POCL
+float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
+    RayTree tree;
+    counter->primary++;
+    return walkRayTree(scene, params, &tree, ray, true, counter);
+}
+#endif
 
 /* The camera ray through offset (sx, sy) of pixel (i, j) (SPEC §3). With depth of field
  * the eye moves to a point of the lens in the plane of U and V. The course's lens (SPEC §3):
@@ -379,35 +390,61 @@ static inline Ray cameraRay(const RayRenderParams* params, float i, float j, flo
     return ray;
 }
 
-/* One sample of the pixel, unclamped; its shutter time from random dimension 4: shutter
- * (params->lens.z, 0 when nothing moves) times that number. With the course's lens (SPEC §3)
- * the sample is the mean of the RAY_LENS_GRID_SIDE² lens rays' clamped colors, one trace
- * site in a loop; --dof disk draws one lens point from dimensions 2 and 3 of the sample's
- * number (0 and 1 are the stratified jitter). */
-static inline RAY_INLINED_OFF_POCL
-float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
-                          PixelTrace* counter) {
+/* A sample's lens: the course's grid (SPEC §3) or one random point of the disk (--dof
+ * disk), and how many lens rays it takes (RAY_LENS_GRID_SIDE² on the grid, else 1). */
+static inline bool courseLensGrid(const RayRenderParams* params) {
+    return params->lens.x > 0.0f && !(params->mode.z & RAY_FEATURE_LENS_DISK);
+}
+
+static inline int lensRaysPerSample(const RayRenderParams* params) {
+    return courseLensGrid(params) ? RAY_LENS_GRID_SIDE * RAY_LENS_GRID_SIDE : 1;
+}
+
+/* Starts the pixel's next sample: numbers it, draws its shutter time from random dimension
+ * 4 (shutter, params->lens.z, 0 when nothing moves, times that number) and, with --dof
+ * disk, its lens point from dimensions 2 and 3 (0 and 1 are the stratified jitter). */
+static inline float2 startSample(const RayRenderParams* params, PixelTrace* counter) {
     uint k = counter->nextSample++;
     counter->sample = k;
     uint seed = (uint)params->counts.w;
-    const bool lensGrid = params->lens.x > 0.0f && !(params->mode.z & RAY_FEATURE_LENS_DISK);
     float2 lens = (float2)(0.0f);
-    if (params->lens.x > 0.0f && !lensGrid)
+    if (params->lens.x > 0.0f && !courseLensGrid(params))
         lens = (float2)(rayRandom(counter->pixel, k, 2u, seed), rayRandom(counter->pixel, k, 3u, seed));
     float shutter = params->lens.z;
     counter->time = shutter > 0.0f ? shutter * rayRandom(counter->pixel, k, 4u, seed) : 0.0f;
-    const int lensRays = lensGrid ? RAY_LENS_GRID_SIDE * RAY_LENS_GRID_SIDE : 1;
+    return lens;
+}
+
+/* Lens ray l of a sample whose lens point is `lens` (startSample): on the course's grid,
+ * grid point l. */
+static inline float2 lensPoint(const RayRenderParams* params, int l, float2 lens) {
+    if (!courseLensGrid(params)) return lens;
+    return (float2)((float)(l % RAY_LENS_GRID_SIDE - RAY_LENS_GRID_SIDE / 2),
+                    (float)(l / RAY_LENS_GRID_SIDE - RAY_LENS_GRID_SIDE / 2));
+}
+
+/* A lens ray's color as the sample sums it: clamped on the course's grid, whose mean of
+ * clamped colors is the sample. */
+static inline float3 lensRayTerm(const RayRenderParams* params, float3 color) {
+    return courseLensGrid(params) ? clamp(color, 0.0f, 1.0f) : color;
+}
+
+#ifndef RAY_PACKET_WIDTH /* the packet path: cl/packet_render.cl */
+/* One sample of the pixel, unclamped (startSample): the mean of its lens rays' terms, one
+ * trace site in a loop. */
+static inline RAY_INLINED_OFF_POCL
+float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
+                          PixelTrace* counter) {
+    float2 lens = startSample(params, counter);
+    const int lensRays = lensRaysPerSample(params);
     float3 sum = (float3)(0.0f);
     for (int l = 0; l < lensRays; ++l) {
-        if (lensGrid)
-            lens = (float2)((float)(l % RAY_LENS_GRID_SIDE - RAY_LENS_GRID_SIDE / 2),
-                            (float)(l / RAY_LENS_GRID_SIDE - RAY_LENS_GRID_SIDE / 2));
-        float3 color = traceCameraRay(scene, params, cameraRay(params, (float)i, (float)j, sx, sy, lens, counter->time),
-                                      counter);
-        sum += lensGrid ? clamp(color, 0.0f, 1.0f) : color;
+        Ray ray = cameraRay(params, (float)i, (float)j, sx, sy, lensPoint(params, l, lens), counter->time);
+        sum += lensRayTerm(params, traceCameraRay(scene, params, ray, counter));
     }
     return sum / (float)lensRays;
 }
+#endif
 
 static inline float largestChannel(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 
@@ -610,6 +647,7 @@ static inline void addSample(PixelSampler* s, const RayRenderParams* params, flo
     j->count++;
 }
 
+#ifndef RAY_PACKET_WIDTH /* the packet path renders blocks: cl/packet_render.cl */
 /* The color of pixel (i, j): every sample the antialiasing mode asks for, traced at the one
  * trace site. A call on PoCL: there the work-group function runs the kernel for each
  * work-item in a loop and keeps the private variables of the kernel's own body in arrays
@@ -627,35 +665,4 @@ static RAY_CALL_ON_POCL float3 renderPixel(const SceneBuffers* scene, const RayR
     }
     return color;
 }
-
-/* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
- * work-items in flight to hide memory latency. What does not fit spills to scratch, which
- * scripts/kernel_resources.py counts in the kernel's private memory. */
-#if defined(__AMDGCN__)
-#define RAY_KERNEL_OCCUPANCY __attribute__((amdgpu_waves_per_eu(4)))
-#else
-#define RAY_KERNEL_OCCUPANCY
 #endif
-
-/* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
- * element y * tile width + x of the tile outputs. Its arguments: the launch parameters, the
- * scene's buffers in the order of their list (cl/shared_types.h RAY_SCENE_BUFFERS), then the
- * tile's outputs; the host numbers them so (host/opencl/kernel_arguments.h). */
-#define RAY_SCENE_BUFFER_PARAMETER(Type, name, what) __global const Type* name,
-#define RAY_SCENE_BUFFER_NAME(Type, name, what) name,
-__kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_PARAMETER)
-                                              __global float4* tileColors, __global uint4* tileRayCounts) {
-    int x = get_global_id(0), y = get_global_id(1);
-    if (x >= params.tile.x || y >= params.tile.y) return;
-    int i = params.image.z + x, j = params.image.w + y;
-    if (i >= params.image.x || j >= params.image.y) return;
-
-    SceneBuffers scene = {RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_NAME)};
-    PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u, 0u, 0.0f};
-    float3 color = renderPixel(&scene, &params, i, j, &counter);
-    int pixel = y * params.tile.x + x; /* the outputs hold this tile alone, row by row */
-    tileColors[pixel] = (float4)(color, 1.0f);
-    tileRayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);
-}
-#undef RAY_SCENE_BUFFER_PARAMETER
-#undef RAY_SCENE_BUFFER_NAME

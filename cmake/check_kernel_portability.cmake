@@ -16,17 +16,27 @@ foreach(input IN LISTS INPUTS)
   file(READ "${input}" text)
   file(APPEND "${source}" "${text}\n")
 endforeach()
+# Each path: one ray per work-item (GPUs), and the packet path of CPU devices at each width
+# (-DRAY_PACKET_WIDTH: cl/packet_trace.cl).
 foreach(target IN ITEMS nvptx64-nvidia-nvcl spir64)
-  # __OPENCL_VERSION__ is the device's to define (PoCL and NVIDIA do); clang alone does not.
-  execute_process(
-    COMMAND "${CLANG}" -x cl -cl-std=CL1.2 -target ${target} -Xclang -finclude-default-header -fsyntax-only
-            -Wall -Wextra -Wdouble-promotion -Wimplicit-float-conversion -Werror
-            -D__OPENCL_VERSION__=120 -DRAY_MAX_FRAMES=5 "${source}"
-    RESULT_VARIABLE status
-    OUTPUT_VARIABLE output
-    ERROR_VARIABLE output)
-  if(NOT status EQUAL 0)
-    message(FATAL_ERROR "the kernel does not compile cleanly for ${target}:\n${output}")
-  endif()
-  message("the kernel compiles cleanly for ${target} (OpenCL C 1.2)")
+  foreach(lanes IN ITEMS 1 4 8 16)
+    set(path_option "")
+    set(path "one ray per work-item")
+    if(lanes GREATER 1)
+      set(path_option "-DRAY_PACKET_WIDTH=${lanes}")
+      set(path "${lanes}-ray packets")
+    endif()
+    # __OPENCL_VERSION__ is the device's to define (PoCL and NVIDIA do); clang alone does not.
+    execute_process(
+      COMMAND "${CLANG}" -x cl -cl-std=CL1.2 -target ${target} -Xclang -finclude-default-header -fsyntax-only
+              -Wall -Wextra -Wdouble-promotion -Wimplicit-float-conversion -Werror
+              -D__OPENCL_VERSION__=120 -DRAY_MAX_FRAMES=5 ${path_option} "${source}"
+      RESULT_VARIABLE status
+      OUTPUT_VARIABLE output
+      ERROR_VARIABLE output)
+    if(NOT status EQUAL 0)
+      message(FATAL_ERROR "the kernel (${path}) does not compile cleanly for ${target}:\n${output}")
+    endif()
+    message("the kernel (${path}) compiles cleanly for ${target} (OpenCL C 1.2)")
+  endforeach()
 endforeach()

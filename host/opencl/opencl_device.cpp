@@ -274,6 +274,7 @@ OpenClDevice describeDevice(const cl::Platform& platform, const cl::Device& devi
     d.isPocl = d.platformName == kPoclPlatformName;
     d.isLlvmpipe = d.name.rfind("llvmpipe", 0) == 0;  // "llvmpipe (LLVM 15.0.6, 256 bits)"
     d.computeUnits = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+    d.nativeFloatWidth = device.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>();
     d.globalMemory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
     d.maxAllocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
     return d;

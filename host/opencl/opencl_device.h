@@ -21,6 +21,7 @@ struct OpenClDevice {
     bool isPocl = false;      // the platform is PoCL (Portable Computing Language)
     bool isLlvmpipe = false;  // Mesa's software rasterizer (rusticl with RUSTICL_ENABLE=llvmpipe)
     unsigned computeUnits = 0;
+    unsigned nativeFloatWidth = 1;  // CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT: 16 with AVX-512, 8 with AVX2
     uint64_t globalMemory = 0, maxAllocation = 0;
 
     std::string description() const;  // "NAME (PLATFORM)"

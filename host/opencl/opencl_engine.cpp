@@ -100,10 +100,27 @@ std::string shortStackOption() {
     return " -DRAY_BVH_SHORT_STACK=" + std::to_string(entries);
 }
 
-std::string buildOptions(int maxDepth) {
+// How many rays a work-item of the device traces together (cl/packet_trace.cl): on a CPU
+// device its native float vector width (16 with AVX-512, 8 with AVX2, 4 with SSE), since
+// PoCL runs a one-ray walk as scalar code; 1 on other devices, whose SIMT is their packet,
+// and on Mesa's llvmpipe, which runs work-items in SIMT lanes as a GPU does (and stands in
+// for one in tests/rusticl.sh). RAY_CPU_PACKETS=0 keeps a CPU device on one ray per
+// work-item, and 4, 8 or 16 sets the width (tests/cpu_paths.sh compares the paths' images).
+int packetLanes(const OpenClDevice& device) {
+    if (!device.isCpu || device.isLlvmpipe) return 1;
+    const std::string setting = std::getenv("RAY_CPU_PACKETS") ? std::getenv("RAY_CPU_PACKETS") : "";
+    if (setting == "0") return 1;
+    if (setting == "4" || setting == "8" || setting == "16") return std::stoi(setting);
+    const unsigned width = device.nativeFloatWidth;
+    return width >= 16 ? 16 : width >= 8 ? 8 : width >= 4 ? 4 : 1;
+}
+
+std::string buildOptions(int maxDepth, int lanes) {
     // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
     // the intersection code relies on IEEE infinities.
-    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption();
+    std::string options = "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption();
+    if (lanes > 1) options += " -DRAY_PACKET_WIDTH=" + std::to_string(lanes);
+    return options;
 }
 
 DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
@@ -423,8 +440,14 @@ private:
 
     void launch(cl::Kernel& kernel, int tile) {
         const TileRect rect = frame_.scheduler->tile(tile);
+        // A work-item renders a block of pixels (cl/shared_types.h RAY_PIXEL_BLOCK_WIDTH).
         const size_t group = frame_.workGroupSize;
-        auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
+        const int lanes = packetLanes(slot_.device);
+        const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(lanes), blockHeight = RAY_PIXEL_BLOCK_HEIGHT(lanes);
+        auto roundUp = [group](int n, int block) {
+            const size_t items = (size_t(n) + size_t(block) - 1) / size_t(block);
+            return (items + group - 1) / group * group;
+        };
         gpu::RayRenderParams params = frame_.params;
         params.image.z = rect.x;
         params.image.w = rect.y;
@@ -444,7 +467,7 @@ private:
         kernel.setArg(kernel_argument::kTileColors, out.colors);
         kernel.setArg(kernel_argument::kTileRayCounts, out.counts);
         Launch l{tile, output, {}};
-        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width), roundUp(rect.height)),
+        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width, blockWidth), roundUp(rect.height, blockHeight)),
                                          cl::NDRange(group, group), hangHook(), &l.event);
         slot_.queue.flush();
         inFlight_.push_back(l);
@@ -590,7 +613,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         start = Clock::now();
         if (hooks.slowBuildSeconds) std::this_thread::sleep_for(std::chrono::seconds(*hooks.slowBuildSeconds));
         DeviceSlot::Program p;
-        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth));
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, packetLanes(slot.device)));
         p.kernel = cl::Kernel(p.program.program, "renderTile");
         p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);
         buildSeconds = secondsSince(start);

@@ -1,0 +1,146 @@
+/* The packet path of CPU devices: a work-item renders a block of RAY_PACKET_WIDTH pixels
+ * (RAY_PIXEL_BLOCK_WIDTH × RAY_PIXEL_BLOCK_HEIGHT, cl/shared_types.h) and traces their camera
+ * rays, and then each light's shadow rays, a packet at a time (traceBvhPacket,
+ * cl/packet_trace.cl). Built only with -DRAY_PACKET_WIDTH (host/opencl/opencl_engine.cpp
+ * passes it to CPU devices); a GPU's work-item renders one pixel (renderPixel), SIMT being
+ * its packet.
+ *
+ * Everything else is the single-ray path's own code, a pixel at a time: each pixel keeps
+ * its sampler (any antialiasing mode), takes its samples and lens rays in its own order and
+ * numbering, is shaded by shadeHit, sums its lights with nextShadowRay and
+ * addUnblockedSample, and walks the rest of its ray tree (reflections, refraction: rays
+ * far less coherent than camera and shadow rays) with walkRayTree. Every ray meets the hit
+ * the single-ray walk gives it, so the image is the single-ray path's to the bit
+ * (tests/cpu_paths.sh compares them). The pixels of a block take their samples together:
+ * a pixel whose antialiasing is done sits out the packets of the others. */
+
+#ifdef RAY_PACKET_WIDTH
+
+#define RAY_BLOCK_WIDTH RAY_PIXEL_BLOCK_WIDTH(RAY_PACKET_WIDTH)
+
+/* Traces camera ray rays[l] of each pixel of `lanes` (non-zero: it has one) through its
+ * whole tree: colors[l], as traceCameraRay gives it. The camera rays go as one packet, then
+ * the shadow rays of their hits, a packet for each light sample in turn. */
+static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
+                                                   const Ray* rays, const int* lanes, PixelTrace* counters,
+                                                   float3* colors) {
+    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    RayTree trees[RAY_PACKET_WIDTH];
+    LightSamples lights[RAY_PACKET_WIDTH];
+    Ray next[RAY_PACKET_WIDTH], shadow[RAY_PACKET_WIDTH];
+    Hit hits[RAY_PACKET_WIDTH];
+    float tMax[RAY_PACKET_WIDTH];
+    int lit[RAY_PACKET_WIDTH], waiting[RAY_PACKET_WIDTH];
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        next[l] = shadow[l] = rays[l]; /* a child's ray keeps the camera sample's time (spawnChild) */
+        tMax[l] = RAY_INFINITY;
+        if (lanes[l]) counters[l].primary++;
+    }
+    traceBvhPacket(scene->nodes, scene->primitives, scene->triangles, scene->motions, rays, tMax, lanes, false,
+                   courseMeshes, hits);
+    /* shadeFrame's steps for the camera ray's frame, the traces aside */
+    bool anyWaiting = false;
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        lit[l] = waiting[l] = 0;
+        if (!lanes[l]) continue;
+        Frame* frame = &trees[l].frames[0];
+        frame->color = packFloat3((float3)(0.0f));
+        frame->childCount = 0;
+        frame->nextChild = 0;
+        lit[l] = hits[l].primitive >= 0 &&
+                 shadeHit(scene, params, &trees[l], 0, rays[l], hits[l], &next[l], &lights[l]);
+        waiting[l] = lit[l] && nextShadowRay(&lights[l], scene, params, &counters[l], &shadow[l], &tMax[l]);
+        anyWaiting |= waiting[l] != 0;
+    }
+    while (anyWaiting) {
+        traceBvhPacket(scene->nodes, scene->primitives, scene->triangles, scene->motions, shadow, tMax, waiting, true,
+                       false, hits);
+        anyWaiting = false;
+        for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+            if (!waiting[l]) continue;
+            if (hits[l].primitive < 0) addUnblockedSample(&lights[l]);
+            waiting[l] = nextShadowRay(&lights[l], scene, params, &counters[l], &shadow[l], &tMax[l]);
+            anyWaiting |= waiting[l] != 0;
+        }
+    }
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!lanes[l]) continue;
+        Frame* frame = &trees[l].frames[0];
+        if (lit[l]) frame->color = packFloat3(unpackFloat3(frame->color) + lights[l].sum);
+        colors[l] = walkRayTree(scene, params, &trees[l], next[l], false, &counters[l]);
+    }
+}
+
+/* One pixel of a block, as renderPixel keeps it. */
+typedef struct {
+    PixelSampler sampler;
+    float2 position; /* of the sample being taken */
+    float2 lens;     /* its lens point (startSample) */
+    float3 sum;      /* of its lens rays' terms so far */
+    float3 color;    /* the pixel's, once its sampler is done */
+    int i, j;        /* its place in the image */
+} BlockPixel;
+
+/* Renders the block whose top left pixel is (x0, y0) of the tile, writing the outputs of its
+ * pixels that lie in the tile and the image (renderTile). */
+static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRenderParams* params, int x0, int y0,
+                                         __global float4* tileColors, __global uint4* tileRayCounts) {
+    BlockPixel pixels[RAY_PACKET_WIDTH];
+    PixelTrace counters[RAY_PACKET_WIDTH];
+    int sampling[RAY_PACKET_WIDTH];
+    bool anySampling = false;
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        BlockPixel* p = &pixels[l];
+        int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
+        p->i = params->image.z + x;
+        p->j = params->image.w + y;
+        const bool inside = x < params->tile.x && y < params->tile.y && p->i < params->image.x && p->j < params->image.y;
+        PixelTrace counter = {0u, 0u, 0u, (uint)(p->j * params->image.x + p->i), 0u, 0u, 0.0f};
+        counters[l] = counter;
+        startSampler(&p->sampler, params);
+        sampling[l] = inside && nextSamplePosition(&p->sampler, params, counter.pixel, &p->position, &p->color);
+        anySampling |= sampling[l] != 0;
+    }
+    const int lensRays = lensRaysPerSample(params);
+    while (anySampling) {
+        for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+            if (!sampling[l]) continue;
+            pixels[l].lens = startSample(params, &counters[l]);
+            pixels[l].sum = (float3)(0.0f);
+        }
+        for (int r = 0; r < lensRays; ++r) {
+            Ray rays[RAY_PACKET_WIDTH];
+            float3 colors[RAY_PACKET_WIDTH];
+            for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+                const BlockPixel* p = &pixels[l];
+                Ray none = {(float3)(0.0f), (float3)(0.0f, 0.0f, 1.0f), 0.0f}; /* a lane without a ray */
+                rays[l] = sampling[l] ? cameraRay(params, (float)p->i, (float)p->j, p->position.x, p->position.y,
+                                                  lensPoint(params, r, p->lens), counters[l].time)
+                                      : none;
+            }
+            tracePacketCameraRays(scene, params, rays, sampling, counters, colors);
+            for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+                if (!sampling[l]) continue;
+                pixels[l].sum += lensRayTerm(params, colors[l]);
+            }
+        }
+        anySampling = false;
+        for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+            BlockPixel* p = &pixels[l];
+            if (!sampling[l]) continue;
+            addSample(&p->sampler, params, p->sum / (float)lensRays, &p->color);
+            sampling[l] = nextSamplePosition(&p->sampler, params, counters[l].pixel, &p->position, &p->color);
+            anySampling |= sampling[l] != 0;
+        }
+    }
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
+        const BlockPixel* p = &pixels[l];
+        if (x >= params->tile.x || y >= params->tile.y || p->i >= params->image.x || p->j >= params->image.y) continue;
+        int pixel = y * params->tile.x + x; /* the outputs hold this tile alone, row by row */
+        tileColors[pixel] = (float4)(p->color, 1.0f);
+        tileRayCounts[pixel] = (uint4)(counters[l].primary, counters[l].shadow, counters[l].secondary, 0u);
+    }
+}
+
+#endif /* RAY_PACKET_WIDTH */
