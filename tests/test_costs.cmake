@@ -22,7 +22,7 @@ set(RAY_TEST_COSTS
   [=[viewer_hostile_clients]=] 60
   [=[kernel matches host on every course scene]=] 58
   [=[rusticl]=] 57
-  [=[cpu_paths]=] 45
+  [=[cpu_paths]=] 90
   [=[mpi]=] 54
   [=[multi_device]=] 40
   [=[kernel_resources]=] 30
