@@ -443,6 +443,13 @@ void printOpenClDevices(std::ostream& out) {
 
 KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options) {
     auto start = std::chrono::steady_clock::now();
+    // PoCL devices of one process build one at a time: two PoCL devices compiling the
+    // packet kernel at once under load ended once in three suite runs with "LLVM ERROR: out
+    // of memory" (POCL_DEVICES="pthread pthread", --device all; never alone). The second
+    // then finds the first's binary in the cache instead of compiling it again.
+    static std::mutex poclBuilds;
+    std::unique_lock<std::mutex> oneAtATime(poclBuilds, std::defer_lock);
+    if (device.isPocl) oneAtATime.lock();
     KernelProgram result;
     result.context = context;
     const std::string source = kernelProgramSource();
