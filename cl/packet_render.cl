@@ -43,10 +43,7 @@ static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, co
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         lit[l] = waiting[l] = 0;
         if (!lanes[l]) continue;
-        Frame* frame = &trees[l].frames[0];
-        frame->color = packFloat3((float3)(0.0f));
-        frame->childCount = 0;
-        frame->nextChild = 0;
+        startFrame(&trees[l].frames[0]);
         lit[l] = hits[l].primitive >= 0 &&
                  shadeHit(scene, params, &trees[l], 0, rays[l], hits[l], &next[l], &lights[l]);
         waiting[l] = lit[l] && nextShadowRay(&lights[l], scene, params, &counters[l], &shadow[l], &tMax[l]);
@@ -65,8 +62,7 @@ static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, co
     }
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         if (!lanes[l]) continue;
-        Frame* frame = &trees[l].frames[0];
-        if (lit[l]) frame->color = packFloat3(unpackFloat3(frame->color) + lights[l].sum);
+        if (lit[l]) addLights(&trees[l].frames[0], &lights[l]);
         colors[l] = walkRayTree(scene, params, &trees[l], next[l], false, &counters[l]);
     }
 }
@@ -79,6 +75,7 @@ typedef struct {
     float3 sum;      /* of its lens rays' terms so far */
     float3 color;    /* the pixel's, once its sampler is done */
     int i, j;        /* its place in the image */
+    bool inside;     /* in the tile and the image: rendered and written */
 } BlockPixel;
 
 /* Renders the block whose top left pixel is (x0, y0) of the tile, writing the outputs of its
@@ -94,11 +91,11 @@ static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRen
         int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
         p->i = params->image.z + x;
         p->j = params->image.w + y;
-        const bool inside = x < params->tile.x && y < params->tile.y && p->i < params->image.x && p->j < params->image.y;
+        p->inside = x < params->tile.x && y < params->tile.y && p->i < params->image.x && p->j < params->image.y;
         PixelTrace counter = {0u, 0u, 0u, (uint)(p->j * params->image.x + p->i), 0u, 0u, 0.0f};
         counters[l] = counter;
         startSampler(&p->sampler, params);
-        sampling[l] = inside && nextSamplePosition(&p->sampler, params, counter.pixel, &p->position, &p->color);
+        sampling[l] = p->inside && nextSamplePosition(&p->sampler, params, counter.pixel, &p->position, &p->color);
         anySampling |= sampling[l] != 0;
     }
     const int lensRays = lensRaysPerSample(params);
@@ -134,9 +131,9 @@ static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRen
         }
     }
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
-        int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
         const BlockPixel* p = &pixels[l];
-        if (x >= params->tile.x || y >= params->tile.y || p->i >= params->image.x || p->j >= params->image.y) continue;
+        if (!p->inside) continue;
+        int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
         int pixel = y * params->tile.x + x; /* the outputs hold this tile alone, row by row */
         tileColors[pixel] = (float4)(p->color, 1.0f);
         tileRayCounts[pixel] = (uint4)(counters[l].primary, counters[l].shadow, counters[l].secondary, 0u);

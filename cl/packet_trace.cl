@@ -5,11 +5,13 @@
  * Why: PoCL runs traceBvh, one ray per work-item, as scalar code (its control flow is too
  * divergent to vectorise across work-items), so a CPU's 8- or 16-wide vector units idle.
  * Here a node's box is tested for every ray of the packet in one floatN slab test, and the
- * walk descends into a child while any ray of the packet enters it. Leaves are intersected
- * ray by ray with the single-ray walk's own intersectPrimitive, for the rays that enter the
- * leaf's box within their nearest hit so far: every ray gets exactly the hit traceBvh gives
- * it (hits are ranked by distance and then by order, Hit.order, whatever the order in
- * which they are found), so the images are the single-ray path's to the bit.
+ * walk descends into a child while any ray of the packet enters it. A leaf's primitives are
+ * intersected for the rays that enter its box within their nearest hit so far: cubes,
+ * spheres, cylinders and cones for those rays at once (packetIntersectPrimitive: the
+ * single-ray intersectors' operations in floatN), the others ray by ray with the single-ray
+ * walk's own intersectPrimitive. Every ray gets exactly the hit traceBvh gives it (hits are
+ * ranked by distance and then by order, Hit.order, whatever the order in which they are
+ * found), so the images are the single-ray path's to the bit.
  *
  * The lanes' entry distances travel on the stack with their node, so that a node popped
  * after every ray found something nearer is skipped, as the single-ray walk skips it. */
@@ -366,12 +368,14 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
                               int count, bool anyHit, bool courseMeshes, BvhStackEntry* spare, Hit* hits,
                               PacketHitKeys* keys, PacketLanes* limits) {
     int lanes[RAY_PACKET_WIDTH];
-    RAY_PACKET_STORE(entering, lanes);
+    bool lanesStored = false; /* lanes holds `entering`, for the primitives tested ray by ray */
     for (int i = first; i < first + count; ++i) {
         if (!moving && packetShape(prims[i].info.x)) {
             packetIntersectPrimitive(&prims[i], i, packet, entering, keys, hits);
             continue;
         }
+        if (!lanesStored) RAY_PACKET_STORE(entering, lanes);
+        lanesStored = true;
         for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
             if (!lanes[l]) continue;
             intersectPrimitive(nodes, triangles, motions, &prims[i], i, rays[l], courseMeshes, spare,

@@ -274,6 +274,18 @@ static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* pa
     return true;
 }
 
+/* A frame about to be shaded: no color and no children yet. */
+static inline void startFrame(Frame* frame) {
+    frame->color = packFloat3((float3)(0.0f));
+    frame->childCount = 0;
+    frame->nextChild = 0;
+}
+
+/* Adds a shaded frame's direct lighting, summed (LightSamples), to its color. */
+static inline void addLights(Frame* frame, const LightSamples* lights) {
+    frame->color = packFloat3(unpackFloat3(frame->color) + lights->sum);
+}
+
 /* Traces the ray of frame tree->frames[depth], shades the hit and records the rays it
  * spawns (spawnChild: the first into the frame above and *next). One traceBvh call traces
  * the frame's ray (closest hit) and then the shadow ray of each light sample (any hit;
@@ -291,9 +303,7 @@ RAY_INLINED_OFF_POCL
 void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray frameRay,
                 Ray* next, PixelTrace* counter) {
     Frame* frame = &tree->frames[depth];
-    frame->color = packFloat3((float3)(0.0f));
-    frame->childCount = 0;
-    frame->nextChild = 0;
+    startFrame(frame);
     const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
     LightSamples lights;
     bool shadowRay = false; /* ray: a light sample's shadow ray, or else the frame's ray */
@@ -311,7 +321,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
         if (!nextShadowRay(&lights, scene, params, counter, &ray, &tMax)) break;
         shadowRay = true;
     }
-    frame->color = packFloat3(unpackFloat3(frame->color) + lights.sum);
+    addLights(frame, &lights);
 }
 
 /* The color of one camera ray's tree of reflected and refracted rays, depth first, from

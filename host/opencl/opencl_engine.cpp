@@ -170,6 +170,7 @@ struct Frame;
 struct DeviceSlot {
     OpenClDevice device;
     int index = 0;  // position in the engine's selection
+    int packetLanes = 1;  // rays a work-item traces together (packetLanes): the kernel's build and launches
 
     // The thread's mailbox, under `mutex`.
     std::mutex mutex;
@@ -442,8 +443,8 @@ private:
         const TileRect rect = frame_.scheduler->tile(tile);
         // A work-item renders a block of pixels (cl/shared_types.h RAY_PIXEL_BLOCK_WIDTH).
         const size_t group = frame_.workGroupSize;
-        const int lanes = packetLanes(slot_.device);
-        const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(lanes), blockHeight = RAY_PIXEL_BLOCK_HEIGHT(lanes);
+        const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(slot_.packetLanes);
+        const int blockHeight = RAY_PIXEL_BLOCK_HEIGHT(slot_.packetLanes);
         auto roundUp = [group](int n, int block) {
             const size_t items = (size_t(n) + size_t(block) - 1) / size_t(block);
             return (items + group - 1) / group * group;
@@ -613,7 +614,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         start = Clock::now();
         if (hooks.slowBuildSeconds) std::this_thread::sleep_for(std::chrono::seconds(*hooks.slowBuildSeconds));
         DeviceSlot::Program p;
-        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, packetLanes(slot.device)));
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes));
         p.kernel = cl::Kernel(p.program.program, "renderTile");
         p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);
         buildSeconds = secondsSince(start);
@@ -712,6 +713,7 @@ OpenClEngine::OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenC
     for (const OpenClDevice& d : impl_->selection) {
         auto slot = std::make_shared<DeviceSlot>();
         slot->device = d;
+        slot->packetLanes = packetLanes(d);
         slot->index = int(impl_->slots.size());
         slot->thread = std::thread(serveFrames, slot);
         impl_->slots.push_back(std::move(slot));
