@@ -259,6 +259,9 @@ struct Frame {
     uint64_t pixelsDone = 0, pixelsTotal = 0;
     double slowestTileSeconds = 0;  // any device's, this frame, warm-up tiles aside
     double uploadSeconds = 0, buildSeconds = 0;
+    // When the first device began its tiles (its scene uploaded, its kernel built): where
+    // the render's time starts, so that the statistics' kernel build and render are apart.
+    std::optional<Clock::time_point> renderingSince;
 
     // One device's part in the frame.
     struct Flight {
@@ -649,6 +652,7 @@ void serveFrame(DeviceSlot& slot, Frame& frame) {
                 // Done without it (its program is kept for the next frame), or cancelled.
                 if (frame.closed || p.part != Frame::Part::Preparing) return;
                 p.part = Frame::Part::Rendering;
+                if (!frame.renderingSince) frame.renderingSince = Clock::now();
                 p.warm = slot.programs.at(frame.settings.maxDepth).warm;
                 p.slowestTileSeconds = slot.slowestTileSeconds;
                 p.lastAnswer = Clock::now();
@@ -912,6 +916,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
             stats.devices[i].busySeconds = frame->devices[i].busySeconds;
             stats.devices[i].building = frame->devices[i].part == Frame::Part::Preparing;
         }
+        renderStart = frame->renderingSince.value_or(renderStart);
     }
     stats.renderSeconds = secondsSince(renderStart);
 
