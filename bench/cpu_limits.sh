@@ -46,9 +46,11 @@ ray = embree["ray_mrays_per_second"]
 single = embree["embree_frame"]["single"]["mrays_per_second"]
 lines = ["| measure | figure | target |", "|---|---:|---:|",
          f"| chess: ray Mrays/s / Embree single rays ({ray:.1f} / {single:.1f}) | {ray / single:.2f} | ≥ 0.80 |"]
+def ratio(row, key):  # absent where a run of either program failed
+    return f"{row[key]:.2f}" if row.get(key) else "–"
 for r in pov:
-    lines.append(f"| {r['scene']}: ray Mrays/s / POV-Ray's | {r.get('mrays_ratio', 0):.2f} | ≥ 3 |")
-    lines.append(f"| {r['scene']}: POV-Ray wall s / ray's | {r.get('wall_ratio', 0):.2f} | ≥ 3 |")
+    lines.append(f"| {r['scene']}: ray Mrays/s / POV-Ray's | {ratio(r, 'mrays_ratio')} | ≥ 3 |")
+    lines.append(f"| {r['scene']}: POV-Ray wall s / ray's | {ratio(r, 'wall_ratio')} | ≥ 3 |")
 text = "\n".join(lines) + "\n"
 open(f"{out}/summary.md", "w").write(text)
 print(text)

@@ -651,11 +651,12 @@ void serveFrame(DeviceSlot& slot, Frame& frame) {
                 Frame::Participant& p = frame.devices[size_t(index)];
                 // Done without it (its program is kept for the next frame), or cancelled.
                 if (frame.closed || p.part != Frame::Part::Preparing) return;
+                const Clock::time_point now = Clock::now();
                 p.part = Frame::Part::Rendering;
-                if (!frame.renderingSince) frame.renderingSince = Clock::now();
+                if (!frame.renderingSince) frame.renderingSince = now;
                 p.warm = slot.programs.at(frame.settings.maxDepth).warm;
                 p.slowestTileSeconds = slot.slowestTileSeconds;
-                p.lastAnswer = Clock::now();
+                p.lastAnswer = now;
             }
             DeviceWorker(frame, slot).run(kernel);
         } catch (const cl::Error& err) {
@@ -875,7 +876,7 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
 
     // Each device that is left gets the frame: it starts as soon as its own kernel is built.
     const uint64_t number = ++e.frames;
-    auto renderStart = Clock::now();
+    const auto renderStart = Clock::now();
     for (size_t i = 0; i < e.slots.size(); ++i) {
         DeviceSlot& slot = *e.slots[i];
         std::lock_guard lock(slot.mutex);
@@ -916,9 +917,8 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
             stats.devices[i].busySeconds = frame->devices[i].busySeconds;
             stats.devices[i].building = frame->devices[i].part == Frame::Part::Preparing;
         }
-        renderStart = frame->renderingSince.value_or(renderStart);
+        stats.renderSeconds = secondsSince(frame->renderingSince.value_or(renderStart));
     }
-    stats.renderSeconds = secondsSince(renderStart);
 
     // Every failure is reported once: in this frame, or, for a device that failed after its
     // frame was done (a build that failed late), in the next.
