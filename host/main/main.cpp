@@ -10,6 +10,7 @@
 #include "app/progress.h"
 #include "app/render_command.h"
 #include "app/mpi_launch.h"
+#include "core/huge_pages.h"
 #include "devices/renderer.h"
 #include "explain/explain_command.h"
 
@@ -108,6 +109,7 @@ int dispatch(const std::vector<std::string>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    restartWithHugePageHeap(argv);  // core/huge_pages.h: at most once, before any thread
     const std::vector<std::string> args(argv + 1, argv + argc);
 #ifdef RAY_HAVE_MPI
     // Started by mpirun: the render command across every rank (distributed/mpi_render.h),
