@@ -219,23 +219,37 @@ static inline bool lightFacing(LightSamples* s, __global const RayLight* light, 
     return true;
 }
 
+/* The base of the highlight's power of the light sample lightFacing took: max(R·V, 0). */
+static inline float highlightBase(const LightSamples* s) {
+    float3 reflected = 2.0f * s->nDotL * s->normal - s->towardLight;
+    return fmax(dot(reflected, s->towardEye), 0.0f);
+}
+
+/* highlightBase(s)^n (n the shininess): pow(+0, n) is +0 for n > 0, taken without the call,
+ * PoCL's costliest (a fifth of recursiveCones4's kernel time). */
+static inline float highlightPower(float base, float shininess) {
+    return base > 0.0f || shininess <= 0.0f ? pow(base, shininess) : 0.0f;
+}
+
 /* The term of the light sample lightFacing took, unblocked: f_att · S · I_L ·
- * [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]. */
-static inline float3 litSample(const LightSamples* s) {
+ * [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n], given max(R·V, 0)^n (read only with a highlight). */
+static inline float3 litSampleWithPower(const LightSamples* s, float power) {
     float3 lit = s->diffuse * s->nDotL;
-    if (s->highlight) {
-        float3 reflected = 2.0f * s->nDotL * s->normal - s->towardLight;
-        lit += s->specular * pow(fmax(dot(reflected, s->towardEye), 0.0f), s->shininess);
-    }
+    if (s->highlight) lit += s->specular * power;
     return s->attenuation * s->intensity * lit;
 }
 
-/* Adds the sample whose shadow ray found no blocker. Blocked samples and those lightFacing
- * turned down add nothing: skipping them is adding +0, as the sum starts at +0 and so is
- * never −0. */
-static inline void addUnblockedSample(LightSamples* s) {
-    float3 term = litSample(s); /* a statement of its own: not contracted into the sum */
+/* Adds the sample whose shadow ray found no blocker, given its highlight's power (the
+ * packet path takes its lanes' powers at once: cl/packet_render.cl). Blocked samples and
+ * those lightFacing turned down add nothing: skipping them is adding +0, as the sum starts
+ * at +0 and so is never −0. */
+static inline void addUnblockedSampleWithPower(LightSamples* s, float power) {
+    float3 term = litSampleWithPower(s, power); /* a statement of its own: not contracted into the sum */
     s->sum += term;
+}
+
+static inline void addUnblockedSample(LightSamples* s) {
+    addUnblockedSampleWithPower(s, s->highlight ? highlightPower(highlightBase(s), s->shininess) : 0.0f);
 }
 
 /* Walks on to the next light sample that needs a shadow ray, lights and cells in order, and
