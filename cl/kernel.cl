@@ -22,8 +22,15 @@ __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_
                                               __global float4* tileColors, __global uint4* tileRayCounts) {
     SceneBuffers scene = {RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_NAME)};
 #ifdef RAY_PACKET_WIDTH
-    int x0 = get_global_id(0) * RAY_PIXEL_BLOCK_WIDTH(RAY_PACKET_WIDTH);
-    int y0 = get_global_id(1) * RAY_PIXEL_BLOCK_HEIGHT(RAY_PACKET_WIDTH);
+    /* Work-item l of group g (along each axis) renders block l · groups + g: a group's
+     * blocks are spread over the whole tile, every groups-th block, rather than one corner
+     * of it. PoCL's threads take a launch's groups in runs (with 16 groups and 2 threads,
+     * 8 each), so groups of one corner each left one thread idle while the other rendered
+     * the busy half of the tile; spread, the groups cost alike. */
+    int blockX = get_local_id(0) * get_num_groups(0) + get_group_id(0);
+    int blockY = get_local_id(1) * get_num_groups(1) + get_group_id(1);
+    int x0 = blockX * RAY_PIXEL_BLOCK_WIDTH(RAY_PACKET_WIDTH);
+    int y0 = blockY * RAY_PIXEL_BLOCK_HEIGHT(RAY_PACKET_WIDTH);
     if (x0 >= params.tile.x || y0 >= params.tile.y) return;
     renderBlock(&scene, &params, x0, y0, tileColors, tileRayCounts);
 #else
