@@ -1,5 +1,6 @@
 #include "opencl/opencl_device.h"
 
+#include <sched.h>
 #include <sys/stat.h>
 
 #include <unistd.h>
@@ -167,8 +168,36 @@ fs::path ourPoclCacheFolder() {
     return ours.empty() ? ours : ours / "pocl";
 }
 
-void preparePoclCacheFolder() {
+// Whether this process may run on every online CPU, numbered 0..n-1 without a gap: then
+// PoCL's worker thread i (one for each CPU it may use, at most n) can be pinned to CPU i.
+// Pinned where the process is confined (taskset, a cgroup's cpuset), PoCL 3.1 would ask
+// for a CPU outside its set, and it aborts when that fails.
+bool mayRunOnEveryCpu() {
+    const long online = ::sysconf(_SC_NPROCESSORS_ONLN);
+    cpu_set_t allowed;
+    if (online <= 0 || online > CPU_SETSIZE || ::sched_getaffinity(0, sizeof allowed, &allowed) != 0) return false;
+    for (long cpu = 0; cpu < online; ++cpu)
+        if (!CPU_ISSET(cpu, &allowed)) return false;
+    return true;
+}
+
+// PoCL's CPU device runs its work-groups on a pool of worker threads, which Linux placed on
+// one CPU at the start of a frame (both had last run there) and left there for 25 ms
+// while the other CPU idled: a cache-hot thread is not moved to an idle CPU at once. So
+// ray asks PoCL to pin worker i to CPU i (POCL_AFFINITY=1) where that is safe (above) and
+// the variable is unset: recursiveCones4 at 1024x768 rendered in 0.153 s against 0.169 s,
+// chess in 0.095 s against 0.106 s (docs/performance.md). POCL_AFFINITY=0 leaves the
+// threads to the scheduler; so does a POCL_MAX_PTHREAD_COUNT, which may ask for more
+// threads than CPUs.
+void preparePoclThreads() {
+    if (std::getenv("POCL_AFFINITY") || std::getenv("POCL_MAX_PTHREAD_COUNT") || !mayRunOnEveryCpu()) return;
+    ::setenv("POCL_AFFINITY", "1", 0);
+}
+
+// What PoCL reads from the environment as it starts, set before the first OpenCL call.
+void preparePoclEnvironment() {
     static const bool done = [] {
+        preparePoclThreads();
         if (poclCacheFromEnvironment()) return true;
         fs::path folder = writablePrivateFolder(ourPoclCacheFolder(), "pocl");
         if (!folder.empty()) ::setenv("POCL_CACHE_DIR", folder.c_str(), 0);
@@ -283,7 +312,7 @@ OpenClDevice describeDevice(const cl::Platform& platform, const cl::Device& devi
 // Every device of every platform, platforms sorted (see enumerateOpenClDevices), and what
 // each platform said.
 Enumeration enumerateDevices() {
-    preparePoclCacheFolder();
+    preparePoclEnvironment();
     // One thread at a time: PoCL 3.1 lists no device to a second thread that asks while a
     // first one is starting it (startOpenClInBackground made that happen).
     static std::mutex oneAtATime;
@@ -410,7 +439,7 @@ std::string llvmpipeWarning(const OpenClDevice& device) {
 }
 
 std::jthread startOpenClInBackground() {
-    preparePoclCacheFolder();  // here: it may set an environment variable, which no thread may do
+    preparePoclEnvironment();  // here: it may set an environment variable, which no thread may do
     return std::jthread([] {
         try {
             enumerateDevices();
