@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -74,7 +75,11 @@ struct KernelProgram {
 // reusing a cached binary when the source, options, device and driver are the same. The
 // cache lives in $RAY_CACHE_DIR, else $XDG_CACHE_HOME/ray, else ~/.cache/ray; a cache that
 // cannot be written is skipped silently. Throws DeviceError with the build log on failure.
-KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options);
+// PoCL devices build one at a time; `firstRun`, when given, is called with the built program
+// before the next may start: PoCL compiles (or takes from its cache) a kernel's work-group
+// function at its first launch, and that too must not run on two PoCL devices at once.
+KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options,
+                                 const std::function<void(const cl::Program&)>& firstRun = {});
 
 // Describes an OpenCL error code ("CL_OUT_OF_RESOURCES (-5)").
 std::string openClErrorName(cl_int code);

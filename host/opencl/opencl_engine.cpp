@@ -578,6 +578,26 @@ private:
     double busySeconds_ = 0;
 };
 
+// Runs a newly built program's kernel once on a tile of no pixels, the scene's buffers bound
+// (buildKernelProgram's firstRun): PoCL finishes building a kernel at its first launch,
+// where it compiles (or takes from its cache) the work-group function for the launch's
+// local size, and PoCL devices must do that one at a time. It also keeps that work out of
+// the frame's first tile.
+void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const gpu::RayRenderParams& frameParams,
+                      size_t group) {
+    cl::Kernel kernel(program, "renderTile");
+    gpu::RayRenderParams params = frameParams;
+    params.tile = {0, 0, 0, 0};  // every work-item returns before it reads or writes a buffer
+    kernel.setArg(kernel_argument::kParams, sizeof(params), &params);
+    for (size_t i = 0; i < kSceneBufferCount; ++i)
+        kernel.setArg(kernel_argument::kFirstSceneBuffer + cl_uint(i), slot.sceneBuffers[i]);
+    cl::Buffer unwritten(slot.context, CL_MEM_WRITE_ONLY, sizeof(cl_float4) + sizeof(cl_uint4));
+    kernel.setArg(kernel_argument::kTileColors, unwritten);
+    kernel.setArg(kernel_argument::kTileRayCounts, unwritten);
+    slot.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group, group), cl::NDRange(group, group));
+    slot.queue.finish();
+}
+
 // Uploads the scene (when the device holds another packing), sizes the output buffers,
 // builds (or reuses) the program for the frame's depth and binds the buffers. Reports the
 // seconds spent uploading and building to the frame.
@@ -617,7 +637,10 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         start = Clock::now();
         if (hooks.slowBuildSeconds) std::this_thread::sleep_for(std::chrono::seconds(*hooks.slowBuildSeconds));
         DeviceSlot::Program p;
-        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes));
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes),
+                                       [&](const cl::Program& program) {
+                                           launchOnNoPixels(slot, program, frame.params, frame.workGroupSize);
+                                       });
         p.kernel = cl::Kernel(p.program.program, "renderTile");
         p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);
         buildSeconds = secondsSince(start);
