@@ -65,4 +65,9 @@ std::jthread startDeviceEarly(const std::string& device);
 // Prints every OpenCL platform and device with its index (--list-devices).
 void printDeviceList(std::ostream& out);
 
+// For main, as the process ends: no device's kernel build may run on while exit's handlers
+// destroy the drivers' static objects (opencl/opencl_device.h endWithoutPoclBuilds).
+// Returns the exit code, or ends the process with it.
+int endProcessCleanly(int exitCode);
+
 }  // namespace ray

@@ -114,11 +114,13 @@ int main(int argc, char** argv) {
 #ifdef RAY_HAVE_MPI
     // Started by mpirun: the render command across every rank (distributed/mpi_render.h),
     // in libray_mpi.so.
-    if (launchedByMpirun()) return runMpiModule(argc, argv);
+    if (launchedByMpirun()) return endProcessCleanly(runMpiModule(argc, argv));
 #endif
+    int exitCode;
     try {
-        return dispatch(args);
+        exitCode = dispatch(args);
     } catch (...) {
-        return reportFailure(std::current_exception());
+        exitCode = reportFailure(std::current_exception());
     }
+    return endProcessCleanly(exitCode);
 }

@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstdio>
+#include <iostream>
 #include <algorithm>
 #include <filesystem>
 #include <functional>
@@ -470,6 +472,23 @@ void printOpenClDevices(std::ostream& out) {
     out << "ref: the host reference renderer (always available)\n";
 }
 
+namespace {
+std::mutex poclCompiler;  // poclCompilerLock's
+}  // namespace
+
+std::unique_lock<std::mutex> poclCompilerLock(const OpenClDevice& device, bool wait) {
+    if (!device.isPocl) return {};
+    return wait ? std::unique_lock(poclCompiler) : std::unique_lock(poclCompiler, std::try_to_lock);
+}
+
+int endWithoutPoclBuilds(int exitCode) {
+    if (poclCompiler.try_lock()) return exitCode;  // kept to the end: no build starts now
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    std::_Exit(exitCode);
+}
+
 KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& context, const std::string& options,
                                  const std::function<void(const cl::Program&)>& firstRun) {
     auto start = std::chrono::steady_clock::now();
@@ -479,9 +498,7 @@ KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& 
     // then finds the first's binary in the cache instead of compiling it again. The same
     // failure came back once in three suite runs with the builds one at a time: the first
     // launches, where PoCL compiles the work-group function, still ran at once (firstRun).
-    static std::mutex poclBuilds;
-    std::unique_lock<std::mutex> oneAtATime(poclBuilds, std::defer_lock);
-    if (device.isPocl) oneAtATime.lock();
+    const std::unique_lock oneAtATime = poclCompilerLock(device);
     KernelProgram result;
     result.context = context;
     const std::string source = kernelProgramSource();

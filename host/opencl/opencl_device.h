@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -62,6 +63,20 @@ std::jthread startOpenClInBackground();
 // processes compile into it at once, as the ranks of a distributed render on one machine
 // would. Call before the first OpenCL call (PoCL reads the variable when it starts).
 void usePrivatePoclCacheFolder(const std::string& leaf);
+
+// The lock under which the PoCL devices of this process build programs (buildKernelProgram)
+// and let them go (a PoCL program frees its LLVM modules as it goes): held for a PoCL
+// device, empty for any other. With `wait` false it is taken only if it is free.
+std::unique_lock<std::mutex> poclCompilerLock(const OpenClDevice& device, bool wait = true);
+
+// For main, with its exit code, as the process ends (its output written): exit's handlers
+// destroy LLVM's static objects, and a PoCL device still building its kernel on a thread of
+// its own (the frame was done without it) would parse bitcode with them half gone (LLVM
+// ERROR: out of memory in UpgradeIntrinsicFunction's static Regex: the corpus on --device
+// all with POCL_DEVICES="pthread pthread", once or twice a run). So no build runs past
+// this point: while one runs, the process ends at once without those handlers (_Exit, its
+// streams flushed); otherwise the builds' lock is kept to the end. Returns the exit code.
+int endWithoutPoclBuilds(int exitCode);
 
 struct KernelProgram {
     cl::Context context;

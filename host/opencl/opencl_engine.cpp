@@ -222,6 +222,19 @@ struct DeviceSlot {
     std::map<int, Program> programs;  // by maximum depth
     double slowestTileSeconds = 0;    // the slowest tile it has rendered (warm-up tiles aside)
     std::optional<cl::UserEvent> neverSet;  // RAY_TEST_HANG_DEVICE: what its launches wait for
+
+    // The programs go under the lock of the PoCL builds: PoCL frees a program's LLVM module
+    // as it goes, and LLVM 15 must not do that while another thread parses bitcode (a PoCL
+    // device still building as the process ended, the other done with the frame: the
+    // corpus on --device all with POCL_DEVICES="pthread pthread" aborted with "LLVM ERROR:
+    // out of memory" in UpgradeIntrinsicFunction, once or twice a run). While a build holds
+    // the lock, they are left for the process's end rather than waited for: a cold build
+    // takes seconds, and an interrupted ray exits at once.
+    ~DeviceSlot() {
+        const std::unique_lock released = poclCompilerLock(device, false);
+        if (device.isPocl && !released.owns_lock()) new std::map<int, Program>(std::move(programs));  // kept
+        programs.clear();
+    }
 };
 
 // The state of one frame, shared by the engine's thread and the device threads. The caller's
