@@ -495,9 +495,11 @@ KernelProgram buildKernelProgram(const OpenClDevice& device, const cl::Context& 
     // PoCL devices of one process build one at a time: two PoCL devices compiling the
     // packet kernel at once under load ended once in three suite runs with "LLVM ERROR: out
     // of memory" (POCL_DEVICES="pthread pthread", --device all; never alone). The second
-    // then finds the first's binary in the cache instead of compiling it again. The same
-    // failure came back once in three suite runs with the builds one at a time: the first
-    // launches, where PoCL compiles the work-group function, still ran at once (firstRun).
+    // then finds the first's binary in the cache instead of compiling it again. The first
+    // launch (firstRun), where PoCL compiles the work-group function with LLVM, is made
+    // under the same lock. (The same message came back with the builds one at a time: a
+    // build still running as the process ended or another device's program was freed,
+    // which endWithoutPoclBuilds and DeviceSlot's destructor now prevent.)
     const std::unique_lock oneAtATime = poclCompilerLock(device);
     KernelProgram result;
     result.context = context;
