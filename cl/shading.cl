@@ -226,7 +226,7 @@ static inline float highlightBase(const LightSamples* s) {
 }
 
 /* highlightBase(s)^n (n the shininess): pow(+0, n) is +0 for n > 0, taken without the call,
- * PoCL's costliest (a fifth of recursiveCones4's kernel time). */
+ * PoCL's costliest (addUnblockedSamples, cl/packet_render.cl, takes the same for a packet). */
 static inline float highlightPower(float base, float shininess) {
     return base > 0.0f || shininess <= 0.0f ? pow(base, shininess) : 0.0f;
 }
