@@ -443,6 +443,11 @@ static inline NodeChildren everyPrimitiveUnder(__global const RayWideBvhNode* no
  * gfx906 builds in 144 B less scratch than a loop whose children come from a helper that
  * writes them through a pointer (faster on PoCL by 4%). */
 #define RAY_WALK_EVERY_PRIMITIVE (-2)
+
+/* The sixteen-wide walk of CPU devices (traceBvh) holds both kinds of node in one stack: its
+ * own by their index (>= 0), and the four-wide nodes it goes on into (a child of count -1,
+ * RayCpuBvhNode) as fourWideRef(index) (<= -3, below the walk's other values). */
+static inline int fourWideRef(int node) { return -3 - node; }
 static inline int afterOverflow(int next, BvhStack* stack) {
     if (next >= 0 || !stack->overflowed) return next;
     stack->overflowed = false;
@@ -506,49 +511,208 @@ static inline float pruneDistance(const Hit* hit, bool courseMeshes) { return co
  * could not share their stacks' scratch. */
 static inline bool anyHitFound(bool anyHit, const Hit* hit) { return anyHit && hit->primitive >= 0; }
 
+/* A walk's start: no hit below tMax yet. */
+static inline void startTrace(Hit* hit, float tMax) {
+    hit->t = tMax;
+    hit->primitive = -1;
+    hit->order = 0; /* read (as a select) before any hit is recorded */
+}
+
+/* Intersects the primitives [first, first + count) (a leaf) for the ray, a mesh's walk among
+ * them using the stack's free entries. */
+static inline void intersectLeaf(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
+                                 __global const RayTriangle* triangles, __global const float4* motions, Ray ray,
+                                 bool courseMeshes, const BvhStack* stack, int first, int count, Hit* hit) {
+    for (int i = first; i < first + count; ++i)
+        intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, stack->entries + stack->top,
+                           stack->capacity - stack->top, hit);
+}
+
+/* One step of the four-wide walk (traceBvh): node `node`'s children tested, the leaves among
+ * them intersected, the nearest inner child entered next and the others pushed, or the walk
+ * resumed from the stack; at RAY_WALK_EVERY_PRIMITIVE, every primitive under the root at
+ * once (afterOverflow). Returns the next node, -1 when the walk is over. With fourWideRefs,
+ * the inner children are handed on as references into the four-wide tree from the
+ * sixteen-wide walk of CPU devices (fourWideRef). */
+static inline RAY_INLINED_OFF_POCL
+int fourWideStep(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
+                 __global const RayTriangle* triangles, __global const float4* motions, Ray ray,
+                 float3 inverseDirection, bool anyHit, bool courseMeshes, bool fourWideRefs, BvhStack* stack,
+                 int node, Hit* hit) {
+    /* The prune distance, read once for the node's boxes and children and again only after a
+     * leaf's primitives, where it changes: read at each use, PoCL reloaded hit->t through the
+     * pointer that intersectPrimitive (a call there) writes, 3 instructions each time (chess
+     * 130.5 -> 122.6 M). */
+    float limit = pruneDistance(hit, courseMeshes);
+    NodeChildren children = node == RAY_WALK_EVERY_PRIMITIVE
+                                ? everyPrimitiveUnder(nodes, 0)
+                                : testChildren(&nodes[node], ray.origin, inverseDirection, limit);
+    InnerChildren inner;
+    inner.count = 0;
+    for (int c = 0; c < 4; ++c) {
+        if (!enteredBy(children.entry[c], limit)) continue;
+        const int first = children.index[c], count = children.count[c];
+        if (count > 0) {
+            intersectLeaf(nodes, prims, triangles, motions, ray, courseMeshes, stack, first, count, hit);
+            if (anyHitFound(anyHit, hit)) break;
+            limit = pruneDistance(hit, courseMeshes);
+        } else {
+            addInnerChild(&inner, fourWideRefs ? fourWideRef(first) : first, children.entry[c], !anyHit);
+        }
+    }
+    return anyHitFound(anyHit, hit) ? -1 : afterOverflow(nextNode(&inner, stack, limit), stack);
+}
+
+#ifdef POCL_DEVICE_ADDRESS_BITS
+/* CPU devices walk the sixteen-wide tree (RayCpuBvhNode, cl/shared_types.h): the children
+ * of a node are tested in one float16 slab test, and the children entered become bit masks,
+ * so that a step's branches are one per leaf entered and one on how many inner children
+ * are, rather than two a child. Below the sixteen-wide nodes the walk goes on in the
+ * four-wide tree (fourWideStep, children of count -1), one stack holding nodes of both.
+ * The stack holds the up to fifteen children a step pushes: three times
+ * RAY_BVH_SHORT_STACK (a test's tiny short stack still makes it overflow). */
+#define RAY_CPU_BVH_STACK (3 * RAY_BVH_SHORT_STACK)
+
+static inline bool isFourWideRef(int next) { return next <= -3; } /* fourWideRef */
+
+static inline float16 minNumber16(float16 a, float16 b) { return select(b, a, a < b); }
+static inline float16 maxNumber16(float16 a, float16 b) { return select(b, a, a > b); }
+
+/* childEntryDistances for the sixteen children: the same arithmetic, a lane a child. */
+static inline float16 cpuChildEntryDistances(__global const RayCpuBvhNode* node, float3 origin,
+                                             float3 inverseDirection, float tMax) {
+    float16 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
+    float16 ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y;
+    float16 tz0 = (node->minZ - origin.z) * inverseDirection.z, tz1 = (node->maxZ - origin.z) * inverseDirection.z;
+    float16 tNear = maxNumber16(maxNumber16(minNumber16(tx0, tx1), minNumber16(ty0, ty1)),
+                                maxNumber16(minNumber16(tz0, tz1), (float16)(0.0f)));
+    float16 tFar = minNumber16(minNumber16(maxNumber16(tx0, tx1), maxNumber16(ty0, ty1)),
+                               minNumber16(maxNumber16(tz0, tz1), (float16)(tMax)));
+    return select((float16)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
+}
+
+/* The lanes of a comparison's result (-1: true) as bits, lane c as bit c. */
+static inline uint laneBits(int16 lanes) {
+    int16 bits = lanes & (int16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768);
+    int8 b8 = bits.lo | bits.hi;
+    int4 b4 = b8.lo | b8.hi;
+    int2 b2 = b4.lo | b4.hi;
+    return (uint)(b2.x | b2.y);
+}
+
+/* The lowest bit set (of a non-zero mask), and the mask without it. */
+static inline int takeLowestLane(uint* bits) {
+    uint lowest = *bits & (0u - *bits);
+    *bits ^= lowest;
+    return 31 - (int)clz(lowest);
+}
+
+/* Inner child c of a sixteen-wide node as the walk holds it: a node of the sixteen-wide
+ * tree, or (count -1) a reference into the four-wide one (fourWideRef). */
+static inline int cpuInnerChild(__global const RayCpuBvhNode* node, int c) {
+    const int index = ((__global const int*)&node->index)[c];
+    return ((__global const int*)&node->count)[c] == 0 ? index : fourWideRef(index);
+}
+
+/* nextNode for a sixteen-wide node whose inner children `inners` (bits) the ray enters by
+ * `limit`: descend into the nearest (closest hits; anyHit: the last in node order) and push
+ * the others, the farthest deepest, or resume from the stack. */
+static inline int nextCpuNode(__global const RayCpuBvhNode* node, float16 entry, uint inners, bool anyHit,
+                              BvhStack* stack, float limit) {
+    if (inners != 0 && (inners & (inners - 1)) == 0) return cpuInnerChild(node, takeLowestLane(&inners)); /* one */
+    if (inners != 0) {
+        float entries[RAY_CPU_BVH_WIDTH];
+        vstore16(entry, 0, entries);
+        int child[RAY_CPU_BVH_WIDTH];
+        float key[RAY_CPU_BVH_WIDTH];
+        int n = 0;
+        while (inners != 0) { /* farthest first */
+            int c = takeLowestLane(&inners), i = n++;
+            while (!anyHit && i > 0 && key[i - 1] < entries[c]) {
+                child[i] = child[i - 1];
+                key[i] = key[i - 1];
+                --i;
+            }
+            child[i] = cpuInnerChild(node, c);
+            key[i] = entries[c];
+        }
+        for (int i = 0; i + 1 < n; ++i) {
+            if (stack->top == stack->capacity) {
+                stack->overflowed = true; /* the caller falls back to every primitive */
+                return -1;
+            }
+            BvhStackEntry pushed = {child[i], key[i]};
+            stack->entries[stack->top++] = pushed;
+        }
+        return child[n - 1];
+    }
+    while (stack->top > 0) {
+        --stack->top;
+        if (enteredBy(stack->entries[stack->top].entry, limit)) return stack->entries[stack->top].node;
+    }
+    return -1;
+}
+#endif
+
 /* Closest hit below tMax (hit->primitive = -1 when none), or with anyHit, the first hit
  * found (shadow rays, which visit children in node order: any occluder will do).
  * Returns whether anything was hit. Leaves are intersected as their parent is visited.
  * courseMeshes: meshes keyed by t_obj (intersectPrimitive). A mesh's key can be smaller
  * than its world t, so boxes are then not pruned by distance (every box the ray enters is
- * visited; hits are still compared by key): exact, slower. */
-RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
-              __global const RayTriangle* triangles, __global const float4* motions, Ray ray, float tMax, bool anyHit,
-              bool courseMeshes, Hit* hit) {
-    hit->t = tMax;
-    hit->primitive = -1;
-    hit->order = 0; /* read (as a select) before any hit is recorded */
+ * visited; hits are still compared by key): exact, slower. GPUs walk the four-wide tree
+ * (nodes), CPU devices the sixteen-wide one (cpuNodes); both find the same hit, hits being
+ * ranked by distance and then by order (Hit.order) whatever the order of the walk. */
+#ifdef POCL_DEVICE_ADDRESS_BITS
+RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
+                                   __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+                                   __global const float4* motions, Ray ray, float tMax, bool anyHit,
+                                   bool courseMeshes, Hit* hit) {
+    startTrace(hit, tMax);
+    float3 inverseDirection = safeInverse(ray.direction);
+    BvhStackEntry entries[RAY_CPU_BVH_STACK];
+    BvhStack stack = emptyBvhStack(entries, RAY_CPU_BVH_STACK);
+    int next = 0;
+    do {
+        if (next == RAY_WALK_EVERY_PRIMITIVE || isFourWideRef(next)) { /* in the four-wide tree */
+            next = fourWideStep(nodes, prims, triangles, motions, ray, inverseDirection, anyHit, courseMeshes, true,
+                                &stack, next == RAY_WALK_EVERY_PRIMITIVE ? next : fourWideRef(next), hit);
+            continue;
+        }
+        float limit = pruneDistance(hit, courseMeshes); /* read as fourWideStep reads it */
+        __global const RayCpuBvhNode* node = &cpuNodes[next];
+        float16 entry = cpuChildEntryDistances(node, ray.origin, inverseDirection, limit);
+        int16 count = node->count;
+        int16 entered = (entry <= (float16)(limit)) & (entry < (float16)(RAY_INFINITY));
+        uint leaves = laneBits(entered & (count > (int16)(0)));
+        uint inners = laneBits(entered & (count <= (int16)(0)));
+        while (leaves != 0) {
+            int c = takeLowestLane(&leaves);
+            intersectLeaf(nodes, prims, triangles, motions, ray, courseMeshes, &stack,
+                          ((__global const int*)&node->index)[c], ((__global const int*)&node->count)[c], hit);
+            if (anyHitFound(anyHit, hit)) break;
+            limit = pruneDistance(hit, courseMeshes);
+        }
+        if (anyHitFound(anyHit, hit)) break;
+        inners &= laneBits(entry <= (float16)(limit));
+        next = afterOverflow(nextCpuNode(node, entry, inners, anyHit, &stack, limit), &stack);
+    } while (next != -1);
+    return hit->primitive >= 0;
+}
+#else
+RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
+                                   __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+                                   __global const float4* motions, Ray ray, float tMax, bool anyHit,
+                                   bool courseMeshes, Hit* hit) {
+    (void)cpuNodes; /* CPU devices' tree: the walk above */
+    startTrace(hit, tMax);
     float3 inverseDirection = safeInverse(ray.direction);
     BvhStackEntry entries[RAY_BVH_SHORT_STACK];
     BvhStack stack = emptyBvhStack(entries, RAY_BVH_SHORT_STACK);
     int next = 0;
     do {
-        /* The prune distance, read once for the node's boxes and children and again only
-         * after a leaf's primitives, where it changes: read at each use, PoCL reloaded
-         * hit->t through the pointer that intersectPrimitive (a call there) writes, 3
-         * instructions each time (chess 130.5 -> 122.6 M). */
-        float limit = pruneDistance(hit, courseMeshes);
-        NodeChildren children = next == RAY_WALK_EVERY_PRIMITIVE
-                                    ? everyPrimitiveUnder(nodes, 0)
-                                    : testChildren(&nodes[next], ray.origin, inverseDirection, limit);
-        InnerChildren inner;
-        inner.count = 0;
-        for (int c = 0; c < 4; ++c) {
-            if (!enteredBy(children.entry[c], limit)) continue;
-            const int first = children.index[c], count = children.count[c];
-            if (count > 0) {
-                for (int i = first; i < first + count; ++i)
-                    intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes,
-                                       entries + stack.top, RAY_BVH_SHORT_STACK - stack.top, hit);
-                if (anyHitFound(anyHit, hit)) break;
-                limit = pruneDistance(hit, courseMeshes);
-            } else {
-                addInnerChild(&inner, first, children.entry[c], !anyHit);
-            }
-        }
-        next = anyHitFound(anyHit, hit)
-                   ? -1
-                   : afterOverflow(nextNode(&inner, &stack, limit), &stack);
+        next = fourWideStep(nodes, prims, triangles, motions, ray, inverseDirection, anyHit, courseMeshes, false,
+                            &stack, next, hit);
     } while (next != -1);
     return hit->primitive >= 0;
 }
+#endif

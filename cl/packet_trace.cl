@@ -392,7 +392,8 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
  * hits[l] as traceBvh(rays[l], tMax[l], ...) gives it; lanes not traced keep hits[l] as
  * they were. The children of a node are visited nearest first for the packet's nearest ray
  * (closest hits), or in node order (anyHit). */
-RAY_CALL_ON_POCL void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
+RAY_CALL_ON_POCL void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
+                                     __global const RayPrimitive* prims,
                                      __global const RayTriangle* triangles, __global const float4* motions,
                                      const Ray* rays, const float* tMax, const int* lanes, bool anyHit,
                                      bool courseMeshes, Hit* hits) {
@@ -467,7 +468,8 @@ RAY_CALL_ON_POCL void traceBvhPacket(__global const RayWideBvhNode* nodes, __glo
     }
     if (!overflowed) return;
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l)
-        if (lanes[l]) traceBvh(nodes, prims, triangles, motions, rays[l], tMax[l], anyHit, courseMeshes, &hits[l]);
+        if (lanes[l])
+            traceBvh(nodes, cpuNodes, prims, triangles, motions, rays[l], tMax[l], anyHit, courseMeshes, &hits[l]);
 }
 
 #endif /* RAY_PACKET_WIDTH */

@@ -311,8 +311,8 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
     Ray ray = frameRay; /* then each light sample's shadow ray */
     while (true) {
         Hit hit;
-        bool found = traceBvh(scene->nodes, scene->primitives, scene->triangles, scene->motions, ray, tMax, shadowRay,
-                              courseMeshes && !shadowRay, &hit);
+        bool found = traceBvh(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, ray,
+                              tMax, shadowRay, courseMeshes && !shadowRay, &hit);
         if (shadowRay) {
             if (!found) addUnblockedSample(&lights);
         } else if (!found || !shadeHit(scene, params, tree, depth, ray, hit, next, &lights)) {

@@ -6,9 +6,9 @@
  * this header prepended.
  *
  * Rules that keep the two compilers in agreement:
- *  - fields are float4 / int4 only (16-byte aligned, 16-byte sized): no float3, whose size
- *    is 16 in OpenCL C but 12 in a C++ struct of three floats, and no bare scalars that
- *    could be padded differently;
+ *  - fields are float4 / int4 only (16-byte aligned, 16-byte sized), or float16 / int16
+ *    (64-byte aligned and sized): no float3, whose size is 16 in OpenCL C but 12 in a C++
+ *    struct of three floats, and no bare scalars that could be padded differently;
  *  - integers that ride along with floats go in an int4, never bit-cast into a float's
  *    lane (a denormal bit pattern may be flushed by some devices).
  */
@@ -29,6 +29,12 @@ struct alignas(16) float4 {
 };
 struct alignas(16) int4 {
     int32_t x = 0, y = 0, z = 0, w = 0;
+};
+struct alignas(64) float16 {
+    float s[16] = {};
+};
+struct alignas(64) int16 {
+    int32_t s[16] = {};
 };
 #define RAY_STRUCT(name) struct name
 /* The tables a ray walks (BVH nodes, primitives, materials) start on a cache line on the host
@@ -155,6 +161,33 @@ RAY_TABLE_STRUCT(RayWideBvhNode) {
     int4 count;
 } RAY_END_STRUCT(RayWideBvhNode);
 
+/* A node of the sixteen-wide BVH over the scene's primitives that CPU devices walk a ray at
+ * a time (cl/intersect.cl, traceBvh for PoCL): 512 bytes, eight cache lines.
+ *
+ * Why a second tree: on a CPU a ray's walk is a chain of steps, each waiting on the node it
+ * loads and on the branches its box tests decide, and the single-ray walk of reflected rays
+ * and their shadow rays was most of the render on large scenes (docs/performance.md). With
+ * sixteen children a node, one float16 slab test (an AVX-512 register, two AVX ones) takes
+ * a ray past what four-wide nodes take two steps for: on 10⁵ spheres 4.96 M steps instead of
+ * 10.0 M. GPUs keep the four-wide tree, whose small nodes suit their registers, and so does
+ * the packet walk (cl/packet_trace.cl), whose box tests grow with the children a node has.
+ *
+ * The host collapses the four-wide scene tree into it (host/accel/wide_bvh.h). Lanes as in
+ * RayWideBvhNode: lane c of minX..maxZ is child c's box, index and count its link. A count
+ * of 0: an inner node of this table; > 0: a leaf of the primitive buffer; -1: node `index`
+ * of the four-wide table, where the walk goes on (a subtree too small to fill a node of its
+ * own: the four-wide tree's lowest nodes hold two leaves of one sphere each, and sixteen-
+ * wide nodes of them made 10⁵ spheres' table 13.4 MB instead of 2.2 MB). Index -1: absent,
+ * absent children last. Node 0 is the root. Meshes keep their trees in RayWideBvhNode. */
+#define RAY_CPU_BVH_WIDTH 16
+RAY_TABLE_STRUCT(RayCpuBvhNode) {
+    float16 minX, maxX;
+    float16 minY, maxY;
+    float16 minZ, maxZ;
+    int16 index;
+    int16 count;
+} RAY_END_STRUCT(RayCpuBvhNode);
+
 /* A primitive instance: 64 bytes.
  * worldToObject: rows of the 3×4 world-to-object transform (translation in .w). The normal
  * transform (inverse transpose of object-to-world) is the transpose of its 3×3 part, so it
@@ -271,6 +304,8 @@ RAY_STRUCT(RayRenderParams) {
 #define RAY_SCENE_BUFFERS(X)                                                                     \
     /* the four-wide BVH (host/accel/wide_bvh.h): the scene's nodes, then each mesh's */       \
     X(RayWideBvhNode, nodes, "BVH nodes")                                                       \
+    /* the scene's tree again, sixteen-wide, for CPU devices' single-ray walk */                \
+    X(RayCpuBvhNode, cpuNodes, "CPU BVH nodes")                                                 \
     /* in BVH order, then the csg objects' programs */                                          \
     X(RayPrimitive, primitives, "primitives")                                                   \
     X(RayMaterial, materials, "materials")                                                      \

@@ -15,4 +15,12 @@ namespace ray {
 // `binary` must be a tree from buildBvh (node 0 its root).
 std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<gpu::RayBvhNode>& binary);
 
+// The sixteen-wide tree that CPU devices walk a ray at a time (RayCpuBvhNode in
+// cl/shared_types.h), collapsed from the four-wide tree under wide[0] (the scene's; the
+// meshes' nodes that follow it are not reached): a node takes a four-wide node's children
+// and keeps opening the inner child of largest surface area whose children still fit in
+// sixteen. Leaves keep their primitive ranges; an inner child whose own node would have
+// fewer than eight children stays a node of `wide` (count -1).
+std::vector<gpu::RayCpuBvhNode> widenBvhForCpu(const std::vector<gpu::RayWideBvhNode>& wide);
+
 }  // namespace ray

@@ -23,6 +23,10 @@ static_assert(offsetof(gpu::RayBvhNode, links) == 48);
 static_assert(sizeof(gpu::RayWideBvhNode) == 128 && alignof(gpu::RayWideBvhNode) == 64);
 static_assert(offsetof(gpu::RayWideBvhNode, minY) == 32 && offsetof(gpu::RayWideBvhNode, index) == 96 &&
               offsetof(gpu::RayWideBvhNode, count) == 112);
+static_assert(sizeof(gpu::float16) == 64 && alignof(gpu::float16) == 64);
+static_assert(sizeof(gpu::int16) == 64 && alignof(gpu::int16) == 64);
+static_assert(sizeof(gpu::RayCpuBvhNode) == 512 && offsetof(gpu::RayCpuBvhNode, index) == 384 &&
+              offsetof(gpu::RayCpuBvhNode, count) == 448);
 static_assert(sizeof(gpu::RayPrimitive) == 64 && alignof(gpu::RayPrimitive) == 64);
 static_assert(offsetof(gpu::RayPrimitive, info) == 48);
 static_assert(sizeof(gpu::RayMaterial) == 128 && alignof(gpu::RayMaterial) == 64);
@@ -273,6 +277,7 @@ void refitSceneTree(const Scene& scene, PackedScene& packed) {
         for (size_t i = begin; i < end; ++i) bounds[i] = worldBounds(scene.primitives[i]);
     });
     refitNode(scene, packed, bounds, 0);
+    packed.cpuNodes = widenBvhForCpu(packed.nodes);
 }
 
 }  // namespace
@@ -294,6 +299,7 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
     FlatBvh bvh = buildBvh(bounds);
     packed.nodes = widenBvh(bvh.nodes);
     packed.sceneNodes = packed.nodes.size();
+    packed.cpuNodes = widenBvhForCpu(packed.nodes);
     for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
     // The build time counts the meshes' trees with the scene's.
     packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
