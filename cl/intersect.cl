@@ -297,20 +297,24 @@ static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* n
  * the one-child shape costs 5% more instructions (chess). tests/rusticl.sh renders the
  * bundled scenes with the scalar shape and compares them with PoCL's. */
 #ifdef POCL_DEVICE_ADDRESS_BITS
-static inline float4 minNumber4(float4 a, float4 b) { return select(b, a, a < b); }
-static inline float4 maxNumber4(float4 a, float4 b) { return select(b, a, a > b); }
-
-static inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
-                                         float tMax) {
-    float4 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
-    float4 ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y;
-    float4 tz0 = (node->minZ - origin.z) * inverseDirection.z, tz1 = (node->maxZ - origin.z) * inverseDirection.z;
-    float4 tNear = maxNumber4(maxNumber4(minNumber4(tx0, tx1), minNumber4(ty0, ty1)),
-                              maxNumber4(minNumber4(tz0, tz1), (float4)(0.0f)));
-    float4 tFar = minNumber4(minNumber4(maxNumber4(tx0, tx1), maxNumber4(ty0, ty1)),
-                             minNumber4(maxNumber4(tz0, tz1), (float4)(tMax)));
-    return select((float4)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
-}
+/* The slab test of a wide node's children at once, lane c child c, in the vector type
+ * FloatN of as many lanes as the node has children: the four-wide tree's, and the
+ * sixteen-wide one CPU devices walk a ray at a time (cpuChildEntryDistances), are this one
+ * definition. */
+#define RAY_DEFINE_CHILD_ENTRY_DISTANCES(name, Node, FloatN)                                                      \
+    static inline FloatN minNumber_##name(FloatN a, FloatN b) { return select(b, a, a < b); }                   \
+    static inline FloatN maxNumber_##name(FloatN a, FloatN b) { return select(b, a, a > b); }                   \
+    static inline FloatN name(__global const Node* node, float3 origin, float3 inverseDirection, float tMax) {   \
+        FloatN tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x; \
+        FloatN ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y; \
+        FloatN tz0 = (node->minZ - origin.z) * inverseDirection.z, tz1 = (node->maxZ - origin.z) * inverseDirection.z; \
+        FloatN tNear = maxNumber_##name(maxNumber_##name(minNumber_##name(tx0, tx1), minNumber_##name(ty0, ty1)),    \
+                                        maxNumber_##name(minNumber_##name(tz0, tz1), (FloatN)(0.0f)));            \
+        FloatN tFar = minNumber_##name(minNumber_##name(maxNumber_##name(tx0, tx1), maxNumber_##name(ty0, ty1)),     \
+                                       minNumber_##name(maxNumber_##name(tz0, tz1), (FloatN)(tMax)));             \
+        return select((FloatN)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));                       \
+    }
+RAY_DEFINE_CHILD_ENTRY_DISTANCES(childEntryDistances, RayWideBvhNode, float4)
 #else
 static inline float minNumber(float a, float b) { return a < b ? a : b; }
 static inline float maxNumber(float a, float b) { return a > b ? a : b; }
@@ -575,21 +579,8 @@ int fourWideStep(__global const RayWideBvhNode* nodes, __global const RayPrimiti
 
 static inline bool isFourWideRef(int next) { return next <= -3; } /* fourWideRef */
 
-static inline float16 minNumber16(float16 a, float16 b) { return select(b, a, a < b); }
-static inline float16 maxNumber16(float16 a, float16 b) { return select(b, a, a > b); }
-
 /* childEntryDistances for the sixteen children: the same arithmetic, a lane a child. */
-static inline float16 cpuChildEntryDistances(__global const RayCpuBvhNode* node, float3 origin,
-                                             float3 inverseDirection, float tMax) {
-    float16 tx0 = (node->minX - origin.x) * inverseDirection.x, tx1 = (node->maxX - origin.x) * inverseDirection.x;
-    float16 ty0 = (node->minY - origin.y) * inverseDirection.y, ty1 = (node->maxY - origin.y) * inverseDirection.y;
-    float16 tz0 = (node->minZ - origin.z) * inverseDirection.z, tz1 = (node->maxZ - origin.z) * inverseDirection.z;
-    float16 tNear = maxNumber16(maxNumber16(minNumber16(tx0, tx1), minNumber16(ty0, ty1)),
-                                maxNumber16(minNumber16(tz0, tz1), (float16)(0.0f)));
-    float16 tFar = minNumber16(minNumber16(maxNumber16(tx0, tx1), maxNumber16(ty0, ty1)),
-                               minNumber16(maxNumber16(tz0, tz1), (float16)(tMax)));
-    return select((float16)(RAY_INFINITY), tNear, (tNear <= tFar) & (node->index >= 0));
-}
+RAY_DEFINE_CHILD_ENTRY_DISTANCES(cpuChildEntryDistances, RayCpuBvhNode, float16)
 
 /* The lanes of a comparison's result (-1: true) as bits, lane c as bit c. */
 static inline uint laneBits(int16 lanes) {
@@ -662,13 +653,13 @@ static inline int nextCpuNode(__global const RayCpuBvhNode* node, float16 entry,
  * visited; hits are still compared by key): exact, slower. GPUs walk the four-wide tree
  * (nodes), CPU devices the sixteen-wide one (cpuNodes); both find the same hit, hits being
  * ranked by distance and then by order (Hit.order) whatever the order of the walk. */
-#ifdef POCL_DEVICE_ADDRESS_BITS
 RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
                                    __global const RayPrimitive* prims, __global const RayTriangle* triangles,
                                    __global const float4* motions, Ray ray, float tMax, bool anyHit,
                                    bool courseMeshes, Hit* hit) {
     startTrace(hit, tMax);
     float3 inverseDirection = safeInverse(ray.direction);
+#ifdef POCL_DEVICE_ADDRESS_BITS
     BvhStackEntry entries[RAY_CPU_BVH_STACK];
     BvhStack stack = emptyBvhStack(entries, RAY_CPU_BVH_STACK);
     int next = 0;
@@ -696,16 +687,8 @@ RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __globa
         inners &= laneBits(entry <= (float16)(limit));
         next = afterOverflow(nextCpuNode(node, entry, inners, anyHit, &stack, limit), &stack);
     } while (next != -1);
-    return hit->primitive >= 0;
-}
 #else
-RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
-                                   __global const RayPrimitive* prims, __global const RayTriangle* triangles,
-                                   __global const float4* motions, Ray ray, float tMax, bool anyHit,
-                                   bool courseMeshes, Hit* hit) {
-    (void)cpuNodes; /* CPU devices' tree: the walk above */
-    startTrace(hit, tMax);
-    float3 inverseDirection = safeInverse(ray.direction);
+    (void)cpuNodes; /* CPU devices' tree: PoCL's walk above */
     BvhStackEntry entries[RAY_BVH_SHORT_STACK];
     BvhStack stack = emptyBvhStack(entries, RAY_BVH_SHORT_STACK);
     int next = 0;
@@ -713,6 +696,6 @@ RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __globa
         next = fourWideStep(nodes, prims, triangles, motions, ray, inverseDirection, anyHit, courseMeshes, false,
                             &stack, next, hit);
     } while (next != -1);
+#endif
     return hit->primitive >= 0;
 }
-#endif

@@ -83,7 +83,7 @@ static inline PacketRays packetRays(const Ray* rays) {
     return p;
 }
 
-/* Minimum and maximum of operands that are never NaN, as one select each (see minNumber4). */
+/* Minimum and maximum of operands that are never NaN, as one select each (see RAY_DEFINE_CHILD_ENTRY_DISTANCES, cl/intersect.cl). */
 static inline PacketFloat packetMin(PacketFloat a, PacketFloat b) { return select(b, a, a < b); }
 static inline PacketFloat packetMax(PacketFloat a, PacketFloat b) { return select(b, a, a > b); }
 
