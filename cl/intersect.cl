@@ -676,15 +676,17 @@ RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __globa
         int16 entered = (entry <= (float16)(limit)) & (entry < (float16)(RAY_INFINITY));
         uint leaves = laneBits(entered & (count > (int16)(0)));
         uint inners = laneBits(entered & (count <= (int16)(0)));
-        while (leaves != 0) {
-            int c = takeLowestLane(&leaves);
-            intersectLeaf(nodes, prims, triangles, motions, ray, courseMeshes, &stack,
-                          ((__global const int*)&node->index)[c], ((__global const int*)&node->count)[c], hit);
+        if (leaves != 0) {
+            while (leaves != 0) {
+                int c = takeLowestLane(&leaves);
+                intersectLeaf(nodes, prims, triangles, motions, ray, courseMeshes, &stack,
+                              ((__global const int*)&node->index)[c], ((__global const int*)&node->count)[c], hit);
+                if (anyHitFound(anyHit, hit)) break;
+                limit = pruneDistance(hit, courseMeshes);
+            }
             if (anyHitFound(anyHit, hit)) break;
-            limit = pruneDistance(hit, courseMeshes);
+            inners &= laneBits(entry <= (float16)(limit)); /* the leaves' hits may have narrowed it */
         }
-        if (anyHitFound(anyHit, hit)) break;
-        inners &= laneBits(entry <= (float16)(limit));
         next = afterOverflow(nextCpuNode(node, entry, inners, anyHit, &stack, limit), &stack);
     } while (next != -1);
 #else

@@ -58,8 +58,8 @@ static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, co
         tMax[l] = RAY_INFINITY;
         if (lanes[l]) counters[l].primary++;
     }
-    traceBvhPacket(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, rays, tMax, lanes, false,
-                   courseMeshes, hits);
+    traceBvhPacket(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, rays, tMax,
+                   lanes, false, courseMeshes, hits);
     /* shadeFrame's steps for the camera ray's frame, the traces aside */
     bool anyWaiting = false;
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
@@ -72,8 +72,8 @@ static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, co
         anyWaiting |= waiting[l] != 0;
     }
     while (anyWaiting) {
-        traceBvhPacket(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, shadow, tMax, waiting, true,
-                       false, hits);
+        traceBvhPacket(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, shadow,
+                       tMax, waiting, true, false, hits);
         int unblocked[RAY_PACKET_WIDTH];
         for (int l = 0; l < RAY_PACKET_WIDTH; ++l) unblocked[l] = waiting[l] && hits[l].primitive < 0;
         addUnblockedSamples(lights, unblocked);

@@ -83,7 +83,8 @@ static inline PacketRays packetRays(const Ray* rays) {
     return p;
 }
 
-/* Minimum and maximum of operands that are never NaN, as one select each (see RAY_DEFINE_CHILD_ENTRY_DISTANCES, cl/intersect.cl). */
+/* Minimum and maximum of operands that are never NaN, as one select each (see
+ * RAY_DEFINE_CHILD_ENTRY_DISTANCES, cl/intersect.cl). */
 static inline PacketFloat packetMin(PacketFloat a, PacketFloat b) { return select(b, a, a < b); }
 static inline PacketFloat packetMax(PacketFloat a, PacketFloat b) { return select(b, a, a > b); }
 
@@ -393,8 +394,8 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
  * they were. The children of a node are visited nearest first for the packet's nearest ray
  * (closest hits), or in node order (anyHit). */
 RAY_CALL_ON_POCL void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
-                                     __global const RayPrimitive* prims,
-                                     __global const RayTriangle* triangles, __global const float4* motions,
+                                     __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+                                     __global const float4* motions,
                                      const Ray* rays, const float* tMax, const int* lanes, bool anyHit,
                                      bool courseMeshes, Hit* hits) {
     PacketLanes limits;

@@ -147,14 +147,16 @@ CpuChildren gatherCpuChildren(const std::vector<gpu::RayWideBvhNode>& wide, int 
         int open = -1;
         for (int i = 0; i < children.count; ++i) {
             const BinaryChild& c = children.child[size_t(i)];
-            if (!c.inner() || children.count - 1 + presentChildren(wide[size_t(c.index)]) > RAY_CPU_BVH_WIDTH) continue;
+            if (!c.inner() || children.count - 1 + presentChildren(wide[size_t(c.index)]) > RAY_CPU_BVH_WIDTH)
+                continue;
             if (open < 0 || c.box.surfaceArea() > children.child[size_t(open)].box.surfaceArea()) open = i;
         }
         if (open < 0) return children;  // only leaves, or no inner child whose children fit
         const gpu::RayWideBvhNode& opened = wide[size_t(children.child[size_t(open)].index)];
         const int added = presentChildren(opened);
         // child `open` gives way to its `added` children, in their order
-        for (int i = children.count - 1; i > open; --i) children.child[size_t(i + added - 1)] = children.child[size_t(i)];
+        for (int i = children.count - 1; i > open; --i)
+            children.child[size_t(i + added - 1)] = children.child[size_t(i)];
         for (int c = 0; c < added; ++c) children.child[size_t(open + c)] = wideChild(opened, c);
         children.count += added - 1;
     }
@@ -190,16 +192,25 @@ std::vector<gpu::RayCpuBvhNode> widenBvhForCpu(const std::vector<gpu::RayWideBvh
         for (int c = 0; c < RAY_CPU_BVH_WIDTH; ++c) writeChild(cpu[0], c, BinaryChild{}, cpu, pending);
         return cpu;
     }
+    // gathered[k]: the children of pending[k]'s node, found once, when its parent decided
+    // whether it gets a node of its own
+    std::vector<CpuChildren> gathered{gatherCpuChildren(wide, 0)};
     pending.emplace_back(0, 0);
     while (!pending.empty()) {
-        auto [node, slot] = pending.back();
+        const size_t slot = pending.back().second;
+        const CpuChildren children = gathered.back();
         pending.pop_back();
-        const CpuChildren children = gatherCpuChildren(wide, node);
+        gathered.pop_back();
         gpu::RayCpuBvhNode out;
         for (int c = 0; c < RAY_CPU_BVH_WIDTH; ++c) {
             BinaryChild child = c < children.count ? children.child[size_t(c)] : BinaryChild{};
-            if (child.inner() && gatherCpuChildren(wide, child.index).count < kCpuNodeMinChildren)
-                child.count = -1;  // the four-wide node itself: written as a leaf is, index and all
+            if (child.inner()) {
+                CpuChildren below = gatherCpuChildren(wide, child.index);
+                if (below.count < kCpuNodeMinChildren)
+                    child.count = -1;  // the four-wide node itself: written as a leaf is, index and all
+                else
+                    gathered.push_back(below);  // beside the pending entry writeChild adds
+            }
             writeChild(out, c, child, cpu, pending);
         }
         cpu[slot] = out;
