@@ -206,8 +206,12 @@ struct DeviceSlot {
     // Launch k writes its tile into outputs[k % kTilesInFlight]: tile-sized buffers, so a
     // frame costs the device (and, on a CPU device, the host) a few tiles, not two
     // full-frame copies of the image (32 bytes a pixel: 25 MB at 1024x768, 265 MB at 4K).
+    // Each also holds the host copies its reads fill, kept from launch to launch: a tile's
+    // fresh vectors cost page faults and zeroing on every tile.
     struct TileOutput {
         cl::Buffer colors, counts;
+        std::vector<cl_float4> hostColors;
+        std::vector<cl_uint4> hostCounts;
         size_t pixels = 0;
     };
     std::array<TileOutput, kTilesInFlight> outputs;
@@ -415,7 +419,7 @@ private:
     struct Launch {
         int tile;
         size_t output;  // index in slot_.outputs
-        cl::Event event;
+        cl::Event read;  // the last of its reads back: done once the tile is on the host
     };
 
     // Under the frame's lock: the frame is open and this device still part of it.
@@ -477,6 +481,8 @@ private:
             // Host-allocatable: zero-copy reads on CPU devices (PoCL).
             out.colors = cl::Buffer(slot_.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_float4));
             out.counts = cl::Buffer(slot_.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_uint4));
+            out.hostColors.resize(pixels);
+            out.hostCounts.resize(pixels);
             out.pixels = pixels;
         }
         // Arguments are captured at enqueue time.
@@ -485,7 +491,15 @@ private:
         kernel.setArg(kernel_argument::kTileRayCounts, out.counts);
         Launch l{tile, output, {}};
         slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width, blockWidth), roundUp(rect.height, blockHeight)),
-                                         cl::NDRange(group, group), hangHook(), &l.event);
+                                         cl::NDRange(group, group), hangHook());
+        // The tile's reads go into the queue right behind its kernel, ahead of the launches
+        // after it. A read enqueued once the kernel was done came after them all in the
+        // in-order queue: the device ran dry before every tile came back, and waited idle
+        // while the host pasted it and launched the next (PoCL, recursiveCones4: ~50 context
+        // switches a tile).
+        slot_.queue.enqueueReadBuffer(out.colors, CL_FALSE, 0, pixels * sizeof(cl_float4), out.hostColors.data());
+        slot_.queue.enqueueReadBuffer(out.counts, CL_FALSE, 0, pixels * sizeof(cl_uint4), out.hostCounts.data(), nullptr,
+                                      &l.read);
         slot_.queue.flush();
         inFlight_.push_back(l);
     }
@@ -504,28 +518,26 @@ private:
     // finished it first.
     void finishOldest() {
         Launch l = inFlight_.front();
-        l.event.wait();
+        l.read.wait();
         const TileRect rect = frame_.scheduler->tile(l.tile);
         const size_t n = size_t(rect.width) * size_t(rect.height);
-        std::vector<cl_float4> rgba(n);
-        std::vector<cl_uint4> rays(n);
         const DeviceSlot::TileOutput& out = slot_.outputs[l.output];
-        slot_.queue.enqueueReadBuffer(out.colors, CL_TRUE, 0, n * sizeof(cl_float4), rgba.data());
-        slot_.queue.enqueueReadBuffer(out.counts, CL_TRUE, 0, n * sizeof(cl_uint4), rays.data());
+        const std::vector<cl_float4>& rgba = out.hostColors;
+        const std::vector<cl_uint4>& rays = out.hostCounts;
         inFlight_.pop_front();
         ++answered_;
 
         FinishedTile result;
         result.rect = rect;
         result.device = index_;
-        std::vector<float> rgb(n * 3);
+        rgb_.resize(n * 3);
         for (size_t p = 0; p < n; ++p) {
-            for (int c = 0; c < 3; ++c) rgb[p * 3 + size_t(c)] = rgba[p].s[c];
+            for (int c = 0; c < 3; ++c) rgb_[p * 3 + size_t(c)] = rgba[p].s[c];
             result.primaryRays += rays[p].s[0];
             result.shadowRays += rays[p].s[1];
             result.secondaryRays += rays[p].s[2];
         }
-        result.rgb = rgb.data();
+        result.rgb = rgb_.data();
         keep(l.tile, result);
     }
 
@@ -585,6 +597,7 @@ private:
     TestHooks hooks_;
     std::deque<Launch> inFlight_;
     std::vector<cl::Event> hangingOn_;
+    std::vector<float> rgb_;  // the tile being kept, as FinishedTile has it
     size_t launches_ = 0;
     int answered_ = 0;  // tiles read back, duplicates too
     int finished_ = 0;  // tiles kept
