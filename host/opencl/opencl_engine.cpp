@@ -563,7 +563,6 @@ private:
         std::lock_guard lock(frame_.mutex);
         if (frame_.closed) return;
         answered(frame_.devices[size_t(index_)], now);
-        frame_.changed.notify_all();  // for the engine's thread too: a device with no tile in flight
         const TileRect& r = result.rect;
         const bool first = frame_.scheduler->deliver(index_, tile, [&] {
             if (frame_.bytes)
@@ -571,6 +570,11 @@ private:
             else
                 pasteTile(*frame_.image, r, result.rgb);
         });
+        // The engine's thread and the devices with no tile in flight wait for the frame's
+        // end (Frame::over, allDone): a tile kept before then changes nothing they wait on,
+        // and waking the engine for each took a core from the device's threads (PoCL on 2
+        // cores: a context switch a tile). Its deadlines only move later meanwhile.
+        if (frame_.allDone()) frame_.changed.notify_all();
         if (!first) {
             ++frame_.stats->duplicatesDropped;
             return;
