@@ -16,9 +16,9 @@ constexpr int kDefaultTileSide = 128;
 int frameTileSide(const RenderSettings& settings, const Scene& scene, bool cancellable, int requested = 0);
 
 // The side of the square tiles of a cancellable frame, a multiple of the 8x8 work-group
-// from 8 to 64: small enough that the few tiles already queued when it is cancelled finish
-// within about a second on PoCL, given the samples per pixel and the shadow rays of the
-// scene's area lights.
+// from 8 to kDefaultTileSide: small enough that the few tiles already queued when it is
+// cancelled finish within about a second on PoCL, given the samples per pixel and the
+// shadow rays of the scene's area lights.
 int cancellableTileSize(const RenderSettings& settings, const Scene& scene);
 
 // The most samples a pixel takes with the settings' antialiasing (also for the statistics).
