@@ -504,11 +504,12 @@ private:
         inFlight_.push_back(l);
     }
 
-    // RAY_TEST_HANG_DEVICE: once the device has answered its tiles, its launches wait for an
-    // event that is never set, as on a hung driver, and so does all that is queued after them
-    // (the queue is in order): the thread blocks in clWaitForEvents, for good.
+    // RAY_TEST_HANG_DEVICE: the launches after its first n wait for an event that is never
+    // set, as on a hung driver, and so does all that is queued after them (the queue is in
+    // order): the device answers n tiles and its thread then blocks in clWaitForEvents, for
+    // good. Called with this launch counted in launches_.
     const std::vector<cl::Event>* hangHook() {
-        if (!hooks_.hangAfterTiles || answered_ < *hooks_.hangAfterTiles) return nullptr;
+        if (!hooks_.hangAfterTiles || launches_ <= size_t(*hooks_.hangAfterTiles)) return nullptr;
         if (!slot_.neverSet) slot_.neverSet = cl::UserEvent(slot_.context);
         hangingOn_ = {*slot_.neverSet};
         return &hangingOn_;
@@ -525,7 +526,6 @@ private:
         const std::vector<cl_float4>& rgba = out.hostColors;
         const std::vector<cl_uint4>& rays = out.hostCounts;
         inFlight_.pop_front();
-        ++answered_;
 
         FinishedTile result;
         result.rect = rect;
@@ -603,7 +603,6 @@ private:
     std::vector<cl::Event> hangingOn_;
     std::vector<float> rgb_;  // the tile being kept, as FinishedTile has it
     size_t launches_ = 0;
-    int answered_ = 0;  // tiles read back, duplicates too
     int finished_ = 0;  // tiles kept
     double busySeconds_ = 0;
 };
