@@ -12,27 +12,38 @@
 #endif
 
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
- * element y * tile width + x of the tile outputs (on the packet path, the block whose top
- * left pixel is (x · block width, y · block height)). Its arguments: the launch parameters, the
+ * element y * tile width + x of the tile outputs. Its arguments: the launch parameters, the
  * scene's buffers in the order of their list (cl/shared_types.h RAY_SCENE_BUFFERS), then the
- * tile's outputs; the host numbers them so (host/opencl/kernel_arguments.h). */
+ * tile's outputs, and on the packet path the block queue; the host numbers them so
+ * (host/opencl/kernel_arguments.h).
+ *
+ * On the packet path the work-items take the tile's blocks of pixels from a queue, one at
+ * a time in the order of the tile's rows: blockQueue[0] counts the blocks taken (the host
+ * launches a work-group a compute unit, and the first work-item of each takes blocks while
+ * any are left). PoCL's threads take a launch's work-groups in runs, half of them each with
+ * 2 threads, so a fixed share of the blocks left one thread idle at the end of every tile
+ * while the other finished a busier share. blockQueue[1] counts the work-items done: the
+ * last one empties the queue for the next launch, which the in-order queue runs after this. */
 #define RAY_SCENE_BUFFER_PARAMETER(Type, name, what) __global const Type* name,
 #define RAY_SCENE_BUFFER_NAME(Type, name, what) name,
 __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_PARAMETER)
-                                              __global float4* tileColors, __global uint4* tileRayCounts) {
+                                              __global float4* tileColors, __global uint4* tileRayCounts
+#ifdef RAY_PACKET_WIDTH
+                                              , __global volatile uint* blockQueue
+#endif
+) {
     SceneBuffers scene = {RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_NAME)};
 #ifdef RAY_PACKET_WIDTH
-    /* Work-item l of group g (along each axis) renders block l · groups + g: a group's
-     * blocks are spread over the whole tile, every groups-th block, rather than one corner
-     * of it. PoCL's threads take a launch's groups in runs (with 16 groups and 2 threads,
-     * 8 each), so groups of one corner each left one thread idle while the other rendered
-     * the busy half of the tile; spread, the groups cost alike. */
-    int blockX = get_local_id(0) * get_num_groups(0) + get_group_id(0);
-    int blockY = get_local_id(1) * get_num_groups(1) + get_group_id(1);
-    int x0 = blockX * RAY_PIXEL_BLOCK_WIDTH(RAY_PACKET_WIDTH);
-    int y0 = blockY * RAY_PIXEL_BLOCK_HEIGHT(RAY_PACKET_WIDTH);
-    if (x0 >= params.tile.x || y0 >= params.tile.y) return;
-    renderBlock(&scene, &params, x0, y0, tileColors, tileRayCounts);
+    const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(RAY_PACKET_WIDTH), blockHeight = RAY_PIXEL_BLOCK_HEIGHT(RAY_PACKET_WIDTH);
+    const uint blocksAcross = (uint)((params.tile.x + blockWidth - 1) / blockWidth);
+    const uint blocks = blocksAcross * (uint)((params.tile.y + blockHeight - 1) / blockHeight);
+    for (uint b = atomic_inc(&blockQueue[0]); b < blocks; b = atomic_inc(&blockQueue[0]))
+        renderBlock(&scene, &params, (int)(b % blocksAcross) * blockWidth, (int)(b / blocksAcross) * blockHeight,
+                    tileColors, tileRayCounts);
+    if (atomic_inc(&blockQueue[1]) + 1u == (uint)(get_global_size(0) * get_global_size(1))) {
+        atomic_xchg(&blockQueue[0], 0u);
+        atomic_xchg(&blockQueue[1], 0u);
+    }
 #else
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= params.tile.x || y >= params.tile.y) return;

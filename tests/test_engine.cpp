@@ -66,22 +66,30 @@ TEST_CASE("renderTile declares its arguments where the engine sets them", "[engi
     auto device = ray::test::cpuDevice();
     if (!device) return ray::test::skip("no OpenCL CPU device");
     cl::Context context(device->device);
-    cl::Program program(context, ray::kernelProgramSource());
-    program.build({device->device}, "-cl-std=CL1.2 -cl-kernel-arg-info -DRAY_MAX_FRAMES=2");
-    cl::Kernel kernel(program, "renderTile");
-    auto nameOf = [&](cl_uint argument) { return std::string(kernel.getArgInfo<CL_KERNEL_ARG_NAME>(argument).c_str()); };
+    for (bool packets : {false, true}) {
+        INFO((packets ? "packet build" : "one ray a work-item"));
+        cl::Program program(context, ray::kernelProgramSource());
+        const std::string options = std::string("-cl-std=CL1.2 -cl-kernel-arg-info -DRAY_MAX_FRAMES=2") +
+                                    (packets ? " -DRAY_PACKET_WIDTH=4" : "");
+        program.build({device->device}, options.c_str());
+        cl::Kernel kernel(program, "renderTile");
+        auto nameOf = [&](cl_uint argument) {
+            return std::string(kernel.getArgInfo<CL_KERNEL_ARG_NAME>(argument).c_str());
+        };
 
-    namespace argument = ray::kernel_argument;
-    REQUIRE(kernel.getInfo<CL_KERNEL_NUM_ARGS>() == argument::kCount);
-    CHECK(nameOf(argument::kParams) == "params");
-    std::vector<std::string> sceneBuffers;
-    ray::PackedScene().forEachBuffer(
-        [&](const auto&, ray::SceneBufferName buffer) { sceneBuffers.push_back(buffer.name); });
-    REQUIRE(sceneBuffers.size() == ray::kSceneBufferCount);
-    for (size_t i = 0; i < sceneBuffers.size(); ++i)
-        CHECK(nameOf(argument::kFirstSceneBuffer + cl_uint(i)) == sceneBuffers[i]);
-    CHECK(nameOf(argument::kTileColors) == "tileColors");
-    CHECK(nameOf(argument::kTileRayCounts) == "tileRayCounts");
+        namespace argument = ray::kernel_argument;
+        REQUIRE(kernel.getInfo<CL_KERNEL_NUM_ARGS>() == argument::count(packets));
+        CHECK(nameOf(argument::kParams) == "params");
+        std::vector<std::string> sceneBuffers;
+        ray::PackedScene().forEachBuffer(
+            [&](const auto&, ray::SceneBufferName buffer) { sceneBuffers.push_back(buffer.name); });
+        REQUIRE(sceneBuffers.size() == ray::kSceneBufferCount);
+        for (size_t i = 0; i < sceneBuffers.size(); ++i)
+            CHECK(nameOf(argument::kFirstSceneBuffer + cl_uint(i)) == sceneBuffers[i]);
+        CHECK(nameOf(argument::kTileColors) == "tileColors");
+        CHECK(nameOf(argument::kTileRayCounts) == "tileRayCounts");
+        if (packets) CHECK(nameOf(argument::kBlockQueue) == "blockQueue");
+    }
 }
 
 TEST_CASE("The engine drops a failing device and fails only when none is left", "[engine][kernel]") {

@@ -1,6 +1,7 @@
 // renderTile's arguments (cl/render.cl), numbered as the kernel declares them: the launch
 // parameters, the scene's buffers in the order of their list (cl/shared_types.h
-// RAY_SCENE_BUFFERS), then the tile's outputs. Computed from the list, never numbered by hand.
+// RAY_SCENE_BUFFERS), then the tile's outputs, and on the packet path (CPU devices) its block
+// queue (cl/kernel.cl). Computed from the list, never numbered by hand.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +14,9 @@ constexpr uint32_t kParams = 0;                                   // RayRenderPa
 constexpr uint32_t kFirstSceneBuffer = kParams + 1;               // then kSceneBufferCount of them
 constexpr uint32_t kTileColors = kFirstSceneBuffer + uint32_t(kSceneBufferCount);  // float4 a pixel
 constexpr uint32_t kTileRayCounts = kTileColors + 1;              // uint4 a pixel
-constexpr uint32_t kCount = kTileRayCounts + 1;
+constexpr uint32_t kBlockQueue = kTileRayCounts + 1;              // packet builds alone: 2 uint
+
+// How many the kernel declares: a packet build (-DRAY_PACKET_WIDTH) has the block queue too.
+constexpr uint32_t count(bool packetBuild) { return packetBuild ? kBlockQueue + 1 : kBlockQueue; }
 
 }  // namespace ray::kernel_argument

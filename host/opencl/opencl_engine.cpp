@@ -215,6 +215,8 @@ struct DeviceSlot {
         size_t pixels = 0;
     };
     std::array<TileOutput, kTilesInFlight> outputs;
+    // The packet path's block queue (cl/kernel.cl): two counters, zero between launches.
+    cl::Buffer blockQueue;
     struct Program {
         KernelProgram program;
         cl::Kernel kernel;
@@ -459,16 +461,18 @@ private:
         return tiles.front();
     }
 
+    // The launch's work-items: a pixel each, or on the packet path a work-group for each
+    // compute unit, which take the tile's blocks from the queue (cl/kernel.cl).
+    cl::NDRange globalSize(const TileRect& rect) const {
+        const size_t group = frame_.workGroupSize;
+        if (slot_.packetLanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
+        auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
+        return cl::NDRange(roundUp(rect.width), roundUp(rect.height));
+    }
+
     void launch(cl::Kernel& kernel, int tile) {
         const TileRect rect = frame_.scheduler->tile(tile);
-        // A work-item renders a block of pixels (cl/shared_types.h RAY_PIXEL_BLOCK_WIDTH).
         const size_t group = frame_.workGroupSize;
-        const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(slot_.packetLanes);
-        const int blockHeight = RAY_PIXEL_BLOCK_HEIGHT(slot_.packetLanes);
-        auto roundUp = [group](int n, int block) {
-            const size_t items = (size_t(n) + size_t(block) - 1) / size_t(block);
-            return (items + group - 1) / group * group;
-        };
         gpu::RayRenderParams params = frame_.params;
         params.image.z = rect.x;
         params.image.w = rect.y;
@@ -490,8 +494,7 @@ private:
         kernel.setArg(kernel_argument::kTileColors, out.colors);
         kernel.setArg(kernel_argument::kTileRayCounts, out.counts);
         Launch l{tile, output, {}};
-        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(roundUp(rect.width, blockWidth), roundUp(rect.height, blockHeight)),
-                                         cl::NDRange(group, group), hangHook());
+        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, globalSize(rect), cl::NDRange(group, group), hangHook());
         // The tile's reads go into the queue right behind its kernel, ahead of the launches
         // after it. A read enqueued once the kernel was done came after them all in the
         // in-order queue: the device ran dry before every tile came back, and waited idle
@@ -623,6 +626,7 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
     cl::Buffer unwritten(slot.context, CL_MEM_WRITE_ONLY, sizeof(cl_float4) + sizeof(cl_uint4));
     kernel.setArg(kernel_argument::kTileColors, unwritten);
     kernel.setArg(kernel_argument::kTileRayCounts, unwritten);
+    if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
     slot.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group, group), cl::NDRange(group, group));
     slot.queue.finish();
 }
@@ -639,6 +643,10 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     if (!slot.context()) {
         slot.context = cl::Context(slot.device.device);
         slot.queue = cl::CommandQueue(slot.context, slot.device.device);
+        if (slot.packetLanes > 1) {
+            cl_uint empty[2] = {0, 0};
+            slot.blockQueue = cl::Buffer(slot.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(empty), empty);
+        }
     }
     double uploadSeconds = 0, buildSeconds = 0;
     auto start = Clock::now();
@@ -676,9 +684,11 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         found = slot.programs.emplace(depth, std::move(p)).first;
     }
     cl::Kernel& kernel = found->second.kernel;
-    // The scene's buffers; the launch parameters and the tile outputs are set at each launch.
+    // The scene's buffers and the block queue; the launch parameters and the tile outputs are
+    // set at each launch.
     for (size_t i = 0; i < kSceneBufferCount; ++i)
         kernel.setArg(kernel_argument::kFirstSceneBuffer + cl_uint(i), slot.sceneBuffers[i]);
+    if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
     std::lock_guard lock(frame.mutex);
     frame.uploadSeconds = std::max(frame.uploadSeconds, uploadSeconds);
     frame.buildSeconds = std::max(frame.buildSeconds, buildSeconds);
