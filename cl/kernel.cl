@@ -12,10 +12,12 @@
 #endif
 
 /* Renders one tile: work-item (x, y) is pixel (tile x0 + x, tile y0 + y) of the image and
- * element y * tile width + x of the tile outputs. Its arguments: the launch parameters, the
- * scene's buffers in the order of their list (cl/shared_types.h RAY_SCENE_BUFFERS), then the
- * tile's outputs, and on the packet path the block queue; the host numbers them so
- * (host/opencl/kernel_arguments.h).
+ * element y * tile width + x of the tile outputs. On the packet path the ray counts are a
+ * block's, tileRayCounts[b] for block b of the tile's rows of blocks: the host sums them for
+ * the tile alone, and a block's entry is one of RAY_PACKET_WIDTH pixels' to read back and
+ * to hold. Its arguments: the launch parameters, the scene's buffers in the order of their
+ * list (cl/shared_types.h RAY_SCENE_BUFFERS), then the tile's outputs, and on the packet
+ * path the block queue; the host numbers them so (host/opencl/kernel_arguments.h).
  *
  * On the packet path the work-items take the tile's blocks of pixels from a queue, one at
  * a time in the order of the tile's rows: blockQueue[0] counts the blocks taken (the host
@@ -39,7 +41,7 @@ __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_
     const uint blocks = blocksAcross * (uint)((params.tile.y + blockHeight - 1) / blockHeight);
     for (uint b = atomic_inc(&blockQueue[0]); b < blocks; b = atomic_inc(&blockQueue[0]))
         renderBlock(&scene, &params, (int)(b % blocksAcross) * blockWidth, (int)(b / blocksAcross) * blockHeight,
-                    tileColors, tileRayCounts);
+                    tileColors, &tileRayCounts[b]);
     if (atomic_inc(&blockQueue[1]) + 1u == (uint)(get_global_size(0) * get_global_size(1))) {
         atomic_xchg(&blockQueue[0], 0u);
         atomic_xchg(&blockQueue[1], 0u);

@@ -102,10 +102,11 @@ typedef struct {
     bool inside;     /* in the tile and the image: rendered and written */
 } BlockPixel;
 
-/* Renders the block whose top left pixel is (x0, y0) of the tile, writing the outputs of its
- * pixels that lie in the tile and the image (renderTile). */
+/* Renders the block whose top left pixel is (x0, y0) of the tile, writing the colors of its
+ * pixels that lie in the tile and the image, and the sum of their ray counts to *rayCounts
+ * (the block's entry: renderTile). */
 static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRenderParams* params, int x0, int y0,
-                                         __global float4* tileColors, __global uint4* tileRayCounts) {
+                                         __global float4* tileColors, __global uint4* rayCounts) {
     BlockPixel pixels[RAY_PACKET_WIDTH];
     PixelTrace counters[RAY_PACKET_WIDTH];
     int sampling[RAY_PACKET_WIDTH];
@@ -154,14 +155,16 @@ static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRen
             anySampling |= sampling[l] != 0;
         }
     }
+    uint4 blockRays = (uint4)(0u);
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         const BlockPixel* p = &pixels[l];
         if (!p->inside) continue;
         int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
-        int pixel = y * params->tile.x + x; /* the outputs hold this tile alone, row by row */
+        int pixel = y * params->tile.x + x; /* the colors hold this tile alone, row by row */
         tileColors[pixel] = (float4)(p->color, 1.0f);
-        tileRayCounts[pixel] = (uint4)(counters[l].primary, counters[l].shadow, counters[l].secondary, 0u);
+        blockRays += (uint4)(counters[l].primary, counters[l].shadow, counters[l].secondary, 0u);
     }
+    *rayCounts = blockRays;
 }
 
 #endif /* RAY_PACKET_WIDTH */

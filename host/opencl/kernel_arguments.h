@@ -13,7 +13,7 @@ namespace ray::kernel_argument {
 constexpr uint32_t kParams = 0;                                   // RayRenderParams, by value
 constexpr uint32_t kFirstSceneBuffer = kParams + 1;               // then kSceneBufferCount of them
 constexpr uint32_t kTileColors = kFirstSceneBuffer + uint32_t(kSceneBufferCount);  // float4 a pixel
-constexpr uint32_t kTileRayCounts = kTileColors + 1;              // uint4 a pixel
+constexpr uint32_t kTileRayCounts = kTileColors + 1;              // uint4 a pixel (a block: packets)
 constexpr uint32_t kBlockQueue = kTileRayCounts + 1;              // packet builds alone: 2 uint
 
 // How many the kernel declares: a packet build (-DRAY_PACKET_WIDTH) has the block queue too.

@@ -212,7 +212,7 @@ struct DeviceSlot {
         cl::Buffer colors, counts;
         std::vector<cl_float4> hostColors;
         std::vector<cl_uint4> hostCounts;
-        size_t pixels = 0;
+        size_t pixels = 0, rayCounts = 0;  // the entries each holds (TileEntries)
     };
     std::array<TileOutput, kTilesInFlight> outputs;
     // The packet path's block queue (cl/kernel.cl): two counters, zero between launches.
@@ -272,7 +272,8 @@ struct Frame {
     std::shared_ptr<const PackedScene> packed;
     RenderSettings settings;
     gpu::RayRenderParams params{};
-    size_t tilePixels = 0;
+    int tileWidth = 0, tileHeight = 0;  // a full tile's (a guide: launches grow their buffers as needed)
+    size_t tilePixels() const { return size_t(tileWidth) * size_t(tileHeight); }
     size_t workGroupSize = 8;
 
     uint64_t pixelsDone = 0, pixelsTotal = 0;
@@ -379,23 +380,39 @@ struct Frame {
     }
 };
 
-// Makes `out` hold a tile of `pixels`, when it holds fewer: new buffers and host copies, each
+// What a launch writes for a tile of width x height: a color a pixel, and ray counts a
+// work-item (a pixel's, or on the packet path a block's: cl/kernel.cl).
+struct TileEntries {
+    size_t pixels = 0, rayCounts = 0;
+};
+TileEntries tileEntries(int width, int height, int packetLanes) {
+    const size_t pixels = size_t(width) * size_t(height);
+    if (packetLanes <= 1) return {pixels, pixels};
+    const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(packetLanes), blockHeight = RAY_PIXEL_BLOCK_HEIGHT(packetLanes);
+    return {pixels, size_t((width + blockWidth - 1) / blockWidth) * size_t((height + blockHeight - 1) / blockHeight)};
+}
+
+// Makes `out` hold a tile's entries, where it holds fewer: new buffers and host copies, each
 // written through once (the fills run before the next launch), so that a kernel and a read
 // find their pages in place. A page's first touch, in a kernel's work-items or a read, cost
 // 4-13 µs on the 2-core VM of docs/performance.md; made here, at prepareDevice, for the
 // frame's tiles, it is no longer the first tiles' (recursiveCones4 1024x768: render 0.124 ->
 // 0.105 s).
-void sizeTileOutput(DeviceSlot& slot, DeviceSlot::TileOutput& out, size_t pixels) {
-    if (out.pixels >= pixels) return;
-    // Host-allocatable: zero-copy reads on CPU devices (PoCL).
-    out.colors = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_float4));
-    out.counts = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, pixels * sizeof(cl_uint4));
+void sizeTileOutput(DeviceSlot& slot, DeviceSlot::TileOutput& out, TileEntries tile) {
     const cl_uint zero = 0;
-    slot.queue.enqueueFillBuffer(out.colors, zero, 0, pixels * sizeof(cl_float4));
-    slot.queue.enqueueFillBuffer(out.counts, zero, 0, pixels * sizeof(cl_uint4));
-    out.hostColors.assign(pixels, cl_float4{});
-    out.hostCounts.assign(pixels, cl_uint4{});
-    out.pixels = pixels;
+    // Host-allocatable: zero-copy reads on CPU devices (PoCL).
+    if (out.pixels < tile.pixels) {
+        out.colors = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, tile.pixels * sizeof(cl_float4));
+        slot.queue.enqueueFillBuffer(out.colors, zero, 0, tile.pixels * sizeof(cl_float4));
+        out.hostColors.assign(tile.pixels, cl_float4{});
+        out.pixels = tile.pixels;
+    }
+    if (out.rayCounts < tile.rayCounts) {
+        out.counts = cl::Buffer(slot.context, CL_MEM_WRITE_ONLY | CL_MEM_ALLOC_HOST_PTR, tile.rayCounts * sizeof(cl_uint4));
+        slot.queue.enqueueFillBuffer(out.counts, zero, 0, tile.rayCounts * sizeof(cl_uint4));
+        out.hostCounts.assign(tile.rayCounts, cl_uint4{});
+        out.rayCounts = tile.rayCounts;
+    }
 }
 
 // One device's part of a frame, run on its thread once its kernel is built.
@@ -499,8 +516,8 @@ private:
         // At most kTilesInFlight launches, finished in order: this output's last user is done.
         const size_t output = launches_++ % kTilesInFlight;
         DeviceSlot::TileOutput& out = slot_.outputs[output];
-        const size_t pixels = size_t(rect.width) * size_t(rect.height);
-        sizeTileOutput(slot_, out, pixels);  // at prepareDevice for the frame's tiles
+        const TileEntries entries = tileEntries(rect.width, rect.height, slot_.packetLanes);
+        sizeTileOutput(slot_, out, entries);  // at prepareDevice for the frame's tiles
         // Arguments are captured at enqueue time.
         kernel.setArg(kernel_argument::kParams, sizeof(params), &params);
         kernel.setArg(kernel_argument::kTileColors, out.colors);
@@ -512,9 +529,9 @@ private:
         // in-order queue: the device ran dry before every tile came back, and waited idle
         // while the host pasted it and launched the next (PoCL, recursiveCones4: ~50 context
         // switches a tile).
-        slot_.queue.enqueueReadBuffer(out.colors, CL_FALSE, 0, pixels * sizeof(cl_float4), out.hostColors.data());
-        slot_.queue.enqueueReadBuffer(out.counts, CL_FALSE, 0, pixels * sizeof(cl_uint4), out.hostCounts.data(), nullptr,
-                                      &l.read);
+        slot_.queue.enqueueReadBuffer(out.colors, CL_FALSE, 0, entries.pixels * sizeof(cl_float4), out.hostColors.data());
+        slot_.queue.enqueueReadBuffer(out.counts, CL_FALSE, 0, entries.rayCounts * sizeof(cl_uint4),
+                                      out.hostCounts.data(), nullptr, &l.read);
         slot_.queue.flush();
         inFlight_.push_back(l);
     }
@@ -546,11 +563,13 @@ private:
         result.rect = rect;
         result.device = index_;
         rgb_.resize(n * 3);
-        for (size_t p = 0; p < n; ++p) {
+        for (size_t p = 0; p < n; ++p)
             for (int c = 0; c < 3; ++c) rgb_[p * 3 + size_t(c)] = rgba[p].s[c];
-            result.primaryRays += rays[p].s[0];
-            result.shadowRays += rays[p].s[1];
-            result.secondaryRays += rays[p].s[2];
+        const size_t rayCounts = tileEntries(rect.width, rect.height, slot_.packetLanes).rayCounts;
+        for (size_t e = 0; e < rayCounts; ++e) {
+            result.primaryRays += rays[e].s[0];
+            result.shadowRays += rays[e].s[1];
+            result.secondaryRays += rays[e].s[2];
         }
         result.rgb = rgb_.data();
         keep(l.tile, result);
@@ -648,9 +667,9 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
 // seconds spent uploading and building to the frame.
 cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks) {
     const PackedScene& packed = *frame.packed;
-    if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels) {
-        checkDeviceLimits(slot.device, packed, frame.tilePixels * sizeof(cl_float4));
-        slot.checkedTilePixels = frame.tilePixels;
+    if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels()) {
+        checkDeviceLimits(slot.device, packed, frame.tilePixels() * sizeof(cl_float4));
+        slot.checkedTilePixels = frame.tilePixels();
     }
     if (!slot.context()) {
         slot.context = cl::Context(slot.device.device);
@@ -701,7 +720,8 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     for (size_t i = 0; i < kSceneBufferCount; ++i)
         kernel.setArg(kernel_argument::kFirstSceneBuffer + cl_uint(i), slot.sceneBuffers[i]);
     if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
-    for (DeviceSlot::TileOutput& out : slot.outputs) sizeTileOutput(slot, out, frame.tilePixels);
+    for (DeviceSlot::TileOutput& out : slot.outputs)
+        sizeTileOutput(slot, out, tileEntries(frame.tileWidth, frame.tileHeight, slot.packetLanes));
     slot.queue.finish();
     std::lock_guard lock(frame.mutex);
     frame.uploadSeconds = std::max(frame.uploadSeconds, uploadSeconds);
@@ -938,8 +958,8 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
     frame->packed = e.packed;
     frame->settings = settings;
     frame->params = makeRenderParams(camera, e.scene->globals, settings, *e.packed);
-    // A guide (launches grow their buffers as needed): a tile lies within the image.
-    frame->tilePixels = size_t(std::min(side, settings.width)) * size_t(std::min(side, settings.height));
+    frame->tileWidth = std::min(side, settings.width);  // a tile lies within the image
+    frame->tileHeight = std::min(side, settings.height);
     frame->workGroupSize = size_t(options.workGroupSize);
     frame->pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
     frame->devices.resize(e.slots.size());
