@@ -456,8 +456,9 @@ public:
 private:
     struct Launch {
         int tile;
-        size_t output;  // index in slot_.outputs
-        cl::Event read;  // the last of its reads back: done once the tile is on the host
+        size_t output;        // index in slot_.outputs
+        TileEntries entries;  // what it writes and reads back
+        cl::Event read;       // the last of its reads back: done once the tile is on the host
     };
 
     // Under the frame's lock: the frame is open and this device still part of it.
@@ -522,7 +523,7 @@ private:
         kernel.setArg(kernel_argument::kParams, sizeof(params), &params);
         kernel.setArg(kernel_argument::kTileColors, out.colors);
         kernel.setArg(kernel_argument::kTileRayCounts, out.counts);
-        Launch l{tile, output, {}};
+        Launch l{tile, output, entries, {}};
         slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, globalSize(rect), cl::NDRange(group, group), hangHook());
         // The tile's reads go into the queue right behind its kernel, ahead of the launches
         // after it. A read enqueued once the kernel was done came after them all in the
@@ -553,7 +554,7 @@ private:
         Launch l = inFlight_.front();
         l.read.wait();
         const TileRect rect = frame_.scheduler->tile(l.tile);
-        const size_t n = size_t(rect.width) * size_t(rect.height);
+        const size_t n = l.entries.pixels;
         const DeviceSlot::TileOutput& out = slot_.outputs[l.output];
         const std::vector<cl_float4>& rgba = out.hostColors;
         const std::vector<cl_uint4>& rays = out.hostCounts;
@@ -565,8 +566,7 @@ private:
         rgb_.resize(n * 3);
         for (size_t p = 0; p < n; ++p)
             for (int c = 0; c < 3; ++c) rgb_[p * 3 + size_t(c)] = rgba[p].s[c];
-        const size_t rayCounts = tileEntries(rect.width, rect.height, slot_.packetLanes).rayCounts;
-        for (size_t e = 0; e < rayCounts; ++e) {
+        for (size_t e = 0; e < l.entries.rayCounts; ++e) {
             result.primaryRays += rays[e].s[0];
             result.shadowRays += rays[e].s[1];
             result.secondaryRays += rays[e].s[2];
