@@ -100,6 +100,13 @@ ranks_of() { for p in $(pgrep -x ray); do grep -qa "$1" "/proc/$p/cmdline" 2>/de
 if [ -f "$chess" ]; then hung=("$chess" 1200 900); else hung=("$showpiece" 1200 900); fi
 hung_victim=
 state_of() { awk '{print $3}' "/proc/$1/stat" 2>/dev/null; }
+# $1 mpirun's pid, hung: what it and its children were doing, before the test kills it.
+show_hang() {
+    echo "--- the hung job: processes"
+    ps -eo pid,ppid,stat,etime,wchan:24,args | awk -v j="$1" 'NR == 1 || $1 == j || $2 == j || /[r]ay /'
+    command -v gdb > /dev/null && timeout 60 gdb -batch -p "$1" -ex "thread apply all bt" 2>&1 | grep -E "^(Thread|#)"
+    echo "--- mpirun's open files"; ls -l "/proc/$1/fd" 2>&1 | tail -n +2
+}
 release_victim() { [ -n "$hung_victim" ] && kill -CONT "$hung_victim" 2>/dev/null && kill -9 "$hung_victim" 2>/dev/null; true; }
 trap release_victim EXIT
 "$ray" "${hung[@]}" --quiet -o "$out/hung.plain.png" || fail "hung rank: plain ray exited $?"
@@ -129,7 +136,7 @@ else
         kill -0 $job 2>/dev/null || { wait $job; code=$?; ended_at=$(date +%s.%N); break; }
         sleep 0.1
     done
-    [ "$code" = hung ] && { kill -9 $job; fail "hung rank: the job did not end within 90 s of the stop"; }
+    [ "$code" = hung ] && { show_hang $job; kill -9 $job; fail "hung rank: the job did not end within 90 s of the stop"; }
     [ "$code" = 4 ] || fail "hung rank: exit $code, not 4"
     # The rank says when it stopped itself (polling /proc here lags seconds on busy cores).
     stopped_at=$(sed -n 's/.*this rank stops itself (SIGSTOP) at \([0-9.]*\)$/\1/p' "$out/hung.err")
@@ -161,7 +168,7 @@ for _ in $(seq 1200); do  # at most 120 s
     kill -0 $job 2>/dev/null || { wait $job; code=$?; break; }
     sleep 0.1
 done
-[ "$code" = hung ] && kill -9 $job
+[ "$code" = hung ] && { show_hang $job; kill -9 $job; }
 for p in $(ranks_of late.png); do kill -CONT "$p"; kill -9 "$p"; done 2>/dev/null
 [ "$code" = 4 ] || fail "late rank (--rank-timeout 2): exit '$code', not 4"
 cmp -s "$out/hung.plain.png" "$out/late.png" || fail "late rank: the image differs"
@@ -182,7 +189,7 @@ stopped_early() {
         kill -0 $job 2>/dev/null || { wait $job; code=$?; ended_at=$(date +%s.%N); break; }
         sleep 0.1
     done
-    [ "$code" = hung ] && { kill -9 $job; fail "$name: the job did not end within 90 s"; }
+    [ "$code" = hung ] && { show_hang $job; kill -9 $job; fail "$name: the job did not end within 90 s"; }
     for p in $(ranks_of "$name.png"); do fail "$name: rank $p left behind"; kill -CONT "$p"; kill -9 "$p"; done 2>/dev/null
     [ "$code" = 4 ] || fail "$name: exit $code, not 4"
     cmp -s "$out/hook.plain.png" "$out/$name.png" || fail "$name: the image differs"
