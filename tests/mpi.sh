@@ -178,12 +178,14 @@ grep -Eq "warning: rank 2 \(host .*\) does not answer: it (held its tile .* past
 # A rank that stops itself (test hooks: -x VAR=value on rank 2) before its first tile:
 # silent (no heartbeat) for the usual 10 s deadline, it is dropped, not waited for as a
 # start-up (the first tile's 120 s, or for ever in a collective): the same image within
-# 30 s of the stop, the rank named, exit 4, the job ended.
+# 30 s of the stop, the rank named, exit 4, the job ended. Rank 0 aborts 1 s after it tells
+# rank 1 the frame is over (RAY_TEST_ABORT_AFTER_SECONDS): rank 1 then surely waits for the
+# abort (while it called MPI_Finalize, mpirun hung or crashed in some runs: bench/mpi_abort_race.sh).
 # $1 name, $2 the warning's pattern, $3.. mpirun's -x options for rank 2.
 stopped_early() {
     local name=$1 warning=$2; shift 2
-    "$mpirun" -q --oversubscribe -n 2 "$ray" "$base" 320 240 --tile-size 8 -o "$out/$name.png" : \
-        -n 1 "$@" "$ray" "$base" 320 240 --tile-size 8 -o "$out/$name.png" 2> "$out/$name.err" &
+    RAY_TEST_ABORT_AFTER_SECONDS=1 "$mpirun" -q --oversubscribe -n 2 "$ray" "$base" 320 240 --tile-size 8 \
+        -o "$out/$name.png" : -n 1 "$@" "$ray" "$base" 320 240 --tile-size 8 -o "$out/$name.png" 2> "$out/$name.err" &
     local job=$! code=hung ended_at=0
     for _ in $(seq 900); do  # at most 90 s
         kill -0 $job 2>/dev/null || { wait $job; code=$?; ended_at=$(date +%s.%N); break; }

@@ -47,11 +47,18 @@ enum Tag : int {
     kTiles,        // 0 -> W: 4 ints (x, y, width, height) a tile; fewer tiles than asked: no more
     kResult,       // W -> 0: a TileResultHeader, then width x height x 3 floats (linear RGB)
     kFinished,     // W -> 0: JSON, W's statistics (and why its devices failed, if they did)
-    kEnd,          // 0 -> W: int, the exit code: the frame is over
+    kEnd,          // 0 -> W: a Decision, the exit code: the frame is over
     kAlive,        // W -> 0: empty, a heartbeat: W's message loop runs (kHeartbeatSeconds)
     kHello,        // W -> 0: JSON, W's start-up done: its outcome, fingerprint and host
-    kStart,        // 0 -> W: int, 0: render; else the exit code every rank ends with
+    kStart,        // 0 -> W: a Decision, 0: render; else the exit code every rank ends with
 };
+
+// Rank 0's word to a worker on how the job goes on (kStart) or ends (kEnd).
+struct Decision {
+    int code = 0;        // kStart: 0 to render, else the exit code; kEnd: the exit code
+    int byAbort = 0;     // 1: rank 0 ends the job with MPI_Abort, a rank having stopped answering
+};
+static_assert(sizeof(Decision) == 2 * sizeof(int), "a Decision is sent as two MPI_INTs");
 
 // A worker that has sent nothing for this long sends a heartbeat, from its message loop,
 // which never waits on the engine: it goes on while the rank's kernel compiles or a long
@@ -79,12 +86,52 @@ bool interrupted() { return interruptFlag()->load(); }
     std::_Exit(kExitRuntime);
 }
 
+// How long a worker waits for mpirun to end it after rank 0's MPI_Abort (awaitAbort).
+constexpr double kAwaitAbortSeconds = 60;
+
 // After SIGINT/SIGTERM (mpirun forwards Ctrl-C as SIGTERM to every rank and kills those
 // left after a few seconds): leave at once, without MPI_Finalize, which waits for ranks
 // that may be gone.
 [[noreturn]] void leaveInterrupted() {
     std::cerr << std::flush;
     std::_Exit(interruptExitCode());
+}
+
+// Rank 0 ends the job with MPI_Abort, a rank having stopped answering: this worker waits
+// for mpirun to end it (SIGTERM: leaveInterrupted) instead of calling MPI_Finalize, which
+// waits for every rank, the stopped one too. Measured with Open MPI 4.1.4
+// (bench/mpi_abort_race.sh: 3 ranks, the third stopped, rank 0 aborting a second later):
+// with the second rank in MPI_Finalize, mpirun hung (every rank a zombie) or crashed in 9
+// of 25 runs; with it waiting so, in none of 25. Should mpirun never come, the worker
+// leaves without MPI_Finalize (mpirun then ends the job for a rank gone unannounced).
+[[noreturn]] void awaitAbort(int code) {
+    const auto start = Clock::now();
+    while (secondsSince(start) < kAwaitAbortSeconds) {
+        if (interrupted()) leaveInterrupted();
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    std::_Exit(code);
+}
+
+// A worker waits for rank 0's decision (`tag`: kStart or kEnd) and returns its exit code;
+// it never returns when the job ends by MPI_Abort (awaitAbort).
+int awaitDecision(Tag tag) {
+    while (true) {
+        int flag = 0;
+        MPI_Iprobe(0, tag, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+        if (flag) {
+            Decision decision;
+            MPI_Recv(&decision, 2, MPI_INT, 0, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            if (decision.byAbort) awaitAbort(decision.code);
+            return decision.code;
+        }
+        if (interrupted()) leaveInterrupted();
+        idle();
+    }
+}
+
+void sendDecision(const Decision& decision, int rank, Tag tag) {
+    MPI_Send(&decision, 2, MPI_INT, rank, tag, MPI_COMM_WORLD);
 }
 
 // Open MPI binds each rank to one core by default (for -n 1 and 2), which suits one rank
@@ -432,18 +479,7 @@ int runWorker(Prepared& p) {
         }
         if (!active) idle();
     }
-    // Wait for rank 0 to end the frame.
-    while (true) {
-        int flag = 0;
-        MPI_Iprobe(0, kEnd, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
-        if (flag) {
-            int code = 0;
-            MPI_Recv(&code, 1, MPI_INT, 0, kEnd, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            return code;
-        }
-        if (interrupted()) leaveInterrupted();
-        idle();
-    }
+    return awaitDecision(kEnd);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -594,6 +630,9 @@ std::string formatSeconds(double seconds) {
               << (code == 0 && imageWritten ? " (the image is written and whole)" : "") << "; exit " << exitCode
               << "\n"
               << std::flush;
+    // Test hook: a later abort, so that the workers told to end surely wait for it (awaitAbort).
+    if (const char* hook = std::getenv("RAY_TEST_ABORT_AFTER_SECONDS"); hook && std::atof(hook) > 0)
+        std::this_thread::sleep_for(std::chrono::duration<double>(std::atof(hook)));
     MPI_Abort(MPI_COMM_WORLD, exitCode);
     std::_Exit(exitCode);
 }
@@ -658,10 +697,10 @@ public:
         }
         if (result.cancelled) leaveInterrupted();
         std::vector<int> silent;
-        for (int r = 1; r < mpi_.size; ++r) {
-            if (rankStats_[size_t(r)]) MPI_Send(&code, 1, MPI_INT, r, kEnd, MPI_COMM_WORLD);
-            else silent.push_back(r);
-        }
+        for (int r = 1; r < mpi_.size; ++r)
+            if (!rankStats_[size_t(r)]) silent.push_back(r);
+        for (int r = 1; r < mpi_.size; ++r)
+            if (rankStats_[size_t(r)]) sendDecision({code, !silent.empty()}, r, kEnd);
         if (!silent.empty()) endJobWithout(silent, code, hosts_, !result.cancelled && complete && code == 0);
         return code;
     }
@@ -880,17 +919,7 @@ int startWorker(Prepared& p, const std::vector<std::string>& args, int rank) {
                         {"fingerprint", p.fingerprint},
                         {"host", processorName()}};
     sendText(hello.dump(), 0, kHello);
-    while (true) {
-        int flag = 0;
-        MPI_Iprobe(0, kStart, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
-        if (flag) {
-            int code = 0;
-            MPI_Recv(&code, 1, MPI_INT, 0, kStart, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            return code;
-        }
-        if (interrupted()) leaveInterrupted();
-        idle();
-    }
+    return awaitDecision(kStart);
 }
 
 // Rank 0's start-up: the exit code every rank ends with (0: render), each rank's host, and
@@ -972,8 +1001,9 @@ int startCoordinator(Prepared& p, const std::vector<std::string>& args, const Mp
     // resumes then renders as a dropped rank, which gets no tile, and ends with the job.
     // Measured: while rank 0 sent nothing to a rank stopped in its start-up, Open MPI
     // 4.1.4's mpirun hung or crashed after rank 0's MPI_Abort in 5 of 28 runs; since, none.
-    for (int r = 1; r < mpi.size; ++r) MPI_Send(&code, 1, MPI_INT, r, kStart, MPI_COMM_WORLD);
-    if (!silent.empty() && (code != 0 || p.nothingToRender)) endJobWithout(silent, code, hosts, false);
+    const bool byAbort = !silent.empty() && (code != 0 || p.nothingToRender);
+    for (int r = 1; r < mpi.size; ++r) sendDecision({code, byAbort}, r, kStart);
+    if (byAbort) endJobWithout(silent, code, hosts, false);
     return code;
 }
 
