@@ -123,18 +123,16 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
 XmlTree readXmlFile(const fs::path& file, const Diagnostics& diagnostics) {
     std::error_code ec;
     if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
-        throw InputError(file.string() + ": error: this is a folder, not a scene file; give the path of a .xml "
-                                         "scene file (e.g. " + (file / "scene.xml").string() + ")");
+        diagnostics.fileError("this is a folder, not a scene file",
+                              "give the path of a .xml scene file (e.g. " + quotedForMessage((file / "scene.xml").string()) + ")");
     std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
-                         "); check the path");
+    if (!in) diagnostics.fileError(std::string("cannot open the scene file (") + std::strerror(errno) + ")", "check the path");
     // Read and parsed a piece at a time (xml_tree.h): the text of a large flat scene, tens
     // of megabytes, is never held whole. A FIFO or a device is read like a file, to its end.
     const XmlSource read = [&](char* buffer, size_t capacity) {
         in.read(buffer, std::streamsize(capacity));
         if (in.bad())
-            throw InputError(file.string() + ": error: the scene file could not be read to its end; check the disk");
+            diagnostics.fileError("the scene file could not be read to its end", "check the disk");
         return size_t(in.gcount());
     };
     // The file's size sizes the tree's arrays up front (unknown for a FIFO or a device).
