@@ -32,6 +32,8 @@ std::optional<std::string> TransformOp::whySingular() const {
                 return "a zero scale (a scale of 0 on an axis) flattens what it holds to nothing";
             break;
         case TransformKind::Matrix: {
+            for (double number : v)
+                if (!std::isfinite(number)) return "the matrix holds a number that is not finite";
             const auto [to, from] = affine();
             for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 4; ++c)

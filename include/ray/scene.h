@@ -83,9 +83,14 @@ enum class Shape { Cube, Sphere, Cylinder, Cone, Torus, Mesh };
 /// is 0 0 0 1). Compose with *: (a * b) applies b first, as nested transblocks do.
 struct Transform {
     double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  ///< the matrix's first three rows
-    static Transform translate(Vec3 t);  ///< a translation by t
-    static Transform scale(Vec3 s);      ///< a scale by s.x, s.y, s.z along the axes
-    static Transform rotate(Vec3 axis, double angleDegrees);  ///< a rotation about axis (through the origin)
+    /// A translation by t. Throws InputError when a number is not finite.
+    static Transform translate(Vec3 t);
+    /// A scale by s.x, s.y, s.z along the axes. Throws InputError when a number is not finite
+    /// (a zero scale is refused where the transform is used: it is singular).
+    static Transform scale(Vec3 s);
+    /// A rotation about axis (through the origin). Throws InputError for a zero axis or a
+    /// number that is not finite.
+    static Transform rotate(Vec3 axis, double angleDegrees);
 };
 /// The composition of two transforms: a * b applies b first, then a.
 Transform operator*(const Transform& a, const Transform& b);
