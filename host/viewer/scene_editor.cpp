@@ -6,6 +6,7 @@
 #include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
 #include "scene/parameter_rules.h"
+#include "viewer/folder_files.h"
 
 namespace ray {
 
@@ -281,20 +282,21 @@ bool SceneEditor::redo() {
     return true;
 }
 
-std::filesystem::path SceneEditor::save(const std::optional<std::filesystem::path>& as) {
-    std::filesystem::path target = file_;
+std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bool replace) {
+    const std::filesystem::path own = std::filesystem::absolute(file_).lexically_normal();
+    std::filesystem::path target = own;
     if (as) {
-        if (as->empty()) throw EditError("save as: give a file name");
-        target = as->is_absolute() ? *as : file_.parent_path() / *as;
-        if (target.extension() != ".xml") throw EditError("save as: a scenefile's name ends in .xml");
+        target = fileInFolder(own.parent_path(), *as, "save as", {".xml"});
+        std::error_code ec;
+        if (!std::filesystem::equivalent(target, own, ec)) checkMayWrite(target, replace, "save as");
     }
-    target = std::filesystem::absolute(target).lexically_normal();
     try {
         saveDocument(document_, resources_, target);
     } catch (const InputError& e) {
         throw EditError(std::string("not saved: ") + e.what());
     }
-    if (std::filesystem::equivalent(target, std::filesystem::absolute(file_))) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(target, own, ec)) {
         modified_ = false;
         for (State& s : undo_) s.modified = true;  // each differs from the file now written
         for (State& s : redo_) s.modified = true;

@@ -63,10 +63,11 @@ public:
     // False when there is nothing to undo (redo).
     bool undo();
     bool redo();
-    // Writes the document atomically to the file it was opened from, or to `as` (made
-    // absolute from the opened file's folder; a .xml name). Returns where it wrote. Throws
-    // EditError (a bad name) or std::runtime_error (the write failed; nothing replaced).
-    std::filesystem::path save(const std::optional<std::filesystem::path>& as = std::nullopt);
+    // Writes the document atomically to the file it was opened from, or to `as`, a .xml file
+    // in the opened file's folder (viewer/folder_files.h: no other folder, no link), which
+    // must not exist unless `replace`. Returns where it wrote. Throws BadFileName,
+    // FileExists, EditError or std::runtime_error (the write failed; nothing replaced).
+    std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false);
     // The file changed on disk (not by save): loads it again; the history is cleared, as
     // the edits were made to another version. Throws InputError (the editor is unchanged).
     void reload();

@@ -11,6 +11,7 @@
 #include "opencl/opencl_device.h"
 #include "scene/file_search.h"
 #include "viewer/access_token.h"
+#include "viewer/request_guard.h"
 #include "viewer/viewer_server.h"
 
 namespace ray {
@@ -126,7 +127,7 @@ int runViewCommand(const std::vector<std::string>& args) {
         return 2;
     }
     const ViewerOptions& options = command.options;
-    if (options.address != "127.0.0.1" && options.address != "localhost")
+    if (!isLoopbackAddress(options.address))
         std::cerr << "ray view: warning: listening on " << options.address
                   << ", not only this machine: anyone who can reach it can use the viewer"
                   << (options.token.empty() ? "" : " if they learn its URL") << "\n";

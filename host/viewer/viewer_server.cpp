@@ -6,6 +6,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <condition_variable>
 #include <cerrno>
@@ -18,7 +19,9 @@
 
 #include "explain/explanation_report.h"
 #include "render/settings_table.h"
-#include "viewer/access_token.h"
+#include "core/message_text.h"
+#include "viewer/folder_files.h"
+#include "viewer/request_guard.h"
 #include "viewer/scene_editor.h"
 #include "viewer/viewer_page.h"
 
@@ -238,15 +241,16 @@ public:
         } else if (action == "redo") {
             out["done"] = editor_.redo();
         } else if (action == "save") {
-            std::optional<std::filesystem::path> as;
+            std::optional<std::string> as;
             if (request.contains("as")) {
                 if (!request["as"].is_string()) throw EditError("save as: the name must be a string");
-                as = std::filesystem::path(request["as"].get<std::string>());
+                as = request["as"].get<std::string>();
             }
-            const std::filesystem::path saved = editor_.save(as);
+            const bool replace = request.contains("replace") && request["replace"].is_boolean() && request["replace"].get<bool>();
+            const std::filesystem::path saved = editor_.save(as, replace);
             // Its own save is not a change on disk to reload (which would clear the history).
             sceneTime_ = lastWrite();
-            log("saved " + saved.string());
+            log("saved " + quotedForMessage(saved.string()));
             out["saved"] = saved.string();
         }
         if (editor_.scene() != scene_) {
@@ -514,33 +518,95 @@ void badRequest(httplib::Response& response, const std::string& why) {
     response.set_content(json{{"error", why}}.dump(), "application/json");
 }
 
-// The access check every request passes first (viewer/access_token.h). A first visit to
-// the page with the token in its query gets the cookie and is sent on to the bare URL.
-httplib::Server::HandlerResponse checkAccess(const httplib::Request& request, httplib::Response& response,
-                                             const std::string& token, const std::string& cookieName) {
+// A whole number from the query: "x must be a whole number" rather than std::stoi's "stoi".
+int intParameter(const httplib::Request& request, const char* name) {
+    const std::string text = request.get_param_value(name);
+    int value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || end != text.data() + text.size())
+        throw std::invalid_argument(std::string(name) + " must be a whole number" +
+                                    (error == std::errc::result_out_of_range ? " in range" : "") + ", not '" +
+                                    quotedForMessage(text, 40) + "'");
+    return value;
+}
+
+// Whether a request comes with a body: the guard runs before cpp-httplib reads it, so its
+// headers tell.
+bool carriesBody(const httplib::Request& request) {
+    const std::string length = request.get_header_value("Content-Length");
+    return (!length.empty() && length != "0") || request.has_header("Transfer-Encoding");
+}
+
+// Headers every answer carries: it is never framed, read by another origin or sniffed.
+void setProtectiveHeaders(httplib::Response& response) {
+    response.set_header("X-Content-Type-Options", "nosniff");
+    response.set_header("X-Frame-Options", "DENY");
+    response.set_header("Cross-Origin-Resource-Policy", "same-origin");
+    response.set_header("Referrer-Policy", "no-referrer");
+}
+
+// The check every request passes first (viewer/request_guard.h). A first visit to the page
+// with the token in its query gets the cookie and is sent on to the bare URL.
+httplib::Server::HandlerResponse guardRequest(const httplib::Request& request, httplib::Response& response,
+                                              const GuardPolicy& policy) {
     using Result = httplib::Server::HandlerResponse;
-    if (token.empty()) return Result::Unhandled;
-    const PresentedCredentials presented{request.get_param_value("token"), request.get_header_value("Authorization"),
-                                         request.get_header_value("Cookie")};
-    if (!tokensMatch(presentedToken(presented, cookieName), token)) {
-        response.status = 403;
-        response.set_content("ray view: this viewer needs its access token: open the URL that `ray view` printed "
-                             "(with ?token=...), or start it with --no-token\n",
-                             "text/plain; charset=utf-8");
+    setProtectiveHeaders(response);
+    const RequestFacts facts{request.method,
+                             request.path,
+                             request.get_header_value("Host"),
+                             request.get_header_value("Origin"),
+                             request.get_header_value("Sec-Fetch-Site"),
+                             request.get_header_value("Sec-Fetch-Mode"),
+                             request.get_header_value("Sec-Fetch-Dest"),
+                             request.get_header_value("Content-Type"),
+                             request.get_param_value("token"),
+                             request.get_header_value("Authorization"),
+                             request.get_header_value("Cookie"),
+                             carriesBody(request)};
+    const GuardVerdict verdict = checkRequest(facts, policy);
+    if (verdict.status != 0) {
+        response.status = verdict.status;
+        response.set_content(json{{"error", verdict.message}}.dump(), "application/json");
         return Result::Handled;
     }
-    if (request.path == "/" && request.has_param("token")) {
-        response.set_header("Set-Cookie", cookieName + "=" + token + "; Path=/; HttpOnly; SameSite=Strict");
+    if (!verdict.setCookie.empty()) {
+        response.set_header("Set-Cookie", verdict.setCookie);
         response.set_redirect("/", 303);
         return Result::Handled;
     }
     return Result::Unhandled;
 }
 
-void defineRoutes(httplib::Server& server, Session& session, bool editable) {
-    server.Get("/", [](const httplib::Request&, httplib::Response& response) {
+// An error answer that cpp-httplib made itself (a body over the limit, a request it could
+// not read) says what went wrong, as every other answer does.
+httplib::Server::HandlerResponse explainError(const httplib::Request&, httplib::Response& response) {
+    if (!response.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    std::string why = "the request was not understood (an HTTP request with a JSON body, and a Content-Length "
+                      "for a POST)";
+    if (response.status == 413)
+        why = "the request's body is over the " + std::to_string(kMaxRequestBody / 1024) + " KiB limit";
+    else if (response.status == 404)
+        why = "there is no such route (the viewer serves /, /state, /settings, /events, /view, /pick, /object, "
+              "/explain, /edit, /undo, /redo and /save)";
+    response.set_content(json{{"error", why}}.dump(), "application/json");
+    return httplib::Server::HandlerResponse::Handled;
+}
+
+// The page, with its token written in (request_guard.h says why the page holds it).
+std::string pageWithToken(const std::string& token) {
+    std::string page = kViewerPage;
+    const std::string placeholder = R"(<meta name="ray-token" content="">)";
+    const size_t at = page.find(placeholder);
+    if (at != std::string::npos) page.replace(at, placeholder.size(), R"(<meta name="ray-token" content=")" + token + "\">");
+    return page;
+}
+
+void defineRoutes(httplib::Server& server, Session& session, const std::string& token) {
+    const bool editable = !token.empty();
+    server.Get(kPagePath, [page = pageWithToken(token)](const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-store");
-        response.set_content(kViewerPage, "text/html; charset=utf-8");
+        response.set_header("Content-Security-Policy", "frame-ancestors 'none'");
+        response.set_content(page, "text/html; charset=utf-8");
     });
     server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {
         response.set_content(settingControlsJson().dump(), "application/json");
@@ -558,23 +624,23 @@ void defineRoutes(httplib::Server& server, Session& session, bool editable) {
     });
     server.Get("/explain", [&](const httplib::Request& request, httplib::Response& response) {
         try {
-            int x = std::stoi(request.get_param_value("x")), y = std::stoi(request.get_param_value("y"));
-            response.set_content(session.explain(x, y).dump(), "application/json");
+            response.set_content(session.explain(intParameter(request, "x"), intParameter(request, "y")).dump(),
+                                 "application/json");
         } catch (const std::exception& e) {
             badRequest(response, e.what());
         }
     });
     server.Get("/pick", [&](const httplib::Request& request, httplib::Response& response) {
         try {
-            int x = std::stoi(request.get_param_value("x")), y = std::stoi(request.get_param_value("y"));
-            response.set_content(session.pick(x, y).dump(), "application/json");
+            response.set_content(session.pick(intParameter(request, "x"), intParameter(request, "y")).dump(),
+                                 "application/json");
         } catch (const std::exception& e) {
             badRequest(response, e.what());
         }
     });
     server.Get("/object", [&](const httplib::Request& request, httplib::Response& response) {
         try {
-            response.set_content(session.object(std::stoi(request.get_param_value("id"))).dump(), "application/json");
+            response.set_content(session.object(intParameter(request, "id")).dump(), "application/json");
         } catch (const std::exception& e) {
             badRequest(response, e.what());
         }
@@ -594,6 +660,9 @@ void defineRoutes(httplib::Server& server, Session& session, bool editable) {
             }
             try {
                 response.set_content(session.edit(action, request.body).dump(), "application/json");
+            } catch (const FileExists& e) {
+                response.status = 409;
+                response.set_content(json{{"error", e.what()}, {"exists", true}}.dump(), "application/json");
             } catch (const json::exception& e) {
                 badRequest(response, std::string("the edit is not JSON as expected: ") + e.what());
             } catch (const std::exception& e) {
@@ -656,20 +725,21 @@ void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source
     httplib::Server server;
     server.set_socket_options(exclusivePortOptions);
     server.set_payload_max_length(kMaxRequestBody);
+    server.set_error_handler(httplib::Server::HandlerWithResponse(explainError));
     // A client that stops reading is dropped after this long instead of holding a thread.
     server.set_write_timeout(5, 0);
     server.set_read_timeout(5, 0);
     server.set_keep_alive_max_count(100);
     server.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
-    defineRoutes(server, session, !options.token.empty());
+    defineRoutes(server, session, options.token);
     int port = options.port;
     if (port == 0) port = server.bind_to_any_port(options.address);
     else if (!server.bind_to_port(options.address, port)) port = -1;
     if (port < 0) throwCannotListen(options.address, options.port);
-    // The cookie's name holds the port, known only now (--port 0).
-    server.set_pre_routing_handler([token = options.token, cookie = accessCookieName(port)](
-                                       const httplib::Request& request, httplib::Response& response) {
-        return checkAccess(request, response, token, cookie);
+    // The cookie's name and the Host check hold the port, known only now (--port 0).
+    const GuardPolicy policy{options.token, port, isLoopbackAddress(options.address)};
+    server.set_pre_routing_handler([policy](const httplib::Request& request, httplib::Response& response) {
+        return guardRequest(request, response, policy);
     });
     session.start();
     if (options.onListening) options.onListening(port);

@@ -5,14 +5,13 @@
 // lights, undo, redo and saving (POST /edit, /undo, /redo, /save: viewer/scene_editor.h).
 //
 // Only these routes exist (/, /settings, /state, /view, /events, /explain, /pick, /object,
-// /edit, /undo, /redo, /save); nothing is ever read from disk for a request, so no path can
-// reach a file, and only /save writes one (the scenefile, or a .xml file the user names).
-// The editing routes answer 403 in a viewer without a token (--no-token): only the
-// viewer's user may change the scene or its file. Every request must carry the access
-// token (viewer/access_token.h) unless the viewer was started with --no-token: without it
-// the answer is 403, whatever the path. Request bodies are capped, every number is
-// range-checked, and each change cancels the frame in flight: the renderer works on the
-// latest request only.
+// /edit, /undo, /redo, /save); nothing is ever read from disk for a request, and only /save
+// writes a file: the scenefile, or a .xml file the user names in its folder
+// (viewer/folder_files.h). The editing routes answer 403 in a viewer without a token
+// (--no-token): only the viewer's user may change the scene or its file. Every request
+// passes viewer/request_guard.h first: the viewer's own page or a script with the access
+// token, nothing else (403). Request bodies are capped, every number is range-checked, and
+// each change cancels the frame in flight: the renderer works on the latest request only.
 //
 // The page builds its setting controls from /settings, which the server makes from the
 // settings table (render/settings_table.h): every render setting but the size, depth and

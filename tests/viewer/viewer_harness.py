@@ -41,9 +41,14 @@ class Viewer:
         return {"Authorization": f"token {self.token}"} if self.token else {}
 
     def request(self, method, path, body=None, timeout=30, headers=None):
-        """headers: None sends the token (if any); a dict sends exactly those headers."""
+        """headers: None sends the token (if any) and, with a body, Content-Type: application/json,
+        as the page does; a dict sends exactly those headers."""
+        if headers is None:
+            headers = self.auth_headers()
+            if body is not None:
+                headers["Content-Type"] = "application/json"
         connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=timeout)
-        connection.request(method, path, body=body, headers=self.auth_headers() if headers is None else headers)
+        connection.request(method, path, body=body, headers=headers)
         response = connection.getresponse()
         data = response.read()
         connection.close()
