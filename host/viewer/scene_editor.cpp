@@ -282,6 +282,20 @@ bool SceneEditor::redo() {
     return true;
 }
 
+SaveRequest saveRequestFrom(const nlohmann::json& request) {
+    SaveRequest save;
+    if (!request.is_object()) throw EditError("save: the request is a JSON object, {} or {\"as\": \"other.xml\"}");
+    if (request.contains("as")) {
+        if (!request["as"].is_string()) throw EditError("save as: the name must be a string");
+        save.as = request["as"].get<std::string>();
+    }
+    if (request.contains("replace")) {
+        if (!request["replace"].is_boolean()) throw EditError("save: replace is true or false");
+        save.replace = request["replace"].get<bool>();
+    }
+    return save;
+}
+
 std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bool replace) {
     const std::filesystem::path own = std::filesystem::absolute(file_).lexically_normal();
     std::filesystem::path target = own;

@@ -31,6 +31,15 @@ struct EditError : std::invalid_argument {
     using std::invalid_argument::invalid_argument;
 };
 
+// What POST /save asks: {"as": name} (absent: the file the editor opened) and
+// {"replace": true} to replace an existing file.
+struct SaveRequest {
+    std::optional<std::string> as;
+    bool replace = false;
+};
+// Throws EditError when a field has the wrong type.
+SaveRequest saveRequestFrom(const nlohmann::json& request);
+
 class SceneEditor {
 public:
     // Loads the file. Throws InputError.

@@ -28,15 +28,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "scene/scene_loader.h"
 #include "render/frame_source.h"
+#include "scene/scene_loader.h"
+#include "viewer/view_request.h"
 
 namespace ray {
-
-// The sizes and depths the viewer accepts, from its command line and from the page.
-constexpr int kMinViewSide = 8;
-constexpr int kMaxViewSide = 2048;
-constexpr int kMaxViewDepth = 16;
 
 // The port is taken (another `ray view`, or any other server): binding fails rather than
 // sharing it (cpp-httplib's default sets SO_REUSEPORT, which let two viewers both listen).
