@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -31,6 +32,14 @@ inline const std::filesystem::path& scratchFolder() {
 inline void writeBytes(const std::filesystem::path& file, const uint8_t* data, size_t size) {
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+}
+
+// A property the target checks does not hold: says which and what, then aborts, which
+// libFuzzer reports as a crash with the input saved.
+[[noreturn]] inline void fail(const std::string& what, const std::string& detail, const std::string& text = "") {
+    std::fprintf(stderr, "fuzz property failed: %s: %s\n", what.c_str(), detail.c_str());
+    if (!text.empty()) std::fprintf(stderr, "--- the text ---\n%.4000s\n--- end ---\n", text.c_str());
+    std::abort();
 }
 
 // Makes libFuzzer's malloc limit the product's own: an allocation of more than `bytes` is a

@@ -1,0 +1,61 @@
+// libFuzzer target: a scene's round trip. Text that loads as a scene document is saved as a
+// scenefile (documentToText) and loaded again; the two flattened scenes must not differ in
+// anything a render reads (scene/scene_difference.h). What the saver writes must load, and
+// load to what was saved: a modeler's user saves and reopens all day.
+//
+// Anything but a clean InputError from the first load (or from saving what a file cannot
+// hold) is a crash; so is a difference. Seeds: the course scenes and ours (scripts/fuzz.sh);
+// dictionary: fuzz/scene.dict.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <utility>
+
+#include "fuzz_support.h"
+#include "scene/scene_difference.h"
+#include "scene/scene_loader.h"
+
+namespace {
+
+std::string differingParts(const ray::SceneDifference& d) {
+    std::string parts;
+    for (const auto& [differs, name] : {std::pair{d.geometry, "geometry"}, {d.primitiveMaterials, "primitive materials"},
+                                        {d.materials, "materials"}, {d.lights, "lights"}, {d.images, "images"},
+                                        {d.globals, "globals"}, {d.camera, "camera"}})
+        if (differs) parts += (parts.empty() ? "" : ", ") + std::string(name);
+    return parts;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    static const std::filesystem::path file = ray::fuzz::scratchFolder() / "round_trip.xml";
+    const std::string xml(reinterpret_cast<const char*>(data), size);
+    ray::LoadOptions options;
+    options.loadImages = false;  // the textures' pixels are not the saver's concern
+    options.maxPrimitives = 20000;
+    options.warn = [](const std::string&) {};
+    ray::SceneDocument document;
+    ray::Resources resources;
+    ray::Scene first;
+    std::string saved;
+    try {
+        document = ray::loadSceneDocumentFromText(xml, file, options);
+        first = ray::flattenDocument(document, resources, options);
+        saved = ray::documentToText(document, resources, file);
+    } catch (const ray::InputError&) {
+        return 0;  // not a scene, or one a file cannot hold: a clean refusal
+    }
+    ray::SceneDocument again;
+    ray::Resources againResources;
+    ray::Scene second;
+    try {
+        again = ray::loadSceneDocumentFromText(saved, file, options);
+        second = ray::flattenDocument(again, againResources, options);
+    } catch (const ray::InputError& e) {
+        ray::fuzz::fail("the saved scene does not load", e.what(), saved);
+    }
+    const ray::SceneDifference difference = ray::compareScenes(first, second);
+    if (difference.any()) ray::fuzz::fail("the saved scene loads to another scene", differingParts(difference), saved);
+    return 0;
+}
