@@ -26,36 +26,43 @@ std::string differingParts(const ray::SceneDifference& d) {
     return parts;
 }
 
-}  // namespace
+struct Loaded {
+    ray::SceneDocument document;
+    ray::Resources resources;
+    ray::Scene scene;
+};
 
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    static const std::filesystem::path file = ray::fuzz::scratchFolder() / "round_trip.xml";
-    const std::string xml(reinterpret_cast<const char*>(data), size);
+// The text as a document and its flattened scene. Throws InputError.
+Loaded load(const std::string& xml, const std::filesystem::path& file) {
     ray::LoadOptions options;
     options.loadImages = false;  // the textures' pixels are not the saver's concern
     options.maxPrimitives = 20000;
     options.warn = [](const std::string&) {};
-    ray::SceneDocument document;
-    ray::Resources resources;
-    ray::Scene first;
+    Loaded loaded;
+    loaded.document = ray::loadSceneDocumentFromText(xml, file, options);
+    loaded.scene = ray::flattenDocument(loaded.document, loaded.resources, options);
+    return loaded;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    static const std::filesystem::path file = ray::fuzz::scratchFolder() / "round_trip.xml";
+    Loaded first;
     std::string saved;
     try {
-        document = ray::loadSceneDocumentFromText(xml, file, options);
-        first = ray::flattenDocument(document, resources, options);
-        saved = ray::documentToText(document, resources, file);
+        first = load(std::string(reinterpret_cast<const char*>(data), size), file);
+        saved = ray::documentToText(first.document, first.resources, file);
     } catch (const ray::InputError&) {
         return 0;  // not a scene, or one a file cannot hold: a clean refusal
     }
-    ray::SceneDocument again;
-    ray::Resources againResources;
-    ray::Scene second;
+    Loaded second;
     try {
-        again = ray::loadSceneDocumentFromText(saved, file, options);
-        second = ray::flattenDocument(again, againResources, options);
+        second = load(saved, file);
     } catch (const ray::InputError& e) {
         ray::fuzz::fail("the saved scene does not load", e.what(), saved);
     }
-    const ray::SceneDifference difference = ray::compareScenes(first, second);
+    const ray::SceneDifference difference = ray::compareScenes(first.scene, second.scene);
     if (difference.any()) ray::fuzz::fail("the saved scene loads to another scene", differingParts(difference), saved);
     return 0;
 }

@@ -11,7 +11,7 @@ import sys
 import tempfile
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip
+from viewer_harness import Viewer, headless_chromium_or_skip, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 screenshot = sys.argv[3] if len(sys.argv) > 3 else None
@@ -26,14 +26,6 @@ def read_ppm(path):
     return int(parts[1]), int(parts[2]), parts[4]
 
 
-def wait(driver, condition, timeout=180):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        value = driver.execute_script("return " + condition)
-        if value:
-            return value
-        time.sleep(0.1)
-    raise TimeoutError(condition)
 
 
 def canvas_pixels(driver, canvas_id="view"):
@@ -64,7 +56,7 @@ def explain_pixel(driver, canvas, x, y):
     rect = driver.execute_script("return document.getElementById('view').getBoundingClientRect().toJSON()")
     ActionChains(driver).move_to_element_with_offset(canvas, int(x + 0.5 - rect["width"] / 2),
                                                      int(y + 0.5 - rect["height"] / 2)).click().perform()
-    wait(driver, f"window.rayViewer.explains > {before} && window.rayViewer.explainState === 'fresh'")
+    wait_for(driver, f"window.rayViewer.explains > {before} && window.rayViewer.explainState === 'fresh'", timeout=180)
     return driver.execute_script("return window.rayViewer.lastExplain")
 
 
@@ -87,7 +79,7 @@ try:
 
     # At rest the view is refined to the CLI's antialiasing: byte-identical to `ray scene W H`
     # on the same device (PoCL, through the engine).
-    rest = wait(driver, "window.rayViewer.restFrame")
+    rest = wait_for(driver, "window.rayViewer.restFrame", timeout=180)
     assert rest["aa"] == "course", rest
     folder = tempfile.mkdtemp()
     ppm = os.path.join(folder, "cli.ppm")
@@ -123,8 +115,8 @@ try:
     old_view = tree["view"]
     driver.execute_script("window.rayViewer.explainStates = []")
     ActionChains(driver).move_to_element(canvas).click_and_hold().move_by_offset(40, 10).release().perform()
-    wait(driver, f"window.rayViewer.restFrame.view > {old_view} && window.rayViewer.explainState === 'fresh' && "
-                 f"window.rayViewer.lastExplain.view === window.rayViewer.restFrame.view")
+    wait_for(driver, f"window.rayViewer.restFrame.view > {old_view} && window.rayViewer.explainState === 'fresh' && "
+                 f"window.rayViewer.lastExplain.view === window.rayViewer.restFrame.view", timeout=180)
     states = driver.execute_script("return window.rayViewer.explainStates")
     stale = [s for s in states if s["state"] == "stale"]
     assert stale and all(float(s["opacity"]) < 0.6 for s in stale), states
@@ -141,8 +133,8 @@ try:
     good = open(viewer.scene).read()
     time.sleep(1.1)  # a new modification time, whatever the file system's resolution
     open(viewer.scene, "w").write(good)
-    wait(driver, f"window.rayViewer.lastExplain.scene_version > {old_version} && "
-                 "window.rayViewer.explainState === 'fresh'")
+    wait_for(driver, f"window.rayViewer.lastExplain.scene_version > {old_version} && "
+                 "window.rayViewer.explainState === 'fresh'", timeout=180)
     states = driver.execute_script("return window.rayViewer.explainStates")
     assert any(s["state"] == "stale" for s in states), states
     print("reload: the explanation was dimmed as stale, then refreshed:", " -> ".join(s["state"] for s in states))
@@ -151,15 +143,15 @@ try:
     width_before = check_layout(driver, "before the broken save")["panelWidth"]
     time.sleep(1.1)
     open(viewer.scene, "w").write(good[:len(good) // 2] + "<unclosed_" + "x" * 200 + "\n")
-    wait(driver, "document.getElementById('error').textContent.length > 0", timeout=30)
+    wait_for(driver, "document.getElementById('error').textContent.length > 0", timeout=30)
     after = check_layout(driver, "broken save")
     assert after["panelWidth"] == width_before, (width_before, after)
     print(f"broken save: error shown, panel still {after['panelWidth']:.0f} px, no horizontal scroll")
     if screenshot:
         time.sleep(1.1)
         open(viewer.scene, "w").write(good)
-        wait(driver, "document.getElementById('error').textContent.length === 0", timeout=30)
-        wait(driver, "window.rayViewer.explainState === 'fresh'")
+        wait_for(driver, "document.getElementById('error').textContent.length === 0", timeout=30)
+        wait_for(driver, "window.rayViewer.explainState === 'fresh'", timeout=180)
         driver.save_screenshot(screenshot)
 finally:
     driver.quit()

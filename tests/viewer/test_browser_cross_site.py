@@ -17,7 +17,7 @@ import tempfile
 import threading
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip
+from viewer_harness import Viewer, headless_chromium_or_skip, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 
@@ -52,14 +52,6 @@ run();
 </script></body></html>"""
 
 
-def wait(driver, condition, timeout=60):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        value = driver.execute_script("return " + condition)
-        if value:
-            return value
-        time.sleep(0.05)
-    raise TimeoutError(condition)
 
 
 def folder_snapshot(folder):
@@ -91,12 +83,12 @@ try:
     with open(os.path.join(site, "index.html"), "w") as f:
         f.write(HOSTILE_PAGE.replace("VIEWER", viewer_origin))
     driver.get(viewer.url)  # the user opens the viewer: the browser now holds its cookie
-    wait(driver, "window.rayViewer && window.rayViewer.restFrame")
+    wait_for(driver, "window.rayViewer && window.rayViewer.restFrame", timeout=60)
     status, before = viewer.json("GET", "/state")
     files_before = folder_snapshot(viewer.folder)
 
     driver.get(f"http://127.0.0.1:{hostile.server_address[1]}/index.html")
-    wait(driver, "window.done === true")
+    wait_for(driver, "window.done === true", timeout=60)
     outcomes = driver.execute_script("return window.outcomes")
     time.sleep(1)  # anything the viewer accepted would be done by now
     status, after = viewer.json("GET", "/state")
@@ -112,7 +104,7 @@ try:
 
     # The viewer's own page: save as, through its controls.
     driver.get(viewer.url)
-    wait(driver, "window.rayViewer && window.rayViewer.restFrame")
+    wait_for(driver, "window.rayViewer && window.rayViewer.restFrame", timeout=60)
     edit_error = driver.find_element(By.ID, "edit-error")
     name_input = driver.find_element(By.ID, "save-as-name")
     os.symlink(os.path.join(outside, "target.xml"), os.path.join(viewer.folder, "link.xml"))
@@ -130,7 +122,7 @@ try:
                "precious\u0000.xml", "link.xml", "sub/inner.xml"]
     for name in refused:
         errors = save_as(name)
-        wait(driver, f"window.rayViewer.editErrors.length > {errors}")
+        wait_for(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=60)
         assert edit_error.text, name
         print(f"  save as {name!r}: {edit_error.text}")
     assert folder_snapshot(viewer.folder) == files_before
@@ -158,12 +150,12 @@ try:
             break
         except Exception:
             time.sleep(0.05)
-    wait(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('existing.xml')")
+    wait_for(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('existing.xml')", timeout=60)
     assert open(os.path.join(viewer.folder, "existing.xml")).read().lstrip().startswith("<")
     assert "<scenefile" in open(os.path.join(viewer.folder, "existing.xml")).read()
 
     save_as("new.xml")
-    wait(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('new.xml')")
+    wait_for(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('new.xml')", timeout=60)
     assert os.path.samefile(os.path.dirname(driver.execute_script("return window.rayViewer.saved")), viewer.folder)
     assert "<scenefile" in open(os.path.join(viewer.folder, "new.xml")).read()
     print(f"own page: {len(refused)} names refused with a message; an existing file replaced only after the user "

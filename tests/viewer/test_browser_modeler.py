@@ -12,21 +12,13 @@ import sys
 import tempfile
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip
+from viewer_harness import Viewer, headless_chromium_or_skip, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 WIDTH, HEIGHT = 640, 480  # the viewer's default size
 CX, CY = WIDTH // 2, HEIGHT // 2
 
 
-def wait(driver, condition, timeout=120):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        value = driver.execute_script("return " + condition)
-        if value:
-            return value
-        time.sleep(0.05)
-    raise TimeoutError(condition)
 
 
 def pixel(driver, x, y, canvas_id="view"):
@@ -68,7 +60,7 @@ from selenium.webdriver.common.by import By  # noqa: E402
 viewer = Viewer(ray, scene, "--device", "cpu")
 try:
     driver.get(viewer.url)
-    wait(driver, "window.rayViewer.restFrame")
+    wait_for(driver, "window.rayViewer.restFrame")
     before = pixel(driver, CX, CY)
     assert not red(before), before
     file_shown = driver.find_element(By.ID, "file").text
@@ -80,7 +72,7 @@ try:
     rect = driver.execute_script("return document.getElementById('view').getBoundingClientRect().toJSON()")
     ActionChains(driver).move_to_element_with_offset(canvas, int(CX + 0.5 - rect["width"] / 2),
                                                      int(CY + 0.5 - rect["height"] / 2)).click().perform()
-    selected = wait(driver, "window.rayViewer.selected")
+    selected = wait_for(driver, "window.rayViewer.selected")
     assert selected["pixel"] == [CX, CY], selected
     assert "selected:" in driver.find_element(By.ID, "selection").text
     marker = driver.execute_script(
@@ -94,7 +86,7 @@ try:
     version = driver.execute_script("return window.rayViewer.sceneVersion")
     start = time.time()
     set_input(driver, "material-diffuse", "#ff0000")
-    wait(driver, f"window.rayViewer.sceneVersion > {version}", timeout=30)
+    wait_for(driver, f"window.rayViewer.sceneVersion > {version}", timeout=30)
     deadline = start + 20
     while not red(pixel(driver, CX, CY)):
         assert time.time() < deadline, f"the centre is not red after 20 s: {pixel(driver, CX, CY)}"
@@ -105,7 +97,7 @@ try:
     # A bad value: the server's message in the page, nothing changed.
     errors = driver.execute_script("return window.rayViewer.editErrors.length")
     set_input(driver, "material-shininess", "-5")
-    wait(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=30)
+    wait_for(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=30)
     error = driver.execute_script("return window.rayViewer.editErrors.at(-1)")
     assert error["status"] == 400 and "shininess" in error["error"], error
     assert "shininess" in driver.find_element(By.ID, "edit-error").text
@@ -130,7 +122,7 @@ try:
     # Save scene: the file it opened, which `ray` then renders red at the centre.
     original = open(viewer.scene).read()
     driver.find_element(By.ID, "save-scene").click()
-    saved = wait(driver, "window.rayViewer.saved", timeout=30)
+    saved = wait_for(driver, "window.rayViewer.saved", timeout=30)
     assert os.path.samefile(saved, viewer.scene), (saved, viewer.scene)
     assert "saved to" in driver.find_element(By.ID, "saved").text
     written = open(viewer.scene).read()
@@ -145,7 +137,7 @@ try:
     # Save as: another file beside it.
     set_input(driver, "save-as-name", "copy.xml")
     driver.find_element(By.ID, "save-as").click()
-    wait(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('copy.xml')", timeout=30)
+    wait_for(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('copy.xml')", timeout=30)
     copy = os.path.join(os.path.dirname(viewer.scene), "copy.xml")
     assert open(copy).read() == written
     print("save as: copy.xml written beside it")
@@ -158,7 +150,7 @@ try:
         assert time.time() < deadline, f"the light edit did not darken the centre: {pixel(driver, CX, CY)}"
         time.sleep(0.05)
     driver.find_element(By.ID, "undo").click()
-    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+    wait_for(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
                  f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
     status, state = viewer.json("GET", "/state")
     assert state["lights"][0]["color"] == [1.0, 1.0, 1.0], state["lights"]
@@ -166,7 +158,7 @@ try:
     translate_y = driver.execute_script("return Number(document.getElementById('transform-0-1').value)")
     edits = driver.execute_script("return window.rayViewer.edits")
     set_input(driver, "transform-0-1", str(translate_y - 0.5))
-    wait(driver, f"window.rayViewer.edits > {edits}", timeout=20)
+    wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=20)
     status, current = viewer.json("GET", f"/object?id={selected['object']}")
     assert current["transform"][0]["v"][1] == translate_y - 0.5, current["transform"]
     deadline = time.time() + 20
@@ -174,7 +166,7 @@ try:
         assert time.time() < deadline, "the transform edit did not change the view"
         time.sleep(0.05)
     driver.find_element(By.ID, "undo").click()
-    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+    wait_for(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
                  f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
     print("panel: the light switched off darkened the view, the floor lowered changed it; each undone")
 

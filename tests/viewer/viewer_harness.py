@@ -122,3 +122,14 @@ def headless_chromium_or_skip(width, height):
                  "--disable-dev-shm-usage"]:
         options.add_argument(flag)
     return webdriver.Chrome(options=options)
+
+
+def wait_for(driver, condition, timeout=120):
+    """Polls the page's JavaScript expression `condition` until it is truthy; returns its value."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        value = driver.execute_script("return " + condition)
+        if value:
+            return value
+        time.sleep(0.05)
+    raise TimeoutError(condition)
