@@ -97,10 +97,10 @@ TEST_CASE("The engine drops a failing device and fails only when none is left", 
     if (!device) return ray::test::skip("no OpenCL CPU device");
     ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 32, 32, 2);
-    setenv("RAY_TEST_FAIL_DEVICE", "0:0", 1);
-    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
+    ray::TestHooks hooks;
+    hooks.failDevice = {0, 0};  // device 0 fails before its first tile
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device}, hooks);
     CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
-    unsetenv("RAY_TEST_FAIL_DEVICE");
     CHECK(engine.devicesLeft() == 0);
     CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
 }
@@ -139,8 +139,9 @@ TEST_CASE("A device still building takes no part in a frame and keeps building f
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 40, 32, 2);
     const ray::Image alone = renderFresh(*device, scene, scene.camera, settings);
     // The same device twice: two slots, each with its own context, queue and program.
-    setenv("RAY_TEST_SLOW_BUILD", "1:3", 1);
-    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device});
+    ray::TestHooks hooks;
+    hooks.slowBuild = {1, 3};  // device 1's build takes 3 s longer
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device}, hooks);
     ray::FrameOptions options;
     options.tileSize = 8;
     ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
@@ -158,7 +159,6 @@ TEST_CASE("A device still building takes no part in a frame and keeps building f
         ready = !next.stats.devices[1].building;
         if (!ready) usleep(100000);
     }
-    unsetenv("RAY_TEST_SLOW_BUILD");
     CHECK(ready);
     CHECK(engine.devicesLeft() == 2);
 }
@@ -170,16 +170,15 @@ TEST_CASE("A hung device is dropped, the frames stay whole, and the engine goes 
     ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 40, 32, 2);
     const ray::Image alone = renderFresh(*device, scene, scene.camera, settings);
-    // Device 1 stops answering after 2 tiles; device 0 starts 3 s late, so that it has them.
-    setenv("RAY_TEST_SLOW_BUILD", "0:3", 1);
-    setenv("RAY_TEST_HANG_DEVICE", "1:2", 1);
+    // Device 1 stops answering after 2 launches; device 0 starts 3 s late, so that it has them.
+    ray::TestHooks hooks;
+    hooks.slowBuild = {0, 3};
+    hooks.hangDevice = {1, 2};
     {
-        ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device});
+        ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device}, hooks);
         ray::FrameOptions options;
         options.tileSize = 8;
         ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
-        unsetenv("RAY_TEST_SLOW_BUILD");
-        unsetenv("RAY_TEST_HANG_DEVICE");
         CHECK(first.image.rgb == alone.rgb);
         REQUIRE(first.stats.devices.size() == 2);
         CHECK(first.stats.devices[1].failed);

@@ -27,6 +27,7 @@
 #include "app/command_module_abi.h"
 #include "app/progress.h"
 #include "app/render_command.h"
+#include "core/test_hooks.h"
 #include "opencl/opencl_device.h"
 #include "opencl/opencl_frame_source.h"
 #include "render/tile_scheduler.h"
@@ -372,15 +373,11 @@ std::vector<TileRect> receiveTiles(int& count) {
     return tiles;
 }
 
-// Test hooks that make a worker stop itself (SIGSTOP, as a wedged host would stop
-// answering, not die) at a known point (tests/mpi.sh), saying when on stderr:
-//   RAY_TEST_STOP_WHILE_LOADING=s  its start-up (loading the scene) takes s seconds more,
-//                                  its main thread beating, and it stops at their end,
-//                                  before it tells rank 0 how the start-up went;
-//   RAY_TEST_STOP_AFTER_TILES=n    once it has sent n tiles: a rank hung mid-frame;
-//   RAY_TEST_STOP_AFTER_SECONDS=s  s seconds after its message loop started (with
-//                                  RAY_TEST_SLOW_BUILD, a rank stopped while it compiles).
-// 0 or unset: never.
+// The test hooks that make a worker stop itself (core/test_hooks.h; tests/mpi.sh) do it
+// with SIGSTOP, as a wedged host stops answering without dying, and say when on stderr:
+// in its start-up (stopWhileLoadingSeconds: its main thread beating meanwhile, before it
+// tells rank 0 how the start-up went), once it has sent some tiles (a rank hung mid-frame),
+// or some seconds into its message loop (with slowBuild, a rank stopped while it compiles).
 void stopThisRank() {
     // The moment, for the test to time rank 0 from (Unix time, seconds).
     const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -391,10 +388,8 @@ void stopThisRank() {
 
 class StopHook {
 public:
-    StopHook() : start_(Clock::now()) {
-        if (const char* n = std::getenv("RAY_TEST_STOP_AFTER_TILES")) after_ = std::atoi(n);
-        if (const char* s = std::getenv("RAY_TEST_STOP_AFTER_SECONDS")) afterSeconds_ = std::atof(s);
-    }
+    explicit StopHook(const TestHooks& hooks)
+        : start_(Clock::now()), after_(hooks.stopAfterTiles), afterSeconds_(hooks.stopAfterSeconds) {}
     void tileSent() {
         if (after_ > 0 && ++sent_ == after_) stopThisRank();
     }
@@ -411,8 +406,8 @@ private:
     double afterSeconds_ = 0;
 };
 
-int runWorker(Prepared& p) {
-    StopHook stopHook;
+int runWorker(Prepared& p, const TestHooks& hooks) {
+    StopHook stopHook(hooks);
     RemoteTiles tiles;
     Outbox outbox;
     std::atomic<bool> rendered{false};
@@ -622,7 +617,7 @@ std::string formatSeconds(double seconds) {
 // mpirun would wait for them for ever; MPI_Abort makes mpirun end every rank, and exits
 // with the code given here (a success becomes kExitRankAbandoned).
 [[noreturn]] void endJobWithout(const std::vector<int>& silent, int code, const std::vector<std::string>& hosts,
-                                bool imageWritten) {
+                                bool imageWritten, const TestHooks& hooks) {
     std::string names;
     for (int r : silent) names += (names.empty() ? "" : ", ") + rankName(r, hosts);
     const int exitCode = code == 0 ? kExitRankAbandoned : code;
@@ -631,8 +626,7 @@ std::string formatSeconds(double seconds) {
               << "\n"
               << std::flush;
     // Test hook: a later abort, so that the workers told to end surely wait for it (awaitAbort).
-    if (const char* hook = std::getenv("RAY_TEST_ABORT_AFTER_SECONDS"); hook && std::atof(hook) > 0)
-        std::this_thread::sleep_for(std::chrono::duration<double>(std::atof(hook)));
+    if (hooks.abortAfterSeconds > 0) std::this_thread::sleep_for(std::chrono::duration<double>(hooks.abortAfterSeconds));
     MPI_Abort(MPI_COMM_WORLD, exitCode);
     std::_Exit(exitCode);
 }
@@ -642,8 +636,8 @@ public:
     // `silentAtStart`: the workers that never finished their start-up (startCoordinator),
     // already named; they get no tiles, and the job ends without them.
     Coordinator(Prepared& p, const MpiSession& mpi, int tileSide, std::vector<std::string> hosts,
-                const std::vector<int>& silentAtStart)
-        : p_(p), mpi_(mpi), ranks_(p.options.settings.width, p.options.settings.height, tileSide),
+                const std::vector<int>& silentAtStart, const TestHooks& hooks)
+        : p_(p), mpi_(mpi), hooks_(hooks), ranks_(p.options.settings.width, p.options.settings.height, tileSide),
           rankStats_(size_t(mpi.size)), tilesPerRank_(size_t(mpi.size), 0), abandoned_(size_t(mpi.size), false),
           hosts_(std::move(hosts)), lastHeard_(size_t(mpi.size), Clock::now()) {
         if (p.options.rankTimeout > 0) scheduler_.setDeadline(p.options.rankTimeout);
@@ -701,7 +695,7 @@ public:
             if (!rankStats_[size_t(r)]) silent.push_back(r);
         for (int r = 1; r < mpi_.size; ++r)
             if (rankStats_[size_t(r)]) sendDecision({code, !silent.empty()}, r, kEnd);
-        if (!silent.empty()) endJobWithout(silent, code, hosts_, !result.cancelled && complete && code == 0);
+        if (!silent.empty()) endJobWithout(silent, code, hosts_, !result.cancelled && complete && code == 0, hooks_);
         return code;
     }
 
@@ -862,6 +856,7 @@ private:
 
     Prepared& p_;
     const MpiSession& mpi_;
+    const TestHooks& hooks_;
     RankTiles ranks_;
     TileScheduler& scheduler_ = ranks_.scheduler;
     std::vector<std::optional<Json>> rankStats_;  // each worker's, once it finished; rank 0's at the end
@@ -892,14 +887,14 @@ std::string processorName() {
 // (kStart) once each worker has said hello or has been silent for the usual deadline.
 
 // A worker's start-up; the exit code to end with, 0 to render.
-int startWorker(Prepared& p, const std::vector<std::string>& args, int rank) {
+int startWorker(Prepared& p, const std::vector<std::string>& args, int rank, const TestHooks& hooks) {
     Failure started;
     std::atomic<bool> ready{false};
     beforeOpenCl(rank);
     std::thread preparing([&] {
         started = prepare(p, args, rank);
-        if (const char* hook = std::getenv("RAY_TEST_STOP_WHILE_LOADING"); hook && std::atof(hook) > 0) {
-            std::this_thread::sleep_for(std::chrono::duration<double>(std::atof(hook)));
+        if (hooks.stopWhileLoadingSeconds > 0) {
+            std::this_thread::sleep_for(std::chrono::duration<double>(hooks.stopWhileLoadingSeconds));
             stopThisRank();  // the whole process, this thread's heartbeats included
         }
         ready = true;
@@ -926,7 +921,7 @@ int startWorker(Prepared& p, const std::vector<std::string>& args, int rank) {
 // the workers that never said hello (named; the frame goes on without them). When the
 // start fails, the first rank that failed (in rank order) says why, through rank 0 alone.
 int startCoordinator(Prepared& p, const std::vector<std::string>& args, const MpiSession& mpi,
-                     std::vector<std::string>& hosts, std::vector<int>& silent) {
+                     std::vector<std::string>& hosts, std::vector<int>& silent, const TestHooks& hooks) {
     beforeOpenCl(0);
     const Failure mine = prepare(p, args, 0);
     hosts.assign(size_t(mpi.size), "");
@@ -1003,7 +998,7 @@ int startCoordinator(Prepared& p, const std::vector<std::string>& args, const Mp
     // 4.1.4's mpirun hung or crashed after rank 0's MPI_Abort in 5 of 28 runs; since, none.
     const bool byAbort = !silent.empty() && (code != 0 || p.nothingToRender);
     for (int r = 1; r < mpi.size; ++r) sendDecision({code, byAbort}, r, kStart);
-    if (byAbort) endJobWithout(silent, code, hosts, false);
+    if (byAbort) endJobWithout(silent, code, hosts, false, hooks);
     return code;
 }
 
@@ -1012,17 +1007,18 @@ int startCoordinator(Prepared& p, const std::vector<std::string>& args, const Mp
 int runDistributedCommand(int argc, char** argv, const std::vector<std::string>& args) {
     MpiSession mpi(argc, argv);
     Prepared prepared;
+    const TestHooks& hooks = testHooks();
     try {
         if (mpi.rank != 0) {
-            if (int code = startWorker(prepared, args, mpi.rank); code != 0) return code;
+            if (int code = startWorker(prepared, args, mpi.rank, hooks); code != 0) return code;
             if (prepared.nothingToRender) return 0;
-            return runWorker(prepared);
+            return runWorker(prepared, hooks);
         }
         std::vector<std::string> hosts;
         std::vector<int> silent;
-        if (int code = startCoordinator(prepared, args, mpi, hosts, silent); code != 0) return code;
+        if (int code = startCoordinator(prepared, args, mpi, hosts, silent, hooks); code != 0) return code;
         if (prepared.nothingToRender) return 0;
-        return Coordinator(prepared, mpi, tileSideOf(prepared), std::move(hosts), silent).run();
+        return Coordinator(prepared, mpi, tileSideOf(prepared), std::move(hosts), silent, hooks).run();
     } catch (...) {
         abortAll(mpi.rank, describeFailure(std::current_exception()).message);
     }

@@ -78,47 +78,32 @@ cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data, 
     return cl::Buffer(context, flags, bytes, const_cast<void*>(source));
 }
 
-// A test hook: RAY_TEST_COPY_SCENE=1 gives a CPU device a copy of the scene too
-// (CL_MEM_COPY_HOST_PTR). Oclgrind's --uninitialized takes a CL_MEM_USE_HOST_PTR buffer
-// for never written (tests/oclgrind.sh), so its run sets this; the kernel reads the same bytes.
-bool sceneCopiedForTests() {
-    const char* value = std::getenv("RAY_TEST_COPY_SCENE");
-    return value && *value;
-}
-
-// A test hook: RAY_TEST_BVH_SHORT_STACK=N builds the kernel with an N-entry traversal
-// stack (cl/intersect.cl BvhStack), so that tests can make every walk overflow and show
-// that the fallback finds the same hits. Empty unless set to a number from 1 to 64.
-std::string shortStackOption() {
-    const char* value = std::getenv("RAY_TEST_BVH_SHORT_STACK");
-    if (!value) return "";
-    char* end = nullptr;
-    long entries = std::strtol(value, &end, 10);
-    if (end == value || *end != '\0' || entries < 1 || entries > 64)
-        throw std::invalid_argument("RAY_TEST_BVH_SHORT_STACK must be a number from 1 to 64, not '" +
-                                    std::string(value) + "'");
-    return " -DRAY_BVH_SHORT_STACK=" + std::to_string(entries);
+// The test hook RAY_TEST_BVH_SHORT_STACK=N builds the kernel with an N-entry traversal stack
+// (cl/intersect.cl BvhStack), so that tests can make every walk overflow and show that the
+// fallback finds the same hits. Empty when the hook is off.
+std::string shortStackOption(const TestHooks& hooks) {
+    const int entries = hooks.bvhShortStackEntries();
+    return entries > 0 ? " -DRAY_BVH_SHORT_STACK=" + std::to_string(entries) : "";
 }
 
 // How many rays a work-item of the device traces together (cl/packet_trace.cl): on a CPU
 // device its native float vector width (16 with AVX-512, 8 with AVX2, 4 with SSE), since
 // PoCL runs a one-ray walk as scalar code; 1 on other devices, whose SIMT is their packet,
 // and on Mesa's llvmpipe, which runs work-items in SIMT lanes as a GPU does (and stands in
-// for one in tests/rusticl.sh). RAY_CPU_PACKETS=0 keeps a CPU device on one ray per
-// work-item, and 4, 8 or 16 sets the width (tests/cpu_paths.sh compares the paths' images).
-int packetLanes(const OpenClDevice& device) {
+// for one in tests/rusticl.sh). The test hook RAY_CPU_PACKETS sets a CPU device's width, or
+// keeps it on one ray a work-item (tests/cpu_paths.sh compares the paths' images).
+int packetLanes(const OpenClDevice& device, const TestHooks& hooks) {
     if (!device.isCpu || device.isLlvmpipe) return 1;
-    const std::string setting = std::getenv("RAY_CPU_PACKETS") ? std::getenv("RAY_CPU_PACKETS") : "";
-    if (setting == "0") return 1;
-    if (setting == "4" || setting == "8" || setting == "16") return std::stoi(setting);
+    if (hooks.cpuPacketLanes) return *hooks.cpuPacketLanes;
     const unsigned width = device.nativeFloatWidth;
     return width >= 16 ? 16 : width >= 8 ? 8 : width >= 4 ? 4 : 1;
 }
 
-std::string buildOptions(int maxDepth, int lanes) {
+std::string buildOptions(int maxDepth, int lanes, const TestHooks& hooks) {
     // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
     // the intersection code relies on IEEE infinities.
-    std::string options = "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption();
+    std::string options =
+        "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption(hooks);
     if (lanes > 1) options += " -DRAY_PACKET_WIDTH=" + std::to_string(lanes);
     return options;
 }
@@ -130,27 +115,6 @@ DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
                              ? "the device ran out of memory; try a smaller image or scene, or --device ref"
                              : "try another device (ray --list-devices) or --device ref";
     return DeviceError(device.description() + ": " + e.what() + " failed with " + what + "; " + advice);
-}
-
-// Test hooks, read from the environment for each device of a frame (opencl_engine.h).
-struct TestHooks {
-    std::optional<int> failAfterTiles;    // RAY_TEST_FAIL_DEVICE="k:n"
-    std::optional<int> hangAfterTiles;    // RAY_TEST_HANG_DEVICE="k:n"
-    std::optional<int> slowBuildSeconds;   // RAY_TEST_SLOW_BUILD="k:s"
-};
-
-// "k:n" in the variable, for device k of the selection (0-based): n, else nothing.
-std::optional<int> hookValue(const char* variable, int deviceSlot) {
-    const char* hook = std::getenv(variable);
-    if (!hook) return std::nullopt;
-    int k = -1, n = -1;
-    if (std::sscanf(hook, "%d:%d", &k, &n) != 2 || k != deviceSlot || n < 0) return std::nullopt;
-    return n;
-}
-
-TestHooks testHooksFor(int deviceSlot) {
-    return {hookValue("RAY_TEST_FAIL_DEVICE", deviceSlot), hookValue("RAY_TEST_HANG_DEVICE", deviceSlot),
-            hookValue("RAY_TEST_SLOW_BUILD", deviceSlot)};
 }
 
 // When a device that has tiles in flight counts as hung (see opencl_engine.h): no tile back
@@ -170,6 +134,7 @@ struct Frame;
 struct DeviceSlot {
     OpenClDevice device;
     int index = 0;  // position in the engine's selection
+    TestHooks hooks;  // the engine's (core/test_hooks.h): its own copy, as the thread may outlive the engine
     int packetLanes = 1;  // rays a work-item traces together (packetLanes): the kernel's build and launches
 
     // The thread's mailbox, under `mutex`.
@@ -227,7 +192,7 @@ struct DeviceSlot {
     };
     std::map<int, Program> programs;  // by maximum depth
     double slowestTileSeconds = 0;    // the slowest tile it has rendered (warm-up tiles aside)
-    std::optional<cl::UserEvent> neverSet;  // RAY_TEST_HANG_DEVICE: what its launches wait for
+    std::optional<cl::UserEvent> neverSet;  // the hook hangDevice: what its launches wait for
 
     // The programs go under the lock of the PoCL builds: PoCL frees a program's LLVM module
     // as it goes, and LLVM 15 must not do that while another thread parses bitcode (a PoCL
@@ -291,7 +256,6 @@ struct Frame {
     enum class Part { Absent, Preparing, Rendering, Left, Failed, Hung };
     struct Participant {
         Part part = Part::Absent;
-        TestHooks hooks;
         std::deque<Flight> flights;  // launched and not back, oldest first (they finish in order)
         Clock::time_point lastAnswer;
         bool warm = false;
@@ -418,16 +382,15 @@ void sizeTileOutput(DeviceSlot& slot, DeviceSlot::TileOutput& out, TileEntries t
 // One device's part of a frame, run on its thread once its kernel is built.
 class DeviceWorker {
 public:
-    DeviceWorker(Frame& frame, DeviceSlot& slot) : frame_(frame), slot_(slot), index_(slot.index) {
-        std::lock_guard lock(frame_.mutex);
-        hooks_ = frame_.devices[size_t(index_)].hooks;
-    }
+    DeviceWorker(Frame& frame, DeviceSlot& slot)
+        : frame_(frame), slot_(slot), index_(slot.index), failAfterTiles_(slot.hooks.failDevice.forDevice(index_)),
+          hangAfterLaunches_(slot.hooks.hangDevice.forDevice(index_)) {}
 
     void run(cl::Kernel& kernel) {
         auto start = Clock::now();
         bool started = false;
         while (true) {
-            if (hooks_.failAfterTiles && finished_ >= *hooks_.failAfterTiles)
+            if (failAfterTiles_ && finished_ >= *failAfterTiles_)
                 throw DeviceError(slot_.device.description() + ": failed on purpose (RAY_TEST_FAIL_DEVICE)");
             while (inFlight_.size() < kTilesInFlight) {
                 std::optional<int> tile = acquire();
@@ -537,12 +500,12 @@ private:
         inFlight_.push_back(l);
     }
 
-    // RAY_TEST_HANG_DEVICE: the launches after its first n wait for an event that is never
-    // set, as on a hung driver, and so does all that is queued after them (the queue is in
-    // order): the device answers n tiles and its thread then blocks in clWaitForEvents, for
-    // good. Called with this launch counted in launches_.
+    // The test hook hangDevice (RAY_TEST_HANG_DEVICE): the launches after its first n wait for
+    // an event that is never set, as on a hung driver, and so does all that is queued after
+    // them (the queue is in order): the device answers n tiles and its thread then blocks in
+    // clWaitForEvents, for good. Called with this launch counted in launches_.
     const std::vector<cl::Event>* hangHook() {
-        if (!hooks_.hangAfterTiles || launches_ <= size_t(*hooks_.hangAfterTiles)) return nullptr;
+        if (!hangAfterLaunches_ || launches_ <= size_t(*hangAfterLaunches_)) return nullptr;
         if (!slot_.neverSet) slot_.neverSet = cl::UserEvent(slot_.context);
         hangingOn_ = {*slot_.neverSet};
         return &hangingOn_;
@@ -632,7 +595,7 @@ private:
     Frame& frame_;
     DeviceSlot& slot_;
     int index_;
-    TestHooks hooks_;
+    std::optional<int> failAfterTiles_, hangAfterLaunches_;  // the test hooks failDevice, hangDevice
     std::deque<Launch> inFlight_;
     std::vector<cl::Event> hangingOn_;
     std::vector<float> rgb_;  // the tile being kept, as FinishedTile has it
@@ -665,7 +628,7 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
 // Uploads the scene (when the device holds another packing), sizes the output buffers,
 // builds (or reuses) the program for the frame's depth and binds the buffers. Reports the
 // seconds spent uploading and building to the frame.
-cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks) {
+cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame) {
     const PackedScene& packed = *frame.packed;
     if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels()) {
         checkDeviceLimits(slot.device, packed, frame.tilePixels() * sizeof(cl_float4));
@@ -683,7 +646,9 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     auto start = Clock::now();
     if (slot.uploaded != frame.packed) {
         // Only the tables this packing changed (a new packing changes every one).
-        const bool inPlace = slot.device.isCpu && !sceneCopiedForTests();
+        // The test hook copyScene: Oclgrind's --uninitialized takes a CL_MEM_USE_HOST_PTR buffer
+        // for never written (tests/oclgrind.sh); a copy holds the same bytes.
+        const bool inPlace = slot.device.isCpu && !slot.hooks.copyScene;
         size_t next = 0;
         bool uploadedAny = false;
         packed.forEachBuffer([&](const auto& table, SceneBufferName) {
@@ -703,9 +668,10 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     auto found = slot.programs.find(depth);
     if (found == slot.programs.end()) {
         start = Clock::now();
-        if (hooks.slowBuildSeconds) std::this_thread::sleep_for(std::chrono::seconds(*hooks.slowBuildSeconds));
+        if (auto seconds = slot.hooks.slowBuild.forDevice(slot.index))
+            std::this_thread::sleep_for(std::chrono::seconds(*seconds));
         DeviceSlot::Program p;
-        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes),
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes, slot.hooks),
                                        [&](const cl::Program& program) {
                                            launchOnNoPixels(slot, program, frame.params, frame.workGroupSize);
                                        });
@@ -735,13 +701,11 @@ void serveFrame(DeviceSlot& slot, Frame& frame) {
     const int index = slot.index;
     try {
         try {
-            TestHooks hooks;
             {
                 std::lock_guard lock(frame.mutex);
                 if (frame.closed) return;  // the device was busy until the frame was over
-                hooks = frame.devices[size_t(index)].hooks;
             }
-            cl::Kernel& kernel = prepareDevice(slot, frame, hooks);
+            cl::Kernel& kernel = prepareDevice(slot, frame);
             {
                 std::lock_guard lock(frame.mutex);
                 Frame::Participant& p = frame.devices[size_t(index)];
@@ -805,16 +769,18 @@ struct OpenClEngine::Impl {
 };
 
 // The caller keeps the scene alive: a shared pointer that does not own it.
-OpenClEngine::OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices)
-    : OpenClEngine(std::shared_ptr<const Scene>(&scene, [](const Scene*) {}), std::move(devices)) {}
+OpenClEngine::OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices, const TestHooks& hooks)
+    : OpenClEngine(std::shared_ptr<const Scene>(&scene, [](const Scene*) {}), std::move(devices), hooks) {}
 
-OpenClEngine::OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices)
+OpenClEngine::OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices,
+                           const TestHooks& hooks)
     : impl_(std::make_unique<Impl>(std::move(scene), std::move(devices))) {
     if (impl_->selection.empty()) throw DeviceError("no OpenCL device selected; see ray --list-devices");
     for (const OpenClDevice& d : impl_->selection) {
         auto slot = std::make_shared<DeviceSlot>();
         slot->device = d;
-        slot->packetLanes = packetLanes(d);
+        slot->hooks = hooks;
+        slot->packetLanes = packetLanes(d, hooks);
         slot->index = int(impl_->slots.size());
         slot->thread = std::thread(serveFrames, slot);
         impl_->slots.push_back(std::move(slot));
@@ -979,7 +945,6 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
         std::lock_guard lock(slot.mutex);
         if (slot.dropped) continue;
         frame->devices[i].part = Frame::Part::Preparing;
-        frame->devices[i].hooks = testHooksFor(int(i));
         ++frame->devicesLeft;
         slot.frame = frame;
         slot.frameNumber = number;

@@ -35,13 +35,9 @@
 // for one still building): the thread is left, with its context and queue, and the process
 // exits without it.
 //
-// Test hooks (for tests only; each "k:n" names device k of the selection, 0-based):
-//   RAY_TEST_FAIL_DEVICE="k:n"  device k fails after it has kept n tiles of a frame, as a lost
-//                               device would;
-//   RAY_TEST_HANG_DEVICE="k:n"  device k stops answering after n tiles of a frame: its later
-//                               launches wait for an OpenCL user event that is never set, so
-//                               its thread blocks in the driver as on a hung GPU;
-//   RAY_TEST_SLOW_BUILD="k:s"   device k's kernel build takes s seconds longer.
+// Test hooks (core/test_hooks.h) make a device fail, hang (its launches after the first n
+// wait for an OpenCL user event that is never set, so that its thread blocks in the driver as
+// on a hung GPU) or build slowly, and choose its kernel's packet width and stack.
 #pragma once
 
 #include <atomic>
@@ -51,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "core/test_hooks.h"
 #include "image/image.h"
 #include "opencl/opencl_device.h"
 #include "render/frame_source.h"
@@ -108,9 +105,10 @@ class OpenClEngine {
 public:
     // Keeps a reference to the scene, which must outlive the engine. Nothing is packed,
     // built or uploaded until the first frame. Throws DeviceError for an empty selection.
-    OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices);
+    OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices, const TestHooks& hooks = testHooks());
     // The same, owning a share of the scene.
-    OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices);
+    OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices,
+                 const TestHooks& hooks = testHooks());
     ~OpenClEngine();
     OpenClEngine(const OpenClEngine&) = delete;
     OpenClEngine& operator=(const OpenClEngine&) = delete;
