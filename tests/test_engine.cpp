@@ -38,16 +38,17 @@ TEST_CASE("The engine packs and uploads once, and renders each frame as a fresh 
 
     std::mutex mutex;
     size_t tilePixels = 0;
-    ray::FrameOptions options;
-    options.tileSize = 16;
-    options.onTile = [&](const ray::FinishedTile& t) {
+    ray::FrameRequest request;
+    request.tileSize = 16;
+    request.onTile = [&](const ray::FinishedTile& t) {
         std::lock_guard lock(mutex);
         tilePixels += size_t(t.rect.width) * size_t(t.rect.height);
     };
-    ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+    ray::RenderedFrame first = engine.renderFrame(scene.camera, settings, request);
     CHECK(first.stats.uploadSeconds > 0);
     CHECK(tilePixels == 48u * 40u);  // every pixel reported once, through 3 x 3 tiles
-    CHECK(first.stats.tiles == 9);
+    CHECK(first.stats.devices.at(0).tiles == 9);
+    CHECK(first.stats.device == device->description());
     CHECK(first.image.rgb == renderFresh(*device, scene, scene.camera, settings).rgb);
 
     // Another camera and image size: nothing packed or uploaded again.
@@ -55,7 +56,7 @@ TEST_CASE("The engine packs and uploads once, and renders each frame as a fresh 
     moved.position = moved.position + ray::Vec3{0.5, 0.25, 0};
     ray::RenderSettings wider = settings;
     wider.width = 56;
-    ray::FrameResult second = engine.renderFrame(moved, wider, options);
+    ray::RenderedFrame second = engine.renderFrame(moved, wider, request);
     CHECK(second.stats.packSeconds == 0);
     CHECK(second.stats.uploadSeconds == 0);
     CHECK(second.image.rgb == renderFresh(*device, scene, moved, wider).rgb);
@@ -112,11 +113,11 @@ TEST_CASE("An 8-bit frame holds the bytes an 8-bit file of the float frame holds
     ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa course", 45, 37, 3);
     ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
-    ray::FrameOptions options;
-    options.tileSize = 16;  // tiles cut at the right and bottom edges too
-    const ray::FrameResult floats = engine.renderFrame(scene.camera, settings, options);
-    options.eightBit = true;
-    const ray::FrameResult bytes = engine.renderFrame(scene.camera, settings, options);
+    ray::FrameRequest request;
+    request.tileSize = 16;  // tiles cut at the right and bottom edges too
+    const ray::RenderedFrame floats = engine.renderFrame(scene.camera, settings, request);
+    request.eightBit = true;
+    const ray::RenderedFrame bytes = engine.renderFrame(scene.camera, settings, request);
     CHECK(bytes.image.empty());
     REQUIRE(bytes.bytes.width == 45);
     REQUIRE(bytes.bytes.height == 37);
@@ -142,19 +143,19 @@ TEST_CASE("A device still building takes no part in a frame and keeps building f
     ray::TestHooks hooks;
     hooks.slowBuild = {1, 3};  // device 1's build takes 3 s longer
     ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device}, hooks);
-    ray::FrameOptions options;
-    options.tileSize = 8;
-    ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+    ray::FrameRequest request;
+    request.tileSize = 8;
+    ray::RenderedFrame first = engine.renderFrame(scene.camera, settings, request);
     CHECK(first.image.rgb == alone.rgb);
     REQUIRE(first.stats.devices.size() == 2);
     CHECK(first.stats.devices[1].building);
     CHECK(first.stats.devices[1].tiles == 0);
-    CHECK(first.stats.devices[0].tiles == first.stats.tiles);
+    CHECK(first.stats.devices[0].tiles == 20);  // every tile of the 5 x 4
     // The build goes on between frames (were it restarted for each short frame, with its
     // 3 s delay, device 1 would never be ready).
     bool ready = false;
     for (int frame = 0; frame < 600 && !ready; ++frame) {
-        ray::FrameResult next = engine.renderFrame(scene.camera, settings, options);
+        ray::RenderedFrame next = engine.renderFrame(scene.camera, settings, request);
         CHECK(next.image.rgb == alone.rgb);
         ready = !next.stats.devices[1].building;
         if (!ready) usleep(100000);
@@ -176,9 +177,9 @@ TEST_CASE("A hung device is dropped, the frames stay whole, and the engine goes 
     hooks.hangDevice = {1, 2};
     {
         ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device}, hooks);
-        ray::FrameOptions options;
-        options.tileSize = 8;
-        ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+        ray::FrameRequest request;
+        request.tileSize = 8;
+        ray::RenderedFrame first = engine.renderFrame(scene.camera, settings, request);
         CHECK(first.image.rgb == alone.rgb);
         REQUIRE(first.stats.devices.size() == 2);
         CHECK(first.stats.devices[1].failed);
@@ -186,9 +187,9 @@ TEST_CASE("A hung device is dropped, the frames stay whole, and the engine goes 
         CHECK(first.stats.warnings.size() == 1);
         CHECK(engine.devicesLeft() == 1);
         // The engine lives on with the device that answers.
-        ray::FrameResult second = engine.renderFrame(scene.camera, settings, options);
+        ray::RenderedFrame second = engine.renderFrame(scene.camera, settings, request);
         CHECK(second.image.rgb == alone.rgb);
-        CHECK(second.stats.devices[0].tiles == second.stats.tiles);
+        CHECK(second.stats.devices[0].tiles == 20);  // every tile of the 5 x 4
         CHECK(second.stats.warnings.empty());  // said once
     }  // the destructor leaves the hung device's thread: were it joined, this test would hang
 }

@@ -29,6 +29,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr size_t kTilesInFlight = 4;  // per device: it never idles between launches
+// A launch's work-groups are kWorkGroupSide x kWorkGroupSide work-items: PoCL left alone
+// picks groups of one work-item; 8x8 suits CPUs and GPUs.
+constexpr size_t kWorkGroupSide = 8;
 
 Clock::duration inClockTicks(double seconds) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
@@ -209,7 +212,7 @@ struct DeviceSlot {
 };
 
 // The state of one frame, shared by the engine's thread and the device threads. The caller's
-// objects (options, source, image, stats) are touched only under `mutex` while the frame is
+// objects (request, source, image, stats) are touched only under `mutex` while the frame is
 // open, or in source->next() while sourceCallers counts it: the engine closes the frame before
 // renderFrame returns, and a device thread that was left behind (hung, still building) then
 // touches nothing of the caller's.
@@ -223,15 +226,15 @@ struct Frame {
     std::condition_variable changed;
     bool closed = false;
     int sourceCallers = 0;  // device threads inside source->next()
-    const FrameOptions* options = nullptr;
+    const FrameRequest* request = nullptr;
     // Where the tiles come from: null, the scheduler's own grid; else admitted to the
     // scheduler as the source gives them, until it has no more (sourceDone).
     TileSource* source = nullptr;
     bool sourceDone = false;
     std::optional<TileScheduler> scheduler;
-    Image* image = nullptr;  // the frame: one of these two (FrameOptions::eightBit)
+    Image* image = nullptr;  // the frame: one of these two (FrameRequest::eightBit)
     ByteImage* bytes = nullptr;
-    FrameStats* stats = nullptr;
+    RenderStats* stats = nullptr;
 
     // What the devices prepare for; copies, so that a thread left behind may read them.
     std::shared_ptr<const PackedScene> packed;
@@ -239,7 +242,6 @@ struct Frame {
     gpu::RayRenderParams params{};
     int tileWidth = 0, tileHeight = 0;  // a full tile's (a guide: launches grow their buffers as needed)
     size_t tilePixels() const { return size_t(tileWidth) * size_t(tileHeight); }
-    size_t workGroupSize = 8;
 
     uint64_t pixelsDone = 0, pixelsTotal = 0;
     double slowestTileSeconds = 0;  // any device's, this frame, warm-up tiles aside
@@ -265,7 +267,7 @@ struct Frame {
     std::vector<Participant> devices;  // by slot index
     int devicesLeft = 0;               // preparing or rendering
 
-    bool cancelled() const { return options->cancel && options->cancel->load(); }
+    bool cancelled() const { return request->cancel && request->cancel->load(); }
     bool allDone() const { return scheduler->complete(); }
 
     // When the device counts as hung if no tile comes back: nothing while it has none in flight.
@@ -464,7 +466,7 @@ private:
     // The launch's work-items: a pixel each, or on the packet path a work-group for each
     // compute unit, which take the tile's blocks from the queue (cl/kernel.cl).
     cl::NDRange globalSize(const TileRect& rect) const {
-        const size_t group = frame_.workGroupSize;
+        const size_t group = kWorkGroupSide;
         if (slot_.packetLanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
         auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
         return cl::NDRange(roundUp(rect.width), roundUp(rect.height));
@@ -472,7 +474,6 @@ private:
 
     void launch(cl::Kernel& kernel, int tile) {
         const TileRect rect = frame_.scheduler->tile(tile);
-        const size_t group = frame_.workGroupSize;
         gpu::RayRenderParams params = frame_.params;
         params.image.z = rect.x;
         params.image.w = rect.y;
@@ -487,7 +488,8 @@ private:
         kernel.setArg(kernel_argument::kTileColors, out.colors);
         kernel.setArg(kernel_argument::kTileRayCounts, out.counts);
         Launch l{tile, output, entries, {}};
-        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, globalSize(rect), cl::NDRange(group, group), hangHook());
+        slot_.queue.enqueueNDRangeKernel(kernel, cl::NullRange, globalSize(rect),
+                                         cl::NDRange(kWorkGroupSide, kWorkGroupSide), hangHook());
         // The tile's reads go into the queue right behind its kernel, ahead of the launches
         // after it. A read enqueued once the kernel was done came after them all in the
         // in-order queue: the device ran dry before every tile came back, and waited idle
@@ -572,12 +574,9 @@ private:
         // and waking the engine for each took a core from the device's threads (PoCL on 2
         // cores: a context switch a tile). Its deadlines only move later meanwhile.
         if (frame_.allDone()) frame_.changed.notify_all();
-        if (!first) {
-            ++frame_.stats->duplicatesDropped;
-            return;
-        }
+        if (!first) return;  // a copy, rendered at the end of the frame: another device was first
         ++finished_;
-        FrameStats& s = *frame_.stats;
+        RenderStats& s = *frame_.stats;
         s.primaryRays += result.primaryRays;
         s.shadowRays += result.shadowRays;
         s.secondaryRays += result.secondaryRays;
@@ -587,9 +586,9 @@ private:
         d.pixels += uint64_t(r.width) * uint64_t(r.height);
         d.rays += result.primaryRays + result.shadowRays + result.secondaryRays;
         frame_.pixelsDone += uint64_t(r.width) * uint64_t(r.height);
-        if (frame_.options->onTile) frame_.options->onTile(result);
-        if (frame_.options->progress && frame_.pixelsTotal > 0)
-            frame_.options->progress(std::min(1.0, double(frame_.pixelsDone) / double(frame_.pixelsTotal)));
+        if (frame_.request->onTile) frame_.request->onTile(result);
+        if (frame_.request->progress && frame_.pixelsTotal > 0)
+            frame_.request->progress(std::min(1.0, double(frame_.pixelsDone) / double(frame_.pixelsTotal)));
     }
 
     Frame& frame_;
@@ -609,8 +608,7 @@ private:
 // where it compiles (or takes from its cache) the work-group function for the launch's
 // local size, and PoCL devices must do that one at a time. It also keeps that work out of
 // the frame's first tile.
-void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const gpu::RayRenderParams& frameParams,
-                      size_t group) {
+void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const gpu::RayRenderParams& frameParams) {
     cl::Kernel kernel(program, "renderTile");
     gpu::RayRenderParams params = frameParams;
     params.tile = {0, 0, 0, 0};  // every work-item returns before it reads or writes a buffer
@@ -621,7 +619,8 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
     kernel.setArg(kernel_argument::kTileColors, unwritten);
     kernel.setArg(kernel_argument::kTileRayCounts, unwritten);
     if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
-    slot.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group, group), cl::NDRange(group, group));
+    const cl::NDRange group(kWorkGroupSide, kWorkGroupSide);
+    slot.queue.enqueueNDRangeKernel(kernel, cl::NullRange, group, group);
     slot.queue.finish();
 }
 
@@ -673,7 +672,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame) {
         DeviceSlot::Program p;
         p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes, slot.hooks),
                                        [&](const cl::Program& program) {
-                                           launchOnNoPixels(slot, program, frame.params, frame.workGroupSize);
+                                           launchOnNoPixels(slot, program, frame.params);
                                        });
         p.kernel = cl::Kernel(p.program.program, "renderTile");
         p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);
@@ -838,7 +837,7 @@ std::array<std::pair<const void*, size_t>, kSceneBufferCount> tableBytes(const P
 // packed again when it can be (scene_packing.h repackScene: no BVH build for a material or
 // light edit, a refit for moved primitives), and each table that came out the same keeps
 // its version, so that the devices keep its buffer.
-void packIfNeeded(OpenClEngine::Impl& e, const RenderSettings& settings, FrameStats& stats) {
+void packIfNeeded(OpenClEngine::Impl& e, const RenderSettings& settings, RenderStats& stats) {
     const int side = areaLightGridSide(settings);
     const bool tri = settings.textureFilter == TextureFilter::Trilinear;
     const bool sameShape = e.packed && side == e.packedGridSide && tri == e.packedTrilinear;
@@ -900,35 +899,36 @@ std::string droppedWarning(const DeviceSlot& slot) {
 
 }  // namespace
 
-FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings& settings, const FrameOptions& options) {
+RenderedFrame OpenClEngine::renderFrame(const Camera& camera, const RenderSettings& settings,
+                                        const FrameRequest& request) {
     Impl& e = *impl_;
-    FrameResult result;
-    FrameStats& stats = result.stats;
+    RenderedFrame result;
+    RenderStats& stats = result.stats;
     packIfNeeded(e, settings, stats);
 
-    if (options.eightBit)
+    if (request.eightBit)
         result.bytes = ByteImage(settings.width, settings.height);
     else
         result.image = Image(settings.width, settings.height);
-    const int side = frameTileSide(settings, *e.scene, options.cancel != nullptr, options.tileSize);
+    const int side = frameTileSide(settings, *e.scene, request.cancel != nullptr, request.tileSize);
     auto frame = std::make_shared<Frame>();
-    frame->options = &options;
-    frame->source = options.tiles;
-    if (options.tiles)
+    frame->request = &request;
+    frame->source = request.tiles;
+    if (request.tiles)
         frame->scheduler.emplace();
     else
         frame->scheduler.emplace(TileGrid(settings.width, settings.height, side));
-    frame->image = options.eightBit ? nullptr : &result.image;
-    frame->bytes = options.eightBit ? &result.bytes : nullptr;
+    frame->image = request.eightBit ? nullptr : &result.image;
+    frame->bytes = request.eightBit ? &result.bytes : nullptr;
     frame->stats = &stats;
     frame->packed = e.packed;
     frame->settings = settings;
     frame->params = makeRenderParams(camera, e.scene->globals, settings, *e.packed);
     frame->tileWidth = std::min(side, settings.width);  // a tile lies within the image
     frame->tileHeight = std::min(side, settings.height);
-    frame->workGroupSize = size_t(options.workGroupSize);
     frame->pixelsTotal = uint64_t(settings.width) * uint64_t(settings.height);
     frame->devices.resize(e.slots.size());
+    for (const OpenClDevice& d : e.selection) stats.device += (stats.device.empty() ? "" : ", ") + d.description();
     stats.devices.resize(e.slots.size());
     // The index too: two devices of one kind have the same name.
     for (size_t i = 0; i < e.slots.size(); ++i)
@@ -966,13 +966,12 @@ FrameResult OpenClEngine::renderFrame(const Camera& camera, const RenderSettings
             // tiles does not call), or every 50 ms when the frame can be cancelled (the flag is
             // set from another thread, unannounced).
             const Clock::time_point now = Clock::now();
-            Clock::time_point wake = now + (options.cancel ? std::chrono::milliseconds(50) : std::chrono::seconds(1));
+            Clock::time_point wake = now + (request.cancel ? std::chrono::milliseconds(50) : std::chrono::seconds(1));
             if (auto deadline = frame->nextDeadline(now); deadline && *deadline < wake) wake = *deadline;
             frame->changed.wait_until(lock, wake);
         }
         frame->closed = true;
         result.cancelled = frame->cancelled();
-        stats.tiles = frame->scheduler->tilesDone();
         stats.uploadSeconds = frame->uploadSeconds;
         stats.kernelBuildSeconds = frame->buildSeconds;
         for (size_t i = 0; i < frame->devices.size(); ++i) {

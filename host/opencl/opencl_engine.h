@@ -40,66 +40,16 @@
 // on a hung GPU) or build slowly, and choose its kernel's packet width and stack.
 #pragma once
 
-#include <atomic>
-#include <cstdint>
-#include <functional>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "core/test_hooks.h"
-#include "image/image.h"
 #include "opencl/opencl_device.h"
 #include "render/frame_source.h"
 #include "render/render_settings.h"
-#include "render/render_stats.h"
-#include "render/tiles.h"
 #include "scene/scene.h"
 
 namespace ray {
-
-// TileSource (tiles admitted from elsewhere) and FinishedTile: render/frame_source.h.
-
-struct FrameOptions {
-    // Side of the square tiles; 0: render/tile_side.h frameTileSide picks it (smaller when the
-    // frame can be cancelled). With `tiles`, the side of the tiles it gives (for the
-    // device limits: a launch grows its buffers to the tile it gets).
-    int tileSize = 0;
-    // Work-group side: PoCL left alone picks groups of one work-item; 8x8 suits CPUs and GPUs.
-    int workGroupSize = 8;
-    // Called with the fraction of the frame done, from device threads, one call at a time.
-    std::function<void(double)> progress;
-    // Called for each tile as it is kept (duplicates are dropped before), one call at a
-    // time, from device threads: for progressive display and distributed renders.
-    std::function<void(const FinishedTile&)> onTile;
-    // Set to true to stop early: no more tiles are launched, the ones queued finish, and
-    // the image comes back with the tiles never rendered black.
-    const std::atomic<bool>* cancel = nullptr;
-    // Where the tiles come from; null: every tile of the image, cut by tileSize.
-    TileSource* tiles = nullptr;
-    // Keep the frame as the 8-bit values an 8-bit file holds (FrameResult::bytes), each
-    // tile quantized as it arrives, instead of floats: a quarter of the memory.
-    bool eightBit = false;
-};
-
-struct FrameStats {
-    uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
-    double packSeconds = 0;    // packing and BVH build: 0 unless the frame (re)packed
-    double bvhBuildSeconds = 0;
-    double uploadSeconds = 0;  // slowest device's upload: 0 unless the frame uploaded
-    double kernelBuildSeconds = 0;  // slowest device's build: 0 when every program was kept
-    double renderSeconds = 0;
-    int tiles = 0, duplicatesDropped = 0;
-    std::vector<DeviceStats> devices;
-    std::vector<std::string> warnings;  // one per device dropped (once), and llvmpipe on the first frame
-};
-
-struct FrameResult {
-    Image image;      // the frame, unless FrameOptions::eightBit (then empty)
-    ByteImage bytes;  // the frame with FrameOptions::eightBit (else empty)
-    FrameStats stats;
-    bool cancelled = false;
-};
 
 class OpenClEngine {
 public:
@@ -113,10 +63,16 @@ public:
     OpenClEngine(const OpenClEngine&) = delete;
     OpenClEngine& operator=(const OpenClEngine&) = delete;
 
-    // Renders one frame from the camera with the settings. Devices dropped in a frame
-    // stay dropped. Throws DeviceError when no device is left (or the scene does not fit
-    // any), InputError for bad settings.
-    FrameResult renderFrame(const Camera& camera, const RenderSettings& settings, const FrameOptions& options = {});
+    // Renders one frame from the camera with the settings, as the request asks
+    // (render/frame_source.h; the callbacks are called from device threads, one call at a
+    // time; a cancelled frame launches no more tiles and lets those queued finish). The
+    // statistics hold the rays, each device's share, and the seconds of what this frame did:
+    // packing and BVH build (0 unless it packed), the slowest device's upload (0 unless it
+    // uploaded) and kernel build (0 when every program was kept), and the render; the
+    // warnings, each device dropped (once) and llvmpipe on the first frame. Devices dropped
+    // in a frame stay dropped. Throws DeviceError when no device is left (or the scene does
+    // not fit any), InputError for bad settings.
+    RenderedFrame renderFrame(const Camera& camera, const RenderSettings& settings, const FrameRequest& request = {});
 
     // The scene of the next frames: an edited copy of the one before (an editor's). The
     // next frame packs and uploads only what differs from the scene it packed (a material
