@@ -38,6 +38,13 @@
 // Test hooks (core/test_hooks.h) make a device fail, hang (its launches after the first n
 // wait for an OpenCL user event that is never set, so that its thread blocks in the driver as
 // on a hung GPU) or build slowly, and choose its kernel's packet width and stack.
+//
+// The parts, each a file of host/opencl/: this class posts each frame to the devices, waits
+// for it and reports it; packed_scene_cache (packing and re-packing after edits),
+// engine_frame (one frame as the threads share it), frame_deadlines (when a device is hung),
+// device_slot (what a device keeps between frames), device_thread (a device's thread: each
+// frame prepared for), scene_upload (device limits and uploads), kernel_build (build options,
+// packet width, the program built and run once), device_worker (a device's tiles in flight).
 #pragma once
 
 #include <memory>
