@@ -232,6 +232,7 @@ private:
             }
         }
         document_.lights.push_back(light);
+        document_.lightSources.push_back(element.index());
     }
 
     LightType lightType(XmlElement element) const {
@@ -267,6 +268,7 @@ private:
         it->second.name = name;
         it->second.line = element.line();
         it->second.tree = parseTree(element);
+        it->second.tree.source = element.index();
     }
 
     // The transblocks of a tree, top-level or inline.
@@ -284,6 +286,7 @@ private:
                                      "without transforms");
                 Block block;
                 block.id = document_.nextBlockId++;
+                block.bare = true;
                 block.items.push_back(parseObject(child));
                 tree.blocks.push_back(std::move(block));
             } else {
@@ -298,6 +301,7 @@ private:
         expectNoAttributes(element);
         Block block;
         block.id = document_.nextBlockId++;
+        block.source = element.index();
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             if (sameName(child.name(), "object")) {
                 block.items.push_back(parseObject(child));
@@ -404,7 +408,9 @@ private:
         if (sameName(type, "primitive")) return parsePrimitive(element, values);
         if (sameName(type, "tree")) {
             values.expect(1, 1, "type [name]");
-            return Box<TreeNode>(parseTree(element));
+            TreeNode tree = parseTree(element);
+            tree.source = element.index();
+            return Box<TreeNode>(std::move(tree));
         }
         if (sameName(type, "csg")) return parseCsg(element, values);
         if (sameName(type, "master")) {
@@ -412,7 +418,7 @@ private:
                 diagnostics_.error(element.line(), "a master object needs the name of the tree it places",
                                    "write <object type=\"master\" name=\"...\"/>");
             values.expect(2, 0, "type name");
-            return MasterReference{values.text(1), element.line(), nullptr};
+            return MasterReference{values.text(1), element.line(), nullptr, element.index()};
         }
         diagnostics_.error(element.line(), "unknown object type '" + std::string(values.text(0)) + "'",
                            "use primitive, tree, master or csg");
@@ -427,6 +433,7 @@ private:
         values.expect(2, 0, "type operation");
         auto node = std::make_unique<CsgNode>();
         node->line = element.line();
+        node->source = element.index();
         const char* operation = values.text(1);
         if (sameName(operation, "union")) node->operation = CsgStepKind::Union;
         else if (sameName(operation, "intersection")) node->operation = CsgStepKind::Intersection;
@@ -439,6 +446,7 @@ private:
             } else if (sameName(child.name(), "object")) {
                 Block& block = operand.blocks.emplace_back();
                 block.id = document_.nextBlockId++;
+                block.bare = true;
                 block.items.push_back(parseObject(child));
             } else {
                 warnUnknown(child, element);
@@ -462,6 +470,7 @@ private:
         PrimitiveNode node;
         node.line = element.line();
         node.id = document_.nextObjectId++;
+        node.source = element.index();
         node.type = primitiveType(element, values.text(1));
         if (node.type == PrimitiveType::Mesh) {
             if (values.count() < 3)
@@ -469,6 +478,7 @@ private:
                                    "add meshfile=\"path/to/file.obj\" after the name");
             values.expect(3, 0, "type name meshfile");
             node.filesToSet().meshFile = resolveMesh(element, values.text(2));
+            node.files->meshWritten = values.text(2);
         } else {
             values.expect(2, 0, "type name");
         }
@@ -541,11 +551,11 @@ private:
         auto [known, isNew] = resolvedImages_.try_emplace(reference);
         if (!isNew) {
             if (!known->second) return std::nullopt;
-            return ImageReference{*known->second, element.line()};
+            return ImageReference{*known->second, element.line(), reference};
         }
         std::vector<fs::path> tried;
         known->second = search_.resolve(reference, &tried);
-        if (known->second) return ImageReference{*known->second, element.line()};
+        if (known->second) return ImageReference{*known->second, element.line(), reference};
         if (auto special = firstNonRegular(tried)) {
             diagnostics_.warning(element.line(), std::string(what) + " file " + special->string() +
                                                            " is not a regular file (a FIFO, device or folder: reading "
