@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "scene/canonical_writer.h"
+#include "scene/document_edits.h"
 #include "scene/scene_document.h"
 #include "scene/scene_loader.h"
 #include "scene/value_text.h"
@@ -382,6 +383,115 @@ TEST_CASE("a save keeps what no edit touched and writes each edit where it belon
                                        "\t\t<transblock>\n\t\t\t<translate x=\"0\" y=\"0\" z=\"2\"/>\n\t\t\t<object "
                                        "type=\"primitive\" name=\"cone\"/>\n\t\t</transblock>\n"));
         checkReloads(edit.document, edit.saved());
+    }
+}
+
+TEST_CASE("the document's edits of structure are splices: insert, delete, move, change and add attributes",
+          "[document][text]") {
+    Edited edit(kHandWritten);
+
+    SECTION("add a primitive: a transblock after the root's last, indented like it") {
+        Material red;
+        red.diffuse = {1, 0, 0};
+        addPrimitive(edit.document, PrimitiveType::Torus, red, {{TransformKind::Scale, {2, 2, 2}}});
+        CHECK(edit.saved() == replaced(kHandWritten, "\t\t<object type=\"primitive\" name=\"cone\"/>\n",
+                                       "\t\t<object type=\"primitive\" name=\"cone\"/>\n\t\t<transblock>\n\t\t\t<scale "
+                                       "x=\"2\" y=\"2\" z=\"2\"/>\n\t\t\t<object type=\"primitive\" "
+                                       "name=\"torus\">\n\t\t\t\t<diffuse r=\"1\" g=\"0\" b=\"0\"/>\n\t\t\t</object>\n"
+                                       "\t\t</transblock>\n"));
+        checkReloads(edit.document, edit.saved());
+        CHECK_THROWS_AS(addPrimitive(edit.document, PrimitiveType::Sphere, red, {{TransformKind::Scale, {0, 1, 1}}}),
+                        InputError);
+    }
+
+    SECTION("add a light: after the last, as the file indents") {
+        Light spot;
+        spot.type = LightType::Spot;
+        spot.direction = {0, -1, 0};
+        spot.angleDegrees = 30;
+        CHECK(addLight(edit.document, spot) == 2);
+        CHECK(edit.change().rfind("\t<lightdata>\n\t\t<id v=\"2\"/>\n\t\t<type v=\"spot\"/>\n", 0) == 0);
+        checkReloads(edit.document, edit.saved());
+    }
+
+    SECTION("remove a light: its lines go, the comment above the trees stays") {
+        removeLight(edit.document, 1);
+        const std::string light =
+            "\t<lightdata><id v=\"1\"/><type v=\"directional\"/><color r=\".5\" g=\".5\" b=\".5\"/><direction x=\"0\" "
+            "y=\"-1\" z=\"0\"/></lightdata>\n";
+        CHECK(edit.saved() == replaced(kHandWritten, light, ""));
+        // The light after a removed one keeps its own element.
+        Edited first(kHandWritten);
+        removeLight(first.document, 0);
+        first.document.lights[0].color = {0.25, 0.25, 0.25};
+        CHECK(first.saved().find("<color r=\"0.25\" g=\"0.25\" b=\"0.25\"/><direction") != std::string::npos);
+        CHECK(first.saved().find("<type v=\"POINT\"/>") == std::string::npos);
+        CHECK_THROWS_AS(removeLight(first.document, 5), InputError);
+    }
+
+    SECTION("remove an object: its own lines go") {
+        removeObject(edit.document, edit.objectOfType(PrimitiveType::Cube));
+        CHECK(edit.saved() == replaced(kHandWritten, "\t\t\t<object type=\"primitive\" name=\"cube\"/>\n", ""));
+        checkReloads(edit.document, edit.saved());
+    }
+
+    SECTION("duplicate an object: the copy follows it, written afresh") {
+        const int copy = duplicateObject(edit.document, edit.objectOfType(PrimitiveType::Sphere));
+        CHECK(copy == edit.document.nextObjectId - 1);
+        CHECK(edit.saved() == replaced(kHandWritten, "\t\t\t</object>\n\t\t\t<object type=\"primitive\" name=\"cube\"/>",
+                                       "\t\t\t</object>\n\t\t\t<object type=\"primitive\" name=\"sphere\">\n\t\t\t\t<diffuse "
+                                       "r=\"0.2\" g=\"0.3\" b=\"0.9\"/>\n\t\t\t\t<shininess v=\"20\"/>\n\t\t\t</object>"
+                                       "\n\t\t\t<object type=\"primitive\" name=\"cube\"/>"));
+        checkReloads(edit.document, edit.saved());
+    }
+
+    SECTION("group into a transblock: the objects move, their text and edits with them, indented a step deeper") {
+        const int sphere = edit.objectOfType(PrimitiveType::Sphere), cube = edit.objectOfType(PrimitiveType::Cube);
+        edit.object(sphere).material.shininess = 21;
+        groupIntoTransblock(edit.document, {sphere, cube});
+        CHECK(edit.saved() ==
+              replaced(kHandWritten,
+                       "\t\t\t<object type=\"primitive\" name=\"sphere\">\n\t\t\t\t<diffuse r=\"0.2\" g=\"0.3\" "
+                       "b=\"0.9\"/>\n\t\t\t\t<shininess v=\"20\"/>\n\t\t\t</object>\n\t\t\t<object type=\"primitive\" "
+                       "name=\"cube\"/>\n",
+                       "\t\t\t<object type=\"tree\">\n\t\t\t\t<transblock>\n\t\t\t\t\t<object type=\"primitive\" "
+                       "name=\"sphere\">\n\t\t\t\t\t\t<diffuse r=\"0.2\" g=\"0.3\" b=\"0.9\"/>\n\t\t\t\t\t\t<shininess "
+                       "v=\"21\"/>\n\t\t\t\t\t</object>\n\t\t\t\t\t<object type=\"primitive\" name=\"cube\"/>\n"
+                       "\t\t\t\t</transblock>\n\t\t\t</object>\n"));
+        checkReloads(edit.document, edit.saved());
+        CHECK_THROWS_AS(groupIntoTransblock(edit.document, {sphere, edit.objectOfType(PrimitiveType::Cone)}),
+                        InputError);
+    }
+
+    SECTION("rename a tree: its name and every master's change, nothing else") {
+        renameTree(edit.document, "leg", "post");
+        std::string expected = replaced(kHandWritten, "name=\"leg\">", "name=\"post\">");
+        expected = replaced(expected, "name=\"leg\"/>", "name=\"post\"/>");
+        expected = replaced(expected, "name=\"leg\"/>", "name=\"post\"/>");
+        CHECK(edit.saved() == expected);
+        checkReloads(edit.document, edit.saved());
+        CHECK_THROWS_AS(renameTree(edit.document, "post", "root"), InputError);
+        CHECK_THROWS_AS(renameTree(edit.document, "leg", "table"), InputError);
+    }
+
+    SECTION("set a texture: an element added, then its file changed and its repeats added as attributes") {
+        const fs::path scenes = RAY_TEST_SCENES_DIR;
+        const int cylinder = edit.objectOfType(PrimitiveType::Cylinder);
+        setTexture(edit.document, cylinder, "textures/checker.png", 1, 1);
+        CHECK(edit.change().rfind("\t\t\t\t<texture file=\"textures/checker.png\" u=\"1\" v=\"1\"/>\n", 0) == 0);
+        checkReloads(edit.document, edit.saved());
+
+        const std::string textured = replaced(kHandWritten, "<diffuse r=\"0.8\" g=\"0.5\" b=\"0.2\"/>",
+                                              "<diffuse r=\"0.8\" g=\"0.5\" b=\"0.2\"/><texture file='nowhere.png'/>");
+        Edited again(textured);
+        const int id = again.objectOfType(PrimitiveType::Cylinder);
+        CHECK(again.saved() == textured);
+        setTexture(again.document, id, scenes / "textures" / "checker.png", 2, 1);
+        CHECK(again.saved() == replaced(textured, "<texture file='nowhere.png'/>",
+                                        "<texture file='textures/checker.png' u=\"2\"/>"));
+        checkReloads(again.document, again.saved());
+        CHECK_THROWS_AS(setTexture(again.document, id, "no/such.png", 1, 1), InputError);
+        CHECK_THROWS_AS(setTexture(again.document, id, "textures/checker.png", 0, 1), InputError);
     }
 }
 
