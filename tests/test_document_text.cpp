@@ -534,3 +534,39 @@ TEST_CASE("a document with no text saves canonically; CRLF files keep their line
         CHECK(edit.saved() == replaced(crlf, "b=\"0.2\"/>\r\n", "b=\"0.2\"/>\r\n\t\t\t\t<blend v=\"0.5\"/>\r\n"));
     }
 }
+
+TEST_CASE("ray's own scenes save unedited to their own bytes, and a csg operand's edit to its lines", "[document][text]") {
+    int saved = 0;
+    for (const auto& entry : fs::directory_iterator(RAY_TEST_SCENES_DIR)) {
+        if (entry.path().extension() != ".xml") continue;
+        INFO(entry.path().filename().string());
+        SceneDocument document = loadSceneDocument(entry.path(), quiet());
+        Resources resources;
+        CHECK(documentToText(document, resources, entry.path()) == bytesOf(entry.path()));
+        ++saved;
+    }
+    CHECK(saved > 10);
+
+    SceneDocument csg = loadSceneDocument(fs::path(RAY_TEST_SCENES_DIR) / "csg_die.xml", quiet());
+    PrimitiveNode* operand = nullptr;
+    forEachObject(csg, [&](PrimitiveNode& node, const DocumentPlace& place) {
+        if (!operand && place.path.find("operand") != std::string::npos) operand = &node;
+    });
+    REQUIRE(operand);
+    operand->material.diffuse = {0.1, 0.2, 0.3};
+    checkEdit(csg, operand->source);
+}
+
+TEST_CASE("a file in UTF-16, which ASCII cannot be spliced into, is written afresh", "[document][text]") {
+    const std::string ascii = "<scenefile><object type=\"tree\" name=\"root\"><transblock><object "
+                              "type=\"primitive\" name=\"cube\"/></transblock></object></scenefile>";
+    std::string utf16 = "\xFF\xFE";
+    for (char c : ascii) utf16 += std::string{c, '\0'};
+    SceneDocument document = loadSceneDocumentFromText(utf16, "utf16.xml", quiet());
+    REQUIRE(document.source);
+    CHECK_FALSE(document.source->canSplice());
+    Resources resources;
+    const std::string text = documentToText(document, resources, "utf16.xml");
+    CHECK(text.rfind("<scenefile>\n", 0) == 0);
+    checkReloads(document, text);
+}
