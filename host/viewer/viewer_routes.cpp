@@ -108,7 +108,6 @@ std::string pageWithToken(const std::string& token) {
     return page;
 }
 
-
 }  // namespace
 
 void defineRoutes(httplib::Server& server, Session& session, const std::string& token) {
