@@ -1,5 +1,5 @@
 // The session's /events stream (viewer_session.h), as server-sent events: "frame" when a
-// frame starts (its size and kind), "tile" for each finished tile (its 8-bit RGB in
+// frame starts (the size it renders, the view's size it is shown at, and its kind), "tile" for each finished tile (its 8-bit RGB in
 // base64), "done" when the frame is complete (its time, rays and device), "scene" when the
 // scene or its error changes. Each client keeps a cursor; a slow one skips to the current
 // frame rather than buffering the ones it missed.
@@ -69,7 +69,8 @@ bool Session::stream(httplib::DataSink& sink, Cursor& cursor) {
             frame = frame_;
             sent = 0;
             doneSent = false;
-            json event{{"frame", frame_}, {"width", frameWidth_}, {"height", frameHeight_}};
+            json event{{"frame", frame_},          {"width", frameWidth_},          {"height", frameHeight_},
+                       {"view_width", viewWidth_}, {"view_height", viewHeight_}};
             event.update(frameKindJson(frameKind_));
             out += "event: frame\ndata: " + event.dump() + "\n\n";
         }

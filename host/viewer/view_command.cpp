@@ -35,7 +35,8 @@ options:
                            URL holds a random access token (kept in a cookie after the
                            first visit) and every request without it gets 403, so that
                            other users of the machine cannot use the viewer
-  --width N, --height N    image size (8..2048; default 640 480)
+  --width N, --height N    image size (8..2048); by default the view fills the page's
+                           window and follows its size
   --depth N                recursion depth (0..16; default 4)
   --device D               auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene
                            packed once; ref: the reference renderer
@@ -67,9 +68,14 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
         c.options.address = v;
     });
     addSwitch(app, "--no-token", [&] { c.noToken = true; });
-    addValueOption(app, "--width", [&](const std::string& v) { s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide); });
-    addValueOption(app, "--height",
-                   [&](const std::string& v) { s.height = parseInt(v, "--height", kMinViewSide, kMaxViewSide); });
+    addValueOption(app, "--width", [&](const std::string& v) {
+        s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide);
+        c.options.fitWindow = false;
+    });
+    addValueOption(app, "--height", [&](const std::string& v) {
+        s.height = parseInt(v, "--height", kMinViewSide, kMaxViewSide);
+        c.options.fitWindow = false;
+    });
     addValueOption(app, "--depth", [&](const std::string& v) { s.maxDepth = parseInt(v, "--depth", 0, kMaxViewDepth); });
     addValueOption(app, "--device", [&](const std::string& v) {
         if (!isDeviceSelection(v))

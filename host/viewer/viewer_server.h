@@ -45,6 +45,9 @@ struct ViewerOptions {
     std::string address = "127.0.0.1";
     int port = 8123;  // 0: any free port
     RenderSettings settings;  // antialias: what a view at rest is refined to
+    // The page sizes the view to its window; false: it keeps settings' width and height
+    // (given on the command line) until the user chooses another size.
+    bool fitWindow = true;
     LoadOptions load;
     // The access token every request must present; empty: the viewer is open (--no-token).
     std::string token;

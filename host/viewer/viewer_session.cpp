@@ -36,7 +36,8 @@ json Session::state() {
     std::lock_guard lock(mutex_);
     json state = viewJson(view_);
     state.update(json{{"scene", options_.scene.filename().string()}, {"device", source_->deviceName()},
-                      {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_}});
+                      {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_},
+                      {"fit_window", options_.fitWindow}});
     state.update(editorStateLocked());
     return state;
 }
