@@ -16,6 +16,7 @@ packages=(cmake make g++ pkg-config
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
           patchelf          # scripts/gpu_bundle.sh: the bundle's $ORIGIN rpaths
           libcpp-httplib-dev chromium chromium-driver python3-selenium
+          nodejs npm   # the viewer's page is bundled at build time from locked npm packages
           libopenmpi-dev openmpi-bin   # mpirun -n N ray: tests/mpi.sh
           # the kernel as GPU drivers build it: scripts/kernel_resources.py (clang-15 and
           # libclc for AMD and NVIDIA), tests/rusticl.sh (Mesa's OpenCL), tests/oclgrind.sh

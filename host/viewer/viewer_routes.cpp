@@ -115,7 +115,7 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     const bool editable = !token.empty();
     server.Get(kPagePath, [page = pageWithToken(token)](const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-store");
-        response.set_header("Content-Security-Policy", "frame-ancestors 'none'");
+        response.set_header("Content-Security-Policy", kViewerPagePolicy);
         response.set_content(page, "text/html; charset=utf-8");
     });
     server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {

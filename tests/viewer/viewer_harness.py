@@ -118,8 +118,9 @@ def headless_chromium_or_skip(width, height):
         print("SKIPPED: chromium or chromium-driver is not installed")
         sys.exit(0)
     options = webdriver.ChromeOptions()
+    # WebGL (the studio's gizmo) in software: Chromium no longer falls back to it unasked.
     for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", f"--window-size={width},{height}",
-                 "--disable-dev-shm-usage"]:
+                 "--disable-dev-shm-usage", "--enable-unsafe-swiftshader"]:
         options.add_argument(flag)
     return webdriver.Chrome(options=options)
 

@@ -1,0 +1,33 @@
+// The outline of the scene: its tree (the camera, the lights, the trees, their transblocks,
+// objects and master placements) as a list the selection is shared with: a click on an
+// entry selects what it names, as a click in the view does, and the selected entry is
+// highlighted whichever way it was selected. Each entry carries data-node (the server's
+// node id) and names its shape or kind in its text.
+const outlineBox = document.getElementById("outline");
+let entries = new Map();  // node id -> element
+
+// nodes: [{ node, kind, text, depth }] in the tree's order; onSelect(node) for a click.
+export function showOutline(nodes, onSelect, selectedNode) {
+  outlineBox.replaceChildren();
+  entries = new Map();
+  for (const node of nodes) {
+    const entry = document.createElement("div");
+    entry.className = "node " + (node.depth <= 5 ? `depth-${node.depth}` : "deeper");
+    entry.dataset.node = node.node;
+    const kind = document.createElement("span");
+    kind.className = "kind";
+    kind.textContent = node.kind;
+    entry.append(kind, node.text);
+    entry.title = node.title || "";
+    entry.addEventListener("click", () => onSelect(node));
+    outlineBox.append(entry);
+    entries.set(String(node.node), entry);
+  }
+  highlight(selectedNode);
+}
+
+export function highlight(node) {
+  for (const [id, entry] of entries) entry.classList.toggle("selected", node !== null && node !== undefined && id === String(node));
+  const entry = entries.get(String(node));
+  if (entry) entry.scrollIntoView({ block: "nearest" });
+}
