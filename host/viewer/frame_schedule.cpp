@@ -68,6 +68,15 @@ double Session::pixelsRenderedLocked() const {
     return pixels;
 }
 
+// Called with mutex_ held, as the next frame starts: the frame just finished stays for the
+// streams that have not sent all of it (event_stream.cpp).
+void Session::keepFinishedFrameLocked() {
+    if (!frameDone_) return;  // cancelled: nothing of it is worth sending any more
+    finishedFrame_ = frame_;
+    finishedTiles_ = std::move(tiles_);
+    finishedDone_ = doneJson_;
+}
+
 // Called with mutex_ held, after a frame: a preview teaches what a pixel costs.
 void Session::learnPreviewCost(bool finished, double seconds) {
     if (frameKind_.antialias != AntialiasMode::Off) return;
@@ -96,6 +105,7 @@ void Session::renderLoop() {
             }
             view.settings.antialias = kind.antialias;
             cancel_ = false;
+            keepFinishedFrameLocked();
             ++frame_;
             frameKind_ = kind;
             tiles_.clear();

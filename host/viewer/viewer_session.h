@@ -87,6 +87,7 @@ private:
     bool previewInFlightLocked() const;
     double pixelsRenderedLocked() const;
     void learnPreviewCost(bool finished, double seconds);
+    void keepFinishedFrameLocked();
 
     // scene_watch.cpp
     std::filesystem::file_time_type lastWrite() const;
@@ -115,9 +116,15 @@ private:
     int frameWidth_ = 0, frameHeight_ = 0;  // what the frame renders: a preview may be smaller
     int viewWidth_ = 0, viewHeight_ = 0;    // the view it is shown in
     uint64_t streamsOpened_ = 0;
-    std::vector<FrameTile> tiles_;  // the current frame's only: memory stays one frame
+    std::vector<FrameTile> tiles_;  // the current frame's
     bool frameDone_ = false;
     nlohmann::json doneJson_;
+    // The last complete frame once the next has started: a stream that had not sent all of
+    // it yet sends the rest and its "done" first (the render thread starts the next preview
+    // at once while something moves). Memory stays two frames.
+    uint64_t finishedFrame_ = 0;
+    std::vector<FrameTile> finishedTiles_;
+    nlohmann::json finishedDone_;
     std::thread renderThread_, watchThread_;
 };
 
