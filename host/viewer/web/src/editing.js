@@ -154,7 +154,13 @@ export async function refreshScene() {
 }
 
 // ---- Drags: the gizmo's and the keyboard's (G, R, S) moves of the selection.
-const sendTransform = latestOnly(body => post("/edit", body));
+const sendTransform = latestOnly(async body => {
+  const began = performance.now();
+  const answer = await post("/edit", body);
+  record.dragEdits = (record.dragEdits || 0) + 1;
+  record.dragEditMs = (record.dragEditMs || 0) + performance.now() - began;
+  return answer;
+});
 let gestureStart = null;  // the selection's transform ops and world matrix when a drag began
 
 export const gesture = {
@@ -168,6 +174,7 @@ export const gesture = {
   move(delta) {
     if (!gestureStart) return;
     moveOutline(delta, gestureStart.worlds);
+    record.dragMoves = (record.dragMoves || 0) + 1;
     const moved = delta.clone().multiply(matrixFromRows(gestureStart.worlds[0]));
     sendTransform({ object: gestureStart.object, transform: [matrixOp(moved)] });
   },

@@ -27,6 +27,17 @@ function initToolbar() {
   }
 }
 
+// A new scene version that the page's own edits did not make (a reload, another page's
+// edit) is shown once it is known not to be one of them: the event may come before the
+// answer to the edit that made it, and a drag's edits are shown by the drag itself.
+let refreshTimer = null;
+function refreshUnlessOwn(version) {
+  clearTimeout(refreshTimer);
+  refreshTimer = setTimeout(() => {
+    if (version > record.sceneVersion && !editing.gesture.active()) editing.refreshScene();
+  }, 150);
+}
+
 async function start() {
   const { ok, status, answer } = await getJson("/state");
   const statusLine = document.getElementById("status");
@@ -46,7 +57,7 @@ async function start() {
   initView(answer);
   on("scene", scene => {
     document.getElementById("error").textContent = scene.error;
-    if (scene.version !== record.sceneVersion) editing.refreshScene();  // a reload, or another page's edit
+    refreshUnlessOwn(scene.version);
   });
   streamFrames();
 }

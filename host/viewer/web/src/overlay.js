@@ -57,7 +57,10 @@ function redraw() {
   redrawPending = true;
   requestAnimationFrame(() => {
     redrawPending = false;
+    const began = performance.now();
     renderer.render(scene, camera);
+    record.overlayDraws = (record.overlayDraws || 0) + 1;
+    record.overlayMs = (record.overlayMs || 0) + performance.now() - began;
   });
 }
 
@@ -164,7 +167,7 @@ export function cameraAxes() {
 // with delta the world-space matrix taking the selection where it was to where it is.
 export function initOverlay(gesture) {
   try {
-    renderer = new WebGLRenderer({ canvas, alpha: true, antialias: true });
+    renderer = new WebGLRenderer({ canvas, alpha: true, antialias: false });
   } catch (e) {
     renderer = null;
     document.getElementById("help").textContent += " · no WebGL here: no gizmo (G, R, S still work)";

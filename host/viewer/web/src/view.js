@@ -131,7 +131,7 @@ function onDone(d) {
   const f = state.frame;
   record.completeFrame = d.frame;
   logFrame({ frame: d.frame, at: performance.now(), divisor: d.divisor, final: d.final, seconds: d.seconds,
-             width: f.width, height: f.height });
+             width: f.width, height: f.height, drawMs: f.drawMs || 0 });
   const what = d.final ? `AA ${d.aa}` : d.divisor > 1 ? `preview at ${f.width}x${f.height}` : "preview";
   statusLine.textContent = `${d.device} · ${canvas.width}x${canvas.height} · ${what} · ${d.rays} rays in ` +
     `${d.seconds.toFixed(3)} s · ${d.mrays.toFixed(2)} Mrays/s`;
@@ -146,7 +146,9 @@ export function streamFrames() {
   events.addEventListener("tile", e => {
     const tile = JSON.parse(e.data);
     if (!state.frame || tile.frame !== state.frame.frame) return;
+    const began = performance.now();
     drawTile(tile);
+    state.frame.drawMs = (state.frame.drawMs || 0) + performance.now() - began;
     if (++state.frame.tiles === 1) record.firstTileAt = performance.now();
   });
   events.addEventListener("done", e => {
