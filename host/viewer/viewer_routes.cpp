@@ -126,8 +126,8 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     });
     server.Post("/view", [&](const httplib::Request& request, httplib::Response& response) {
         try {
-            session.request(request.body);
-            response.set_content("{}", "application/json");
+            // The view's number: the page draws over a frame in the camera of the view it shows.
+            response.set_content(json{{"view", session.request(request.body)}}.dump(), "application/json");
         } catch (const std::exception& e) {
             badRequest(response, e.what());
         }

@@ -42,10 +42,11 @@ json Session::state() {
     return state;
 }
 
-void Session::request(const std::string& body) {
+uint64_t Session::request(const std::string& body) {
     std::lock_guard lock(mutex_);
     view_ = parseView(body, view_);
     newRequest();
+    return requested_;
 }
 
 // Where "save scene" writes, whether there is something to undo or redo, the lights.

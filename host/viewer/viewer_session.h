@@ -46,7 +46,8 @@ public:
     // GET /state: the scene, the device, the view, the editor's state, errors and versions.
     nlohmann::json state();
     // POST /view: a new view; the frame in flight is cancelled, the latest alone rendered.
-    void request(const std::string& body);
+    // Returns its number, which the frames that show it carry (FrameKind::view).
+    uint64_t request(const std::string& body);
     // GET /pick: what pixel (x, y) of the current view shows (SceneEditor::pick).
     nlohmann::json pick(int x, int y);
     // GET /object: an object's description (SceneEditor::objectJson).

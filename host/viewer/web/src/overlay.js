@@ -14,6 +14,7 @@ import {
 } from "three";
 import { TransformControls } from "three/examples/jsm/controls/TransformControls.js";
 import { emit, on, record, state } from "./state.js";
+import { viewOfFrame } from "./view.js";
 
 const canvas = document.getElementById("overlay");
 const scene = new Scene();
@@ -64,8 +65,10 @@ function redraw() {
   });
 }
 
-// The overlay's camera is the view's (state.view: position, look, up, height_angle, size).
+// The overlay's camera is a view's (position, look, up, height_angle, size).
+let shown = null;  // that view
 function followCamera(view) {
+  shown = view;
   const [x, y, z] = view.position, [lx, ly, lz] = view.look;
   camera.position.set(x, y, z);
   camera.up.set(...view.up);
@@ -144,13 +147,13 @@ export function gizmoHasPointer() {
 // of the camera (negative: behind it).
 export function projectToView(point) {
   const p = new Vector3(...point).project(camera);
-  return { x: (p.x + 1) / 2 * state.view.width, y: (1 - p.y) / 2 * state.view.height, inFront: p.z < 1 };
+  return { x: (p.x + 1) / 2 * shown.width, y: (1 - p.y) / 2 * shown.height, inFront: p.z < 1 };
 }
 record.project = projectToView;  // where tests and bench/ find an object on the screen
 
 // The point at the view's pixel (x, y) on the plane through `through` facing the camera.
 export function unprojectToPlane(x, y, through) {
-  const ndc = new Vector3(x / state.view.width * 2 - 1, 1 - y / state.view.height * 2, 0.5).unproject(camera);
+  const ndc = new Vector3(x / shown.width * 2 - 1, 1 - y / shown.height * 2, 0.5).unproject(camera);
   const eye = camera.position.clone(), direction = ndc.sub(eye).normalize();
   const normal = camera.getWorldDirection(new Vector3());
   const t = new Vector3(...through).sub(eye).dot(normal) / direction.dot(normal);
@@ -200,8 +203,8 @@ export function initOverlay(gesture) {
   });
   new ResizeObserver(fitCanvas).observe(canvas);
   fitCanvas();
-  on("view", followCamera);
-  on("resize", () => followCamera(state.view));
+  // In the camera of the frame shown (view.js viewOfFrame), which lags the pointer.
+  on("frame", f => followCamera(viewOfFrame(f)));
   followCamera(state.view);
   emit("overlay", { gizmo });
 }

@@ -19,13 +19,33 @@ const sizeChoice = document.getElementById("size");
 const preview = document.createElement("canvas"), previewCtx = preview.getContext("2d");
 let blitPending = false;
 
-const postView = latestOnly(view => api("/view", { method: "POST", body: JSON.stringify(view) }));
+// The views asked for, by the number the server gave each (the frames that show a view
+// carry it): what is drawn over a frame is drawn in the camera of the view it shows, not in
+// the latest, which the image reaches a frame or two later.
+const viewsByNumber = new Map();
+const postView = latestOnly(async view => {
+  const response = await api("/view", { method: "POST", body: JSON.stringify(view) });
+  const answer = await response.json().catch(() => ({}));
+  if (response.ok && answer.view !== undefined) {
+    viewsByNumber.set(answer.view, view);
+    if (viewsByNumber.size > 64) viewsByNumber.delete(viewsByNumber.keys().next().value);
+  }
+  return answer;
+});
+
+// The view that frame `f` shows: the latest asked for at or before its number (edits count
+// too, and change no camera).
+export function viewOfFrame(f) {
+  let best = null, bestNumber = -1;
+  for (const [number, view] of viewsByNumber) if (number <= f.view && number > bestNumber) [best, bestNumber] = [view, number];
+  return best || state.view;
+}
 
 // Changes the view (camera or settings, any of its fields) and asks the server for it.
 export function sendView(changes) {
   Object.assign(state.view, changes);
   emit("view", state.view);
-  return postView(state.view);
+  return postView({ ...state.view });
 }
 
 // The size the view is rendered at: the viewport's in CSS pixels, or the size chosen.
