@@ -15,10 +15,13 @@ import time
 
 
 class Viewer:
-    def __init__(self, ray, scene, *extra):
+    def __init__(self, ray, scene, *extra, new_file=False):
+        """new_file: `scene` is only a name: the viewer opens it in an empty folder, where it
+        does not exist yet (a new scene)."""
         self.folder = tempfile.mkdtemp(prefix="ray_view_")
         self.scene = os.path.join(self.folder, os.path.basename(scene))
-        shutil.copy(scene, self.scene)  # a copy the tests may edit (the watcher)
+        if not new_file:
+            shutil.copy(scene, self.scene)  # a copy the tests may edit (the watcher)
         self.process = subprocess.Popen([ray, "view", self.scene, "--port", "0", *extra],
                                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         line = self.process.stdout.readline()

@@ -174,6 +174,7 @@ export const gesture = {
   move(delta) {
     if (!gestureStart) return;
     moveOutline(delta, gestureStart.worlds);
+    gestureStart.moved = true;
     record.dragMoves = (record.dragMoves || 0) + 1;
     const moved = delta.clone().multiply(matrixFromRows(gestureStart.worlds[0]));
     sendTransform({ object: gestureStart.object, transform: [matrixOp(moved)] });
@@ -189,9 +190,9 @@ export const gesture = {
   },
   async cancel() {
     if (!gestureStart) return;
-    const { object, ops } = gestureStart;
+    const { object, ops, moved } = gestureStart;
     gestureStart = null;
-    await sendTransform({ object, transform: ops });
+    if (moved) await sendTransform({ object, transform: ops });
     refreshScene();
   },
   active: () => gestureStart !== null,
@@ -208,12 +209,13 @@ async function save(body) {
   document.getElementById("saved").textContent = `saved to ${answer.saved}`;
 }
 
+// Frames the selection (F): a sphere about its first placement that holds its unit shape.
 export function frameSelection() {
   const s = state.selection;
-  if (!s || s.object === undefined) return;
-  const world = composeOps(s.transform), e = world.elements;
-  const radius = 0.5 * Math.max(...[0, 1, 2].map(c => Math.hypot(e[4 * c], e[4 * c + 1], e[4 * c + 2]))) * Math.sqrt(3);
-  frameSphere([e[12], e[13], e[14]], radius);
+  if (!s || !s.worlds) return;
+  const e = matrixFromRows(s.worlds[0]).elements;
+  const longestAxis = Math.max(...[0, 1, 2].map(c => Math.hypot(e[4 * c], e[4 * c + 1], e[4 * c + 2])));
+  frameSphere([e[12], e[13], e[14]], 0.5 * Math.sqrt(3) * longestAxis);
 }
 
 export const actions = {
