@@ -12,20 +12,11 @@ import sys
 import tempfile
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip, wait_for
+from viewer_harness import Viewer, headless_chromium_or_skip, read_ppm, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 screenshot = sys.argv[3] if len(sys.argv) > 3 else None
 WINDOW_WIDTH, WINDOW_HEIGHT = 1280, 800
-
-
-def read_ppm(path):
-    data = open(path, "rb").read()
-    parts = data.split(maxsplit=4)
-    assert parts[0] == b"P6" and int(parts[3]) == 255
-    return int(parts[1]), int(parts[2]), parts[4]
-
-
 
 
 def canvas_pixels(driver, canvas_id="view"):

@@ -12,13 +12,11 @@ import sys
 import tempfile
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip, wait_for
+from viewer_harness import Viewer, headless_chromium_or_skip, read_ppm, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 WIDTH, HEIGHT = 640, 480  # the viewer's default size
 CX, CY = WIDTH // 2, HEIGHT // 2
-
-
 
 
 def pixel(driver, x, y, canvas_id="view"):
@@ -29,13 +27,6 @@ def pixel(driver, x, y, canvas_id="view"):
 def red(rgb):
     """Red, not the grey it was: the floor at the centre is half lit (about 110, 12, 12)."""
     return rgb[0] >= 80 and rgb[0] >= 4 * max(rgb[1], rgb[2])
-
-
-def read_ppm(path):
-    data = open(path, "rb").read()
-    parts = data.split(maxsplit=4)
-    assert parts[0] == b"P6" and int(parts[3]) == 255
-    return int(parts[1]), int(parts[2]), parts[4]
 
 
 def rendered_centre(path):

@@ -137,3 +137,11 @@ def wait_for(driver, condition, timeout=120):
             return value
         time.sleep(0.05)
     raise TimeoutError(condition)
+
+
+def read_ppm(path):
+    """A binary PPM's width, height and RGB bytes (what `ray ... -o x.ppm` writes)."""
+    data = open(path, "rb").read()
+    parts = data.split(maxsplit=4)
+    assert parts[0] == b"P6" and int(parts[3]) == 255
+    return int(parts[1]), int(parts[2]), parts[4]
