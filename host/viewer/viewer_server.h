@@ -1,5 +1,5 @@
-// `ray view`: an HTTP server in the process serving one page of its own (web/index.html,
-// embedded at build time), the frame tile by tile as server-sent events, camera and
+// `ray view`: an HTTP server in the process serving one page of its own (web/index.html
+// with its modules and three.js bundled in, embedded at build time: viewer_page.h), the frame tile by tile as server-sent events, camera and
 // settings changes, the scene file watched, "explain this pixel", and the modeler: the
 // object under a click (/pick, /object), edits of its material and transform and of the
 // lights, undo, redo and saving (POST /edit, /undo, /redo, /save: viewer/scene_editor.h).
@@ -18,8 +18,9 @@
 // depth of field, which the page lays out itself.
 //
 // Frames: a change is first rendered with one sample a pixel (quick, while the camera
-// moves); once the view has rested for a moment it is rendered again with the antialiasing
-// asked for (the CLI's default, the course's), the image `ray scene W H` makes.
+// moves; smaller than the view when the view is slow: preview_resolution.h); once the view
+// has rested for a moment it is rendered again at its size with the antialiasing asked for
+// (the CLI's default, the course's), the image `ray scene W H` makes.
 #pragma once
 
 #include <filesystem>
