@@ -6,7 +6,11 @@ click that explains and marks its pixel, and an explanation that goes stale and 
 refreshed after an orbit and a reload; a broken save's error does not squeeze the panel.
 Usage: python3 test_browser.py RAY_BINARY SCENE [SCREENSHOT.png]
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
+import base64
+import hashlib
+import http.client
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -79,6 +83,22 @@ try:
     assert "token" not in driver.current_url and driver.execute_script("return document.cookie") == "", \
         driver.current_url
     print("token: URL with the token -> cookie, address bar without it")
+
+    # The page's Content-Security-Policy lets its own bundled script alone run (by its hash):
+    # the page ran (it asked for its state), and an inline handler slipped into it does not.
+    status, page = viewer.request("GET", "/")
+    connection = http.client.HTTPConnection("127.0.0.1", viewer.port, timeout=30)
+    connection.request("GET", "/", headers=viewer.auth_headers())
+    policy = connection.getresponse().getheader("Content-Security-Policy")
+    connection.close()
+    script = re.search(rb"<script>(.*?)</script>", page, re.S).group(1)
+    digest = base64.b64encode(hashlib.sha256(script).digest()).decode()
+    assert f"script-src 'sha256-{digest}'" in policy and "unsafe" not in policy, policy
+    driver.execute_script("document.body.insertAdjacentHTML('beforeend',"
+                          " '<img id=injected src=data:, onerror=\"window.injectedRan = true\">')")
+    time.sleep(0.5)
+    assert driver.execute_script("return window.injectedRan === undefined && window.rayViewer.frames > 0")
+    print(f"Content-Security-Policy: the page's script alone (sha256-{digest[:12]}...); an injected handler did not run")
 
     # At rest the view is refined to the CLI's antialiasing: byte-identical to `ray scene W H`
     # on the same device (PoCL, through the engine).
