@@ -177,11 +177,11 @@ export const gesture = {
     gestureStart.moved = true;
     record.dragMoves = (record.dragMoves || 0) + 1;
     const moved = delta.clone().multiply(matrixFromRows(gestureStart.worlds[0]));
-    sendTransform({ object: gestureStart.object, transform: [matrixOp(moved)] });
+    return sendTransform({ object: gestureStart.object, transform: [matrixOp(moved)] });
   },
   async end(delta) {
     if (!gestureStart) return;
-    this.move(delta);
+    await this.move(delta);  // the last move answered before the object is read back
     const object = gestureStart.object;
     gestureStart = null;
     const { ok, answer } = await getJson(`/object?id=${object}`);
