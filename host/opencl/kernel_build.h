@@ -1,0 +1,32 @@
+// The kernel a device of the engine runs: the build options that choose its path (how many
+// rays a work-item traces together, the depth, the test hooks' stack), and its program built
+// (or taken from the disk cache, opencl_device.h buildKernelProgram) and run once.
+#pragma once
+
+#include <string>
+
+#include "core/test_hooks.h"
+#include "opencl/device_slot.h"
+#include "opencl/opencl_device.h"
+#include "opencl/scene_packing.h"
+
+namespace ray::engine {
+
+// How many rays a work-item of the device traces together (cl/packet_trace.cl): on a CPU
+// device its native float vector width (16 with AVX-512, 8 with AVX2, 4 with SSE), since
+// PoCL runs a one-ray walk as scalar code; 1 on other devices, whose SIMT is their packet,
+// and on Mesa's llvmpipe, which runs work-items in SIMT lanes as a GPU does (and stands in
+// for one in tests/rusticl.sh). The test hook RAY_CPU_PACKETS sets a CPU device's width, or
+// keeps it on one ray a work-item (tests/cpu_paths.sh compares the paths' images).
+int packetLanes(const OpenClDevice& device, const TestHooks& hooks);
+
+// The options the kernel is built with for a maximum depth and a packet width.
+std::string buildOptions(int maxDepth, int lanes, const TestHooks& hooks);
+
+// The slot's program for a maximum depth, built in its context and run once on a tile of no
+// pixels with the scene's buffers bound (they must be uploaded), so that PoCL compiles the
+// launch's work-group function here rather than in the frame's first tile. Throws
+// DeviceError (the build log) and cl::Error.
+DeviceSlot::Program buildDeviceProgram(DeviceSlot& slot, int maxDepth, const gpu::RayRenderParams& frameParams);
+
+}  // namespace ray::engine
