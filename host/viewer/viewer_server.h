@@ -49,6 +49,9 @@ struct ViewerOptions {
     // The page sizes the view to its window; false: it keeps settings' width and height
     // (given on the command line) until the user chooses another size.
     bool fitWindow = true;
+    // The scene file does not exist: the viewer opens a new scene (viewer/new_scene.h) and
+    // writes it there on the first save.
+    bool newScene = false;
     LoadOptions load;
     // The access token every request must present; empty: the viewer is open (--no-token).
     std::string token;

@@ -1,0 +1,41 @@
+#include "viewer/new_scene.h"
+
+#include "core/message_text.h"
+
+namespace ray {
+
+const std::string& newSceneText() {
+    static const std::string text = R"(<scenefile>
+  <globaldata>
+    <diffusecoeff v="0.5"/>
+    <specularcoeff v="0.5"/>
+    <ambientcoeff v="0.5"/>
+  </globaldata>
+  <cameradata>
+    <pos x="4" y="3" z="5"/>
+    <focus x="0" y="0" z="0"/>
+    <up x="0" y="1" z="0"/>
+    <heightangle v="45"/>
+  </cameradata>
+  <lightdata>
+    <id v="0"/>
+    <color r="1" g="1" b="1"/>
+    <position x="3" y="5" z="4"/>
+  </lightdata>
+  <object type="tree" name="root">
+  </object>
+</scenefile>
+)";
+    return text;
+}
+
+std::string whyNotNewScene(const std::filesystem::path& file) {
+    const std::string name = quotedForMessage(file.string());
+    if (file.extension() != ".xml") return name + " does not exist (a new scene is made only for a .xml file name)";
+    const std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec)) return name + " does not exist, nor does its folder";
+    return "";
+}
+
+}  // namespace ray
