@@ -31,8 +31,14 @@ elif [ $# -gt 0 ]; then
     exit 2
 fi
 
+# Node.js and npm may come from elsewhere than Debian (NodeSource's nodejs holds npm, and
+# Debian's npm would not install beside it): their commands are enough.
+declare -A satisfied_by_command=([nodejs]=node [npm]=npm)
+
 missing=()
 for p in "${packages[@]}"; do
+    command="${satisfied_by_command[$p]:-}"
+    if [ -n "$command" ] && command -v "$command" >/dev/null; then continue; fi
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ "$list_only" = 1 ]; then
