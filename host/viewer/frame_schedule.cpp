@@ -98,11 +98,9 @@ void Session::renderLoop() {
             view = view_;
             viewWidth_ = view.settings.width;
             viewHeight_ = view.settings.height;
-            const PreviewSize preview = previewResolution_.size(view.settings.width, view.settings.height);
-            if (kind.divisor > 1) {
-                view.settings.width = preview.width;
-                view.settings.height = preview.height;
-            }
+            const PreviewSize rendering = dividedView(view.settings.width, view.settings.height, kind.divisor);
+            view.settings.width = rendering.width;
+            view.settings.height = rendering.height;
             view.settings.antialias = kind.antialias;
             cancel_ = false;
             keepFinishedFrameLocked();

@@ -15,12 +15,16 @@ int dividedSide(int side, int divisor) { return std::max(1, (side + divisor - 1)
 
 }  // namespace
 
+PreviewSize dividedView(int width, int height, int divisor) {
+    return {dividedSide(width, divisor), dividedSide(height, divisor), divisor};
+}
+
 PreviewSize PreviewResolution::size(int width, int height) const {
     const double budget = std::chrono::duration<double>(kPreviewBudget).count();
     const double fullSeconds = secondsPerPixel_ * double(width) * double(height);
     // Pixels go as the square of the divisor.
     const int divisor = std::clamp(int(std::ceil(std::sqrt(fullSeconds / budget))), 1, kMaxPreviewDivisor);
-    return {dividedSide(width, divisor), dividedSide(height, divisor), divisor};
+    return dividedView(width, height, divisor);
 }
 
 void PreviewResolution::rendered(double pixels, double seconds) {

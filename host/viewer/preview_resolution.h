@@ -22,6 +22,9 @@ struct PreviewSize {
     int divisor = 1;  // the view's size over the preview's
 };
 
+// A width x height view divided by `divisor`, each side rounded up.
+PreviewSize dividedView(int width, int height, int divisor);
+
 class PreviewResolution {
 public:
     // The preview of a width x height view.

@@ -1,6 +1,12 @@
 // The page's side of the scene's edits: what is selected, the outline and the properties
 // it shows, the toolbar's operations and the drags of the gizmo and the keyboard, each
 // turned into a request to the server's editor; and what the page shows after each.
+//
+// It speaks the editor's routes as they are (POST /edit of an object's material or its
+// transblock's transforms, or a light's fields; GET /pick, /object, /state). The one edit
+// model of issue 43 (a field table, a tree of the scene, operations that add, delete and
+// duplicate, a drag as one undo step) will replace those requests here alone: the outline,
+// the properties panel, the overlay and the keys take what this module gives them.
 import { getJson, latestOnly, postJson } from "./api.js";
 import { frameSphere } from "./camera.js";
 import { highlight, showOutline } from "./outline.js";
@@ -229,7 +235,7 @@ export const actions = {
 export function runAction(name) {
   const action = actions[name];
   if (action) return action();
-  editError.textContent = `${name}: not available in this viewer yet`;
+  editError.textContent = `${name}: the editor of this viewer cannot do this yet (it waits for issue 43's edit operations)`;
 }
 
 export function initEditing(first) {
