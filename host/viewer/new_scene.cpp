@@ -1,7 +1,5 @@
 #include "viewer/new_scene.h"
 
-#include "core/message_text.h"
-
 namespace ray {
 
 const std::string& newSceneText() {
@@ -29,13 +27,11 @@ const std::string& newSceneText() {
     return text;
 }
 
-std::string whyNotNewScene(const std::filesystem::path& file) {
-    const std::string name = quotedForMessage(file.string());
-    if (file.extension() != ".xml") return name + " does not exist (a new scene is made only for a .xml file name)";
-    const std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
+bool opensAsNewScene(const std::filesystem::path& file) {
     std::error_code ec;
-    if (!std::filesystem::is_directory(folder, ec)) return name + " does not exist, nor does its folder";
-    return "";
+    const std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
+    return !std::filesystem::exists(file, ec) && file.extension() == ".xml" &&
+           std::filesystem::is_directory(folder, ec);
 }
 
 }  // namespace ray

@@ -11,8 +11,8 @@ namespace ray {
 // from above and to the side, one white point light, an empty root tree to add to.
 const std::string& newSceneText();
 
-// Why `file`, which does not exist, cannot become a new scene (it names no .xml file, or its
-// folder does not exist); empty when it can.
-std::string whyNotNewScene(const std::filesystem::path& file);
+// Whether `file` is a new scene: it does not exist, names a .xml file, and its folder
+// exists (else it is opened as ever, and the load says it cannot be).
+bool opensAsNewScene(const std::filesystem::path& file);
 
 }  // namespace ray

@@ -102,11 +102,7 @@ void finishOptions(ViewCommand& c) {
     if (c.positionals.size() > 1) throw UsageError("too many arguments: '" + c.positionals[1] + "'");
     ViewerOptions& options = c.options;
     options.scene = c.positionals[0];
-    std::error_code ec;
-    if (!std::filesystem::exists(options.scene, ec)) {
-        if (std::string why = whyNotNewScene(options.scene); !why.empty()) throw UsageError(why);
-        options.newScene = true;
-    }
+    options.newScene = opensAsNewScene(options.scene);
     options.load.searchPaths = c.searchPaths;
     for (auto& p : searchPathsFromEnvironment()) options.load.searchPaths.push_back(p);
     options.load.warn = [](const std::string& message) { std::cerr << message << "\n"; };

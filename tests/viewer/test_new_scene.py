@@ -1,7 +1,7 @@
 """`ray view new.xml` on a file that does not exist (issue 43): a new scene, a camera and a
 light, rendered; nothing written until the page saves, then the file is there and `ray`
-renders it; a name that cannot become a scene file (not .xml, no such folder) is refused
-with exit status 2 and a sentence. No browser needed.
+renders it; a missing file that cannot become a scene file (not .xml, no such folder) is
+a file that cannot be opened, as before (exit status 2). No browser needed.
 Usage: python3 test_new_scene.py RAY_BINARY"""
 import os
 import subprocess
@@ -29,8 +29,8 @@ finally:
     viewer.close()
 
 folder = tempfile.mkdtemp()
-for name, says in [(os.path.join(folder, "new.txt"), ".xml"),
-                   (os.path.join(folder, "no-such-folder", "new.xml"), "nor does its folder")]:
+for name, says in [(os.path.join(folder, "new.txt"), "cannot open the scene file"),
+                   (os.path.join(folder, "no-such-folder", "new.xml"), "cannot open the scene file")]:
     run = subprocess.run([ray, "view", name, "--port", "0"], capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and says in run.stderr, (name, run.returncode, run.stderr)
     print(f"{os.path.relpath(name, folder)}: exit 2, '{run.stderr.splitlines()[0]}'")
