@@ -96,7 +96,12 @@ function onKey(event, editing) {
   else if (key === "r") startModal("rotate", editing);
   else if (key === "s") startModal("scale", editing);
   else if (key === "x" || key === "delete") return run("delete");
-  else if (key === "d" && event.shiftKey) return run("duplicate");
+  else if (key === "d" && event.shiftKey) {
+    // Blender's Shift+D: the copy, selected, follows the pointer until a click puts it down.
+    event.preventDefault();
+    Promise.resolve(editing.runAction("duplicate")).then(reply => { if (reply) startModal("move", editing); });
+    return;
+  }
   else if (key === "f") return run("frame-selection");
   else if (key === "home") return run("reset-view");
   else return;

@@ -50,7 +50,7 @@ async function start() {
   state.view = Object.fromEntries(Object.entries(answer).filter(([key]) => !NOT_VIEW.includes(key)));
   state.fileCamera = Object.fromEntries(CAMERA_FIELDS.map(key => [key, answer[key]]));
   await initSettings(state.view);
-  editing.initEditing(answer);
+  await editing.initEditing(answer);
   initToolbar();
   initOverlay(editing.gesture);
   initInput(editing);

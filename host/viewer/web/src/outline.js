@@ -5,9 +5,15 @@
 // node id) and names its shape or kind in its text.
 const outlineBox = document.getElementById("outline");
 let entries = new Map();  // node id -> element
+let shownNodes = "";       // the nodes shown, as JSON
 
-// nodes: [{ node, kind, text, depth }] in the tree's order; onSelect(node) for a click.
+// nodes: [{ node, kind, text, depth }] in the tree's order; onSelect(node) for a click. The
+// same nodes again leave the entries as they are (a click on one is never lost to a
+// rebuild).
 export function showOutline(nodes, onSelect, selectedNode) {
+  const json = JSON.stringify(nodes);
+  if (json === shownNodes) return highlight(selectedNode);
+  shownNodes = json;
   outlineBox.replaceChildren();
   entries = new Map();
   for (const node of nodes) {
@@ -16,7 +22,8 @@ export function showOutline(nodes, onSelect, selectedNode) {
     entry.dataset.node = node.node;
     const kind = document.createElement("span");
     kind.className = "kind";
-    kind.textContent = node.kind;
+    // An object's text is its shape already; other entries say what they are first.
+    kind.textContent = node.kind === "object" ? "" : node.kind;
     entry.append(kind, node.text);
     entry.title = node.title || "";
     entry.addEventListener("click", () => onSelect(node));
