@@ -1,7 +1,10 @@
 // libFuzzer target: a scene's round trip. Text that loads as a scene document is saved as a
-// scenefile (documentToText) and loaded again; the two flattened scenes must not differ in
-// anything a render reads (scene/scene_difference.h). What the saver writes must load, and
-// load to what was saved: a modeler's user saves and reopens all day.
+// scenefile (documentToText), which unedited must be the text itself, byte for byte (the
+// save keeps the file: scene/document_splices.h); it is also written afresh
+// (scene/canonical_writer.h, what a document made in code saves as), and that text loaded
+// again must not differ from the first in anything a render reads
+// (scene/scene_difference.h). What the savers write must load, and load to what was saved:
+// a modeler's user saves and reopens all day.
 //
 // Anything but a clean InputError from the first load (or from saving what a file cannot
 // hold) is a crash; so is a difference. Seeds: the course scenes and ours (scripts/fuzz.sh);
@@ -12,6 +15,7 @@
 #include <utility>
 
 #include "fuzz_support.h"
+#include "scene/canonical_writer.h"
 #include "scene/scene_difference.h"
 #include "scene/scene_loader.h"
 
@@ -48,11 +52,14 @@ Loaded load(const std::string& xml, const std::filesystem::path& file) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const std::filesystem::path file = ray::fuzz::scratchFolder() / "round_trip.xml";
+    const std::string text(reinterpret_cast<const char*>(data), size);
     Loaded first;
     std::string saved;
     try {
-        first = load(std::string(reinterpret_cast<const char*>(data), size), file);
-        saved = ray::documentToText(first.document, first.resources, file);
+        first = load(text, file);
+        if (first.document.source->canSplice() && ray::documentToText(first.document, first.resources, file) != text)
+            ray::fuzz::fail("the unedited save is not the file", "", text);
+        saved = ray::CanonicalWriter(first.document, first.resources, file).document();
     } catch (const ray::InputError&) {
         return 0;  // not a scene, or one a file cannot hold: a clean refusal
     }

@@ -565,7 +565,7 @@ void Scene::setLight(size_t index, const Light& light) {
 
 void Scene::removeLight(size_t index) {
     checkIndex(int(std::min<size_t>(index, size_t(INT32_MAX))), impl_->document.lights.size(), "light");
-    impl_->document.lights.erase(impl_->document.lights.begin() + std::ptrdiff_t(index));
+    ray::removeLight(impl_->document, index);  // and the element it was read from, with it
     impl_->scene.lights.erase(impl_->scene.lights.begin() + std::ptrdiff_t(index));
     impl_->changed();
 }
