@@ -32,10 +32,12 @@ function inputsFor(field) {
     for (const choice of field.choices || []) select.add(new Option(choice));
     return { inputs: [select], read: () => select.value, show: v => { select.value = v; } };
   }
-  if (field.kind === "text") {
+  if (field.kind === "text" || field.kind === "file") {
     const input = make("text");
+    if (field.kind === "file") input.placeholder = "a file beside the scene";
     return { inputs: [input], read: () => input.value, show: v => { input.value = v; } };
   }
+  if (field.kind === "transforms") return transformInputs(field, make);
   const count = field.kind === "vector" ? 3 : field.kind === "vector4" ? 4 : 1;
   const inputs = Array.from({ length: count }, (_, i) => {
     const input = make("number");
@@ -49,6 +51,27 @@ function inputsFor(field) {
     inputs,
     read: () => count === 1 ? Number(inputs[0].value) : inputs.map(i => Number(i.value)),
     show: v => (count === 1 ? [v] : v).forEach((c, i) => { inputs[i].value = String(+c.toPrecision(7)); }),
+  };
+}
+
+// A transblock's transforms (translate, rotate, scale: their numbers; a matrix: its 12),
+// each number an input with data-op (the transform's place) and data-component.
+function transformInputs(field, make) {
+  const kinds = field.value.map(op => op.kind);
+  const inputs = [];
+  field.value.forEach((op, i) => op.v.forEach((_, k) => {
+    const input = make("number");
+    input.step = "any";
+    input.dataset.op = String(i);
+    input.dataset.component = String(k);
+    input.title = `${i + 1}. ${op.kind}`;
+    inputs.push(input);
+  }));
+  const at = (i, k) => inputs.find(input => input.dataset.op === String(i) && input.dataset.component === String(k));
+  return {
+    inputs,
+    read: () => kinds.map((kind, i) => ({ kind, v: field.value[i].v.map((_, k) => Number(at(i, k).value)) })),
+    show: ops => ops.forEach((op, i) => op.v.forEach((c, k) => { at(i, k).value = String(+c.toPrecision(7)); })),
   };
 }
 
@@ -95,7 +118,10 @@ function fieldRow(field, commit) {
   return row;
 }
 
-const rowKey = field => `${field.name}/${field.index ?? ""}/${field.kind}`;
+// A row stays for a field of the same name and shape (a transblock's transforms of the
+// same kinds); another shape is a new row.
+const rowKey = field => `${field.name}/${field.index ?? ""}/${field.kind}` +
+  (field.kind === "transforms" ? "/" + field.value.map(op => `${op.kind}${op.v.length}`).join(",") : "");
 
 // Shows `groups` ([{ title, fields: [...] }]) and sends each committed value through
 // `commit(field, value)`, which answers { ok, status, error }. `key` names what the fields
