@@ -154,6 +154,13 @@ SceneEditor::SceneEditor(const std::filesystem::path& file, const LoadOptions& o
     scene_ = flatten(document_);
 }
 
+SceneEditor::SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options)
+    : file_(file), options_(options) {
+    document_ = loadSceneDocumentFromText(text, file_, options_);
+    scene_ = flatten(document_);
+    modified_ = true;  // the file is written by the first save
+}
+
 std::shared_ptr<const Scene> SceneEditor::flatten(SceneDocument& document) {
     return std::make_shared<const Scene>(flattenDocument(document, resources_, options_));
 }

@@ -44,6 +44,9 @@ class SceneEditor {
 public:
     // Loads the file. Throws InputError.
     SceneEditor(const std::filesystem::path& file, const LoadOptions& options);
+    // A new scene from `text`, to be saved as `file` (which need not exist): modified until
+    // saved. Throws InputError.
+    SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options);
 
     // The flattened scene of the document as it is now: a new object after each edit, undo,
     // redo or reload (the frame source then prepares only what changed).
