@@ -4,7 +4,7 @@
  * (cl/packet_render.cl). The entry point is cl/kernel.cl. */
 
 #ifndef RAY_MAX_FRAMES
-#define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
+#define RAY_MAX_FRAMES 5 /* ray-tree frames, at least max depth + 1: the host passes its bucket (kernelFrames) */
 #endif
 
 /* A float3 kept in 12 bytes: in a private struct a float3 takes 16, and private memory is

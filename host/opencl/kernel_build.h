@@ -20,13 +20,22 @@ namespace ray::engine {
 // keeps it on one ray a work-item (tests/cpu_paths.sh compares the paths' images).
 int packetLanes(const OpenClDevice& device, const TestHooks& hooks);
 
-// The options the kernel is built with for a maximum depth and a packet width.
-std::string buildOptions(int maxDepth, int lanes, const TestHooks& hooks);
+// How many ray-tree frames the kernel is built with for a maximum depth (-DRAY_MAX_FRAMES,
+// cl/render.cl): the depth itself is a launch parameter, and the frame count the smallest of
+// a few buckets that holds it (depths up to 4, 10, 16 and kMaxDepth), so that a user who
+// tries depth after depth waits for a build once a bucket. The first bucket is the GPU's
+// budget (docs/performance.md, "The kernel on GPUs"): the default depth, 4, keeps the
+// private memory it had when each depth was its own build. The buckets stay small because a
+// CPU work-item holds a ray tree for each of its packet's lanes.
+int kernelFrames(int maxDepth);
 
-// The slot's program for a maximum depth, built in its context and run once on a tile of no
+// The options the kernel is built with for a frame count (kernelFrames) and a packet width.
+std::string buildOptions(int frames, int lanes, const TestHooks& hooks);
+
+// The slot's program for a frame count (kernelFrames), built in its context and run once on a tile of no
 // pixels with the scene's buffers bound (they must be uploaded), so that PoCL compiles the
 // launch's work-group function here rather than in the frame's first tile. Throws
 // DeviceError (the build log) and cl::Error.
-DeviceSlot::Program buildDeviceProgram(DeviceSlot& slot, int maxDepth, const gpu::RayRenderParams& frameParams);
+DeviceSlot::Program buildDeviceProgram(DeviceSlot& slot, int frames, const gpu::RayRenderParams& frameParams);
 
 }  // namespace ray::engine
