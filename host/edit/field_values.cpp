@@ -473,7 +473,8 @@ SceneChanges setField(SceneDocument& document, const NodePlace& place, const Fie
                 throw EditError("there is already a tree named '" + quotedForMessage(name, 60) + "'",
                                 EditError::Kind::Exists, "name", node);
             try {
-                renameTree(document, place.tree->name, name);
+                const std::string from = place.tree->name;  // a copy: renameTree moves the tree
+                renameTree(document, from, name);
             } catch (const InputError& e) {
                 refuse(std::string(e.what()).substr(std::string_view(e.what()).starts_with("error: ") ? 7 : 0), field,
                        node);

@@ -15,4 +15,10 @@ using SceneDifference = SceneChanges;
 // lineage).
 SceneDifference compareScenes(const Scene& a, const Scene& b);
 
+// What of two scenes renders differently: compareScenes over the images and meshes they use
+// alone, each numbered in the order first used. (An editor's scene keeps every image and
+// mesh it read, as an image a deleted object used; the same scene loaded from its saved
+// file holds those its objects name.) The camera is not compared: renders take their own.
+SceneDifference compareRendered(const Scene& a, const Scene& b);
+
 }  // namespace ray
