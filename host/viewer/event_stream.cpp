@@ -1,8 +1,9 @@
 // The session's /events stream (viewer_session.h), as server-sent events: "frame" when a
-// frame starts (its size and kind), "tile" for each finished tile (its 8-bit RGB in
+// frame starts (the size it renders, the view's size it is shown at, and its kind), "tile" for each finished tile (its 8-bit RGB in
 // base64), "done" when the frame is complete (its time, rays and device), "scene" when the
 // scene or its error changes. Each client keeps a cursor; a slow one skips to the current
-// frame rather than buffering the ones it missed.
+// frame rather than buffering the ones it missed, but the frame it was being sent is
+// finished first when it completed.
 #include <httplib.h>
 
 #include <string>
@@ -36,6 +37,12 @@ std::string base64(const std::vector<uint8_t>& bytes) {
     return out;
 }
 
+std::string tileEvent(uint64_t frame, const FrameTile& t) {
+    return "event: tile\ndata: " +
+           json{{"frame", frame}, {"x", t.x}, {"y", t.y}, {"w", t.width}, {"h", t.height}, {"rgb", base64(t.rgb)}}.dump() +
+           "\n\n";
+}
+
 }  // namespace
 
 uint64_t Session::openStream() {
@@ -65,20 +72,23 @@ bool Session::stream(httplib::DataSink& sink, Cursor& cursor) {
             sceneVersion = sceneVersion_;
             out += "event: scene\ndata: " + json{{"error", error}, {"version", sceneVersion}}.dump() + "\n\n";
         }
+        if (frame != 0 && frame != frame_ && frame == finishedFrame_ && !doneSent) {
+            // The frame this client was sent is complete, and the next has begun: the rest
+            // of it first, so that every complete frame arrives complete.
+            for (; sent < finishedTiles_.size(); ++sent) out += tileEvent(frame, finishedTiles_[sent]);
+            out += "event: done\ndata: " + finishedDone_.dump() + "\n\n";
+            doneSent = true;
+        }
         if (frame != frame_) {
             frame = frame_;
             sent = 0;
             doneSent = false;
-            json event{{"frame", frame_}, {"width", frameWidth_}, {"height", frameHeight_}};
+            json event{{"frame", frame_},          {"width", frameWidth_},          {"height", frameHeight_},
+                       {"view_width", viewWidth_}, {"view_height", viewHeight_}};
             event.update(frameKindJson(frameKind_));
             out += "event: frame\ndata: " + event.dump() + "\n\n";
         }
-        for (; sent < tiles_.size(); ++sent) {
-            const FrameTile& t = tiles_[sent];
-            out += "event: tile\ndata: " +
-                   json{{"frame", frame_}, {"x", t.x}, {"y", t.y}, {"w", t.width}, {"h", t.height},
-                        {"rgb", base64(t.rgb)}}.dump() + "\n\n";
-        }
+        for (; sent < tiles_.size(); ++sent) out += tileEvent(frame_, tiles_[sent]);
         if (frameDone_ && sent == tiles_.size() && !doneSent) {
             doneSent = true;
             out += "event: done\ndata: " + doneJson_.dump() + "\n\n";

@@ -58,11 +58,6 @@ SceneEditor::SceneEditor(const std::filesystem::path& file, const std::string& t
     session_.setModified();  // the file is written by the first save
 }
 
-SceneEditor::SceneEditor(const std::filesystem::path& file, SceneDocument document, const LoadOptions& options)
-    : file_(file), options_(options), session_(std::move(document), sessionOptions(file, options)) {
-    session_.setModified();
-}
-
 json SceneEditor::pick(const Camera& camera, const RenderSettings& settings, int x, int y) {
     if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
         throw EditError("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +

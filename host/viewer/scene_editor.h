@@ -49,9 +49,6 @@ public:
     // A new scene from `text`, to be saved as `file` (which need not exist): modified until
     // saved. Throws InputError.
     SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options);
-    // A document made in code (edit::newSceneDocument), to be saved as `file`: written whole
-    // by the canonical writer on the first save.
-    SceneEditor(const std::filesystem::path& file, SceneDocument document, const LoadOptions& options);
 
     // The flattened scene of the document as it is now: a new object after each edit, undo,
     // redo or reload, whose lineage says what changed (the frame source re-packs that alone).

@@ -113,12 +113,14 @@ View parseView(const std::string& body, const View& current) {
 }
 
 json frameKindJson(const FrameKind& kind) {
-    return {{"view", kind.view}, {"scene", kind.scene}, {"aa", antialiasName(kind.antialias)}, {"final", kind.final}};
+    return {{"view", kind.view}, {"scene", kind.scene}, {"aa", antialiasName(kind.antialias)}, {"final", kind.final},
+            {"divisor", kind.divisor}};
 }
 
 json viewJson(const View& view) {
     json state{{"position", vecJson(view.camera.position)}, {"look", vecJson(view.camera.look)},
-               {"up", vecJson(view.camera.up)},         {"width", view.settings.width},
+               {"up", vecJson(view.camera.up)},         {"height_angle", view.camera.heightAngleDegrees},
+               {"width", view.settings.width},
                {"height", view.settings.height},        {"depth", view.settings.maxDepth},
                {"dof", dofControl(view.settings)}};
     for (const SettingSpec& spec : renderSettingsTable())

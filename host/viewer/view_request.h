@@ -30,8 +30,9 @@ struct View {
 // of range, changing nothing.
 View parseView(const std::string& body, const View& current);
 
-// The view as /state reports it: position, look, up, width, height, depth, dof and every
-// other setting by its table name.
+// The view as /state reports it: position, look, up, height_angle (the file's, which a view
+// request does not change), width, height, depth, dof and every other setting by its table
+// name.
 nlohmann::json viewJson(const View& view);
 
 // What the page builds its setting controls from: every setting of the table but those it
@@ -45,6 +46,7 @@ struct FrameKind {
     uint64_t view = 0, scene = 0;
     AntialiasMode antialias = AntialiasMode::Off;
     bool final = true;  // no refinement follows
+    int divisor = 1;    // a preview may be rendered at the view's size over this (preview_resolution.h)
 };
 
 nlohmann::json frameKindJson(const FrameKind& kind);

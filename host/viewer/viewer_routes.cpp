@@ -116,14 +116,13 @@ std::string pageWithToken(const std::string& token) {
     return page;
 }
 
-
 }  // namespace
 
 void defineRoutes(httplib::Server& server, Session& session, const std::string& token) {
     const bool editable = !token.empty();
     server.Get(kPagePath, [page = pageWithToken(token)](const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-store");
-        response.set_header("Content-Security-Policy", "frame-ancestors 'none'");
+        response.set_header("Content-Security-Policy", kViewerPagePolicy);
         response.set_content(page, "text/html; charset=utf-8");
     });
     server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {
@@ -147,8 +146,8 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     });
     server.Post("/view", [&](const httplib::Request& request, httplib::Response& response) {
         try {
-            session.request(request.body);
-            response.set_content("{}", "application/json");
+            // The view's number: the page draws over a frame in the camera of the view it shows.
+            response.set_content(json{{"view", session.request(request.body)}}.dump(), "application/json");
         } catch (const std::exception& e) {
             badRequest(response, e.what());
         }

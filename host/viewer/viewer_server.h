@@ -1,5 +1,5 @@
-// `ray view`: an HTTP server in the process serving one page of its own (web/index.html,
-// embedded at build time), the frame tile by tile as server-sent events, camera and
+// `ray view`: an HTTP server in the process serving one page of its own (web/index.html
+// with its modules and three.js bundled in, embedded at build time: viewer_page.h), the frame tile by tile as server-sent events, camera and
 // settings changes, the scene file watched, "explain this pixel", and the modeler: the
 // object under a click (/pick, /object), edits of its material and transform and of the
 // lights, undo, redo and saving (POST /edit, /undo, /redo, /save: viewer/scene_editor.h).
@@ -18,8 +18,9 @@
 // depth of field, which the page lays out itself.
 //
 // Frames: a change is first rendered with one sample a pixel (quick, while the camera
-// moves); once the view has rested for a moment it is rendered again with the antialiasing
-// asked for (the CLI's default, the course's), the image `ray scene W H` makes.
+// moves; smaller than the view when the view is slow: preview_resolution.h); once the view
+// has rested for a moment it is rendered again at its size with the antialiasing asked for
+// (the CLI's default, the course's), the image `ray scene W H` makes.
 #pragma once
 
 #include <filesystem>
@@ -45,6 +46,12 @@ struct ViewerOptions {
     std::string address = "127.0.0.1";
     int port = 8123;  // 0: any free port
     RenderSettings settings;  // antialias: what a view at rest is refined to
+    // The page sizes the view to its window; false: it keeps settings' width and height
+    // (given on the command line) until the user chooses another size.
+    bool fitWindow = true;
+    // The scene file does not exist: the viewer opens a new scene (viewer/new_scene.h) and
+    // writes it there on the first save.
+    bool newScene = false;
     LoadOptions load;
     // The access token every request must present; empty: the viewer is open (--no-token).
     std::string token;

@@ -4,13 +4,24 @@
 
 #include "core/message_text.h"
 #include "explain/explanation_report.h"
+#include "viewer/new_scene.h"
 
 namespace ray {
 
 using nlohmann::json;
 
+namespace {
+
+// The editor of the scene file, or of a new scene to be written there.
+SceneEditor editorFor(const ViewerOptions& options) {
+    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load);
+    return SceneEditor(options.scene, options.load);
+}
+
+}  // namespace
+
 Session::Session(const ViewerOptions& options, std::unique_ptr<FrameSource> source)
-    : options_(options), source_(std::move(source)), editor_(options.scene, options.load) {
+    : options_(options), source_(std::move(source)), editor_(editorFor(options)) {
     scene_ = editor_.scene();
     sceneTime_ = lastWrite();
     view_ = {scene_->camera, options.settings};
@@ -36,15 +47,17 @@ json Session::state() {
     std::lock_guard lock(mutex_);
     json state = viewJson(view_);
     state.update(json{{"scene", options_.scene.filename().string()}, {"device", source_->deviceName()},
-                      {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_}});
+                      {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_},
+                      {"fit_window", options_.fitWindow}});
     state.update(editorStateLocked());
     return state;
 }
 
-void Session::request(const std::string& body) {
+uint64_t Session::request(const std::string& body) {
     std::lock_guard lock(mutex_);
     view_ = parseView(body, view_);
     newRequest();
+    return requested_;
 }
 
 // Where "save scene" writes, whether there is something to undo or redo, the lights.

@@ -1,8 +1,10 @@
 // What the viewer's server threads share: the scene being edited, the view, the frame being
 // rendered and its tiles, under one mutex. Its jobs are each a file of their own:
 //   viewer_session.cpp  the requests: the state, a new view, picks, edits, saves, explanations
-//   frame_schedule.cpp  the render thread: the latest request's preview, then its refinement
-//                       once the view rests; a new request cancels the frame in flight
+//   frame_schedule.cpp  the render thread: the latest request's preview (smaller than the
+//                       view when the view is slow to render), then its refinement once the
+//                       view rests; a new request cancels a refinement in flight, and lets
+//                       a preview finish
 //   scene_watch.cpp     the watch thread: the scene file changed on disk is loaded again
 //   event_stream.cpp    the /events stream: frames, tiles and scene changes as they happen
 // The routes (viewer_routes.h) call it; runViewer (viewer_server.h) starts and stops it.
@@ -22,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/frame_source.h"
+#include "viewer/preview_resolution.h"
 #include "viewer/scene_editor.h"
 #include "viewer/view_request.h"
 #include "viewer/viewer_server.h"
@@ -43,7 +46,8 @@ public:
     // GET /state: the scene, the device, the view, the editor's state, errors and versions.
     nlohmann::json state();
     // POST /view: a new view; the frame in flight is cancelled, the latest alone rendered.
-    void request(const std::string& body);
+    // Returns its number, which the frames that show it carry (FrameKind::view).
+    uint64_t request(const std::string& body);
     // GET /pick: what pixel (x, y) of the current view shows (SceneEditor::pick).
     nlohmann::json pick(int x, int y);
     // GET /object: an object's description (SceneEditor::objectJson).
@@ -86,6 +90,10 @@ private:
     void newRequest();
     bool nextFrame(std::unique_lock<std::mutex>& lock, uint64_t& rendered, bool& refined, FrameKind& kind);
     void renderLoop();
+    bool previewInFlightLocked() const;
+    double pixelsRenderedLocked() const;
+    void learnPreviewCost(bool finished, double seconds);
+    void keepFinishedFrameLocked();
 
     // scene_watch.cpp
     std::filesystem::file_time_type lastWrite() const;
@@ -105,14 +113,24 @@ private:
     uint64_t sceneVersion_ = 0;  // successful reloads so far
     Clock::time_point lastRequestAt_ = Clock::now();
     FrameKind frameKind_;  // what the frame frame_ shows
+    Clock::time_point frameStartedAt_ = Clock::now();
+    bool frameInFlight_ = false;
+    PreviewResolution previewResolution_;
     std::atomic<bool> cancel_{false};
     bool stop_ = false;
     uint64_t frame_ = 0;
-    int frameWidth_ = 0, frameHeight_ = 0;
+    int frameWidth_ = 0, frameHeight_ = 0;  // what the frame renders: a preview may be smaller
+    int viewWidth_ = 0, viewHeight_ = 0;    // the view it is shown in
     uint64_t streamsOpened_ = 0;
-    std::vector<FrameTile> tiles_;  // the current frame's only: memory stays one frame
+    std::vector<FrameTile> tiles_;  // the current frame's
     bool frameDone_ = false;
     nlohmann::json doneJson_;
+    // The last complete frame once the next has started: a stream that had not sent all of
+    // it yet sends the rest and its "done" first (the render thread starts the next preview
+    // at once while something moves). Memory stays two frames.
+    uint64_t finishedFrame_ = 0;
+    std::vector<FrameTile> finishedTiles_;
+    nlohmann::json finishedDone_;
     std::thread renderThread_, watchThread_;
 };
 

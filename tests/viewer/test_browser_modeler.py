@@ -12,13 +12,11 @@ import sys
 import tempfile
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip, wait_for
+from viewer_harness import Viewer, headless_chromium_or_skip, read_ppm, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 WIDTH, HEIGHT = 640, 480  # the viewer's default size
 CX, CY = WIDTH // 2, HEIGHT // 2
-
-
 
 
 def pixel(driver, x, y, canvas_id="view"):
@@ -31,13 +29,6 @@ def red(rgb):
     return rgb[0] >= 80 and rgb[0] >= 4 * max(rgb[1], rgb[2])
 
 
-def read_ppm(path):
-    data = open(path, "rb").read()
-    parts = data.split(maxsplit=4)
-    assert parts[0] == b"P6" and int(parts[3]) == 255
-    return int(parts[1]), int(parts[2]), parts[4]
-
-
 def rendered_centre(path):
     """The centre pixel of `ray FILE 640 480 --device cpu`."""
     ppm = os.path.join(tempfile.mkdtemp(), "saved.ppm")
@@ -47,17 +38,25 @@ def rendered_centre(path):
     return list(data[i:i + 3])
 
 
-def set_input(driver, element_id, value):
-    """What the browser does when the user picks a value: the input's value, then its input event."""
+def set_input(driver, selector, value):
+    """What the browser does when the user enters a value: the input's value, then its input
+    and change events. `selector`: an id, or a CSS selector such as [data-field=diffuse]."""
     driver.execute_script(
-        "const e = document.getElementById(arguments[0]); e.value = arguments[1];"
-        "e.dispatchEvent(new Event('input', { bubbles: true }));", element_id, value)
+        "const e = document.getElementById(arguments[0]) || document.querySelector(arguments[0]);"
+        "e.value = arguments[1];"
+        "e.dispatchEvent(new Event('input', { bubbles: true })); e.dispatchEvent(new Event('change', { bubbles: true }));",
+        selector, value)
+
+
+def field_value(driver, selector):
+    return driver.execute_script("return document.querySelector(arguments[0]).value", selector)
 
 
 driver = headless_chromium_or_skip(1280, 900)
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402 (Selenium is known present)
 from selenium.webdriver.common.by import By  # noqa: E402
-viewer = Viewer(ray, scene, "--device", "cpu")
+# A size given on the command line: the view keeps it (it would otherwise fill the window).
+viewer = Viewer(ray, scene, "--device", "cpu", "--width", str(WIDTH), "--height", str(HEIGHT))
 try:
     driver.get(viewer.url)
     wait_for(driver, "window.rayViewer.restFrame")
@@ -79,13 +78,13 @@ try:
         "return Array.from(document.getElementById('marker').getContext('2d').getImageData(0, 0, 640, 480).data)")
     near = [marker[4 * (j * WIDTH + i) + 3] for j in range(CY - 9, CY + 10) for i in range(CX - 9, CX + 10)]
     assert sum(1 for a in near if a > 0) >= 20, "the selected object is not marked"
-    assert driver.find_element(By.ID, "material-diffuse").get_attribute("type") == "color"
+    assert driver.find_element(By.CSS_SELECTOR, "[data-field=diffuse]").get_attribute("type") == "color"
     print(f"click: selected {selected['type']} {selected['path']} (object {selected['object']}), marked")
 
     # Its color set to red: the view's centre turns red within seconds.
     version = driver.execute_script("return window.rayViewer.sceneVersion")
     start = time.time()
-    set_input(driver, "material-diffuse", "#ff0000")
+    set_input(driver, "[data-field=diffuse]", "#ff0000")
     wait_for(driver, f"window.rayViewer.sceneVersion > {version}", timeout=30)
     deadline = start + 20
     while not red(pixel(driver, CX, CY)):
@@ -96,15 +95,32 @@ try:
 
     # A bad value: the server's message in the page, nothing changed.
     errors = driver.execute_script("return window.rayViewer.editErrors.length")
-    set_input(driver, "material-shininess", "-5")
+    shininess = field_value(driver, "[data-field=shininess]")
+    set_input(driver, "[data-field=shininess]", "-5")
     wait_for(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=30)
     error = driver.execute_script("return window.rayViewer.editErrors.at(-1)")
     assert error["status"] == 400 and "shininess" in error["error"], error
-    assert "shininess" in driver.find_element(By.ID, "edit-error").text
+    # Its error beside the field, and the field back to the value the scene holds.
+    beside = driver.execute_script(
+        "return document.querySelector('[data-field=shininess]').closest('.field').querySelector('.field-error').textContent")
+    assert "shininess" in beside, beside
+    assert field_value(driver, "[data-field=shininess]") == shininess, field_value(driver, "[data-field=shininess]")
     status, current = viewer.json("GET", f"/object?id={selected['object']}")
     assert status == 200 and current["material"]["shininess"] == selected["material"]["shininess"], current
     assert current["material"]["diffuse"] == [1, 0, 0], current
-    print(f"bad value: HTTP 400 '{error['error']}', shown in the page; the object unchanged")
+    print(f"bad value: HTTP 400 '{error['error']}', shown beside the field, which went back to {shininess}; "
+          "the object unchanged")
+
+    # The refused value blocks nothing: the next edit of another field is made.
+    edits = driver.execute_script("return window.rayViewer.edits")
+    set_input(driver, "[data-field=ior]", "1.25")
+    wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=30)
+    status, current = viewer.json("GET", f"/object?id={selected['object']}")
+    assert current["material"]["ior"] == 1.25, current["material"]
+    driver.find_element(By.ID, "undo").click()
+    wait_for(driver, "document.querySelector('[data-field=ior]') && "
+                     f"Number(document.querySelector('[data-field=ior]').value) === {selected['material']['ior']}", timeout=30)
+    print("after the refusal: ior 1.25 accepted (nothing blocked), then undone")
 
     # Undo brings the color back, redo makes it red again.
     driver.find_element(By.ID, "undo").click()
@@ -144,7 +160,9 @@ try:
 
     # A light and a transform edited in the panel change the view; undone, the view is back.
     saved_centre = pixel(driver, CX, CY)
-    set_input(driver, "light-0-color", "#000000")  # the only light off: ambient alone
+    driver.find_element(By.CSS_SELECTOR, "#outline [data-node=light-0]").click()
+    wait_for(driver, "document.querySelector('#fields [data-field=color]')")
+    set_input(driver, "#fields [data-field=color]", "#000000")  # the only light off: ambient alone
     deadline = time.time() + 20
     while pixel(driver, CX, CY)[0] >= saved_centre[0] - 20:
         assert time.time() < deadline, f"the light edit did not darken the centre: {pixel(driver, CX, CY)}"
@@ -155,9 +173,12 @@ try:
     status, state = viewer.json("GET", "/state")
     assert state["lights"][0]["color"] == [1.0, 1.0, 1.0], state["lights"]
     # The floor (the selected cube) lowered by 0.5 along its transblock's translate's y.
-    translate_y = driver.execute_script("return Number(document.getElementById('transform-0-1').value)")
+    driver.find_element(By.CSS_SELECTOR, f"#outline [data-node=object-{selected['object']}]").click()
+    translate = "[data-field=translate][data-component='1']"
+    wait_for(driver, f"document.querySelector(\"{translate}\")")
+    translate_y = float(field_value(driver, translate))
     edits = driver.execute_script("return window.rayViewer.edits")
-    set_input(driver, "transform-0-1", str(translate_y - 0.5))
+    set_input(driver, translate, str(translate_y - 0.5))
     wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=20)
     status, current = viewer.json("GET", f"/object?id={selected['object']}")
     assert current["transform"][0]["v"][1] == translate_y - 0.5, current["transform"]
