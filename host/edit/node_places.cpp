@@ -1,5 +1,7 @@
 #include "edit/node_places.h"
 
+#include <charconv>
+
 #include "edit/edit_error.h"
 
 namespace ray::edit {
@@ -23,7 +25,7 @@ public:
             place_.tree = tree;
             place_.path = tree->name;
             const NodeId treeId{NodeKind::Tree, tree->id};
-            if (emit(treeId, 0, std::nullopt) || walkTree(tree->tree, tree->name, 1, treeId)) return;
+            if (emit(treeId, 0, std::nullopt) || walkTree(tree->tree, 1, treeId)) return;
         }
     }
 
@@ -35,29 +37,34 @@ private:
         return visit_(place_);
     }
 
-    bool walkTree(TreeNode& node, const std::string& prefix, int depth, const NodeId& parent) {
+    // place_.path is one buffer, each level's part appended and cut off again: a walk is made
+    // for every lookup of a node (findNode), and a new string for every node of a scene of
+    // 10^4 objects made each add of one cost more than the add itself.
+    bool walkTree(TreeNode& node, int depth, const NodeId& parent) {
+        const size_t prefix = place_.path.size();
         for (size_t b = 0; b < node.blocks.size(); ++b) {
             Block& block = node.blocks[b];
-            const std::string blockPath = prefix + "/transblock[" + std::to_string(b) + "]";
+            appendPath("/transblock[", b);
             place_.blocks.push_back(&block);
             place_.holder = &node;
             place_.index = b;
-            place_.path = blockPath;
             const NodeId blockId{NodeKind::Block, block.id};
-            if (emit(blockId, depth, parent) || walkItems(block, blockPath, depth + 1, blockId)) return true;
+            if (emit(blockId, depth, parent) || walkItems(block, depth + 1, blockId)) return true;
             place_.blocks.pop_back();
+            place_.path.resize(prefix);
         }
         return false;
     }
 
-    bool walkItems(Block& block, const std::string& blockPath, int depth, const NodeId& parent) {
+    bool walkItems(Block& block, int depth, const NodeId& parent) {
+        const size_t blockPath = place_.path.size();
         for (size_t i = 0; i < block.items.size(); ++i) {
             SceneItem& item = block.items[i];
-            const std::string itemPath = blockPath + "/object[" + std::to_string(i) + "]";
+            place_.path.resize(blockPath);
+            appendPath("/object[", i);
             auto at = [&] {
                 place_.holder = nullptr;
                 place_.index = i;
-                place_.path = itemPath;
             };
             if (auto* primitive = std::get_if<PrimitiveNode>(&item)) {
                 at();
@@ -67,18 +74,27 @@ private:
                 if (emit({NodeKind::Placement, master->id}, depth, parent)) return true;
             } else if (auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
                 // An inline tree is no node of its own: its transblocks are the block's children.
-                if (walkTree(**subtree, itemPath, depth, parent)) return true;
+                if (walkTree(**subtree, depth, parent)) return true;
             } else if (auto* csg = std::get_if<Box<CsgNode>>(&item)) {
                 at();
                 const NodeId csgId{NodeKind::Csg, (*csg)->id};
                 if (emit(csgId, depth, parent)) return true;
-                for (size_t k = 0; k < (*csg)->operands.size(); ++k)
-                    if (walkTree((*csg)->operands[k], itemPath + "/operand[" + std::to_string(k) + "]", depth + 1,
-                                 csgId))
-                        return true;
+                const size_t itemPath = place_.path.size();
+                for (size_t k = 0; k < (*csg)->operands.size(); ++k) {
+                    place_.path.resize(itemPath);
+                    appendPath("/operand[", k);
+                    if (walkTree((*csg)->operands[k], depth + 1, csgId)) return true;
+                }
             }
         }
+        place_.path.resize(blockPath);
         return false;
+    }
+
+    void appendPath(const char* part, size_t index) {
+        char number[24];
+        char* end = std::to_chars(number, number + sizeof number, index).ptr;
+        place_.path.append(part).append(number, end).push_back(']');
     }
 
     SceneDocument& document_;
