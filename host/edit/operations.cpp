@@ -66,7 +66,10 @@ Outcome setFields(SceneDocument& document, const NodeId& id, std::vector<FieldIn
                             (input.field->special == SpecialField::Transforms || input.field->special == SpecialField::World);
         outcome.outline = outcome.outline || splits || input.field->special == SpecialField::TreeName;
         outcome.changes |= setField(document, place, input, context);
-        place = requireNode(document, id);  // the edit may have moved it (a transblock of its own)
+        // Found again only when the edit moved it (a transblock of its own) or re-keyed its
+        // tree (a rename): a lookup walks the document, and an add of one object to 10^4
+        // sets a dozen fields.
+        if (splits || input.field->special == SpecialField::TreeName) place = requireNode(document, id);
     }
     checkNode(document, place);
     return outcome;
