@@ -53,15 +53,6 @@ Enum enumFromName(const std::string& name, const std::vector<std::pair<const cha
     throw py::value_error(std::string(what) + " must be one of " + known + ", not '" + name + "'");
 }
 
-api::LightType lightType(const std::string& name) {
-    return enumFromName<api::LightType>(name,
-                                        {{"point", api::LightType::Point},
-                                         {"directional", api::LightType::Directional},
-                                         {"spot", api::LightType::Spot},
-                                         {"area", api::LightType::Area}},
-                                        "light type");
-}
-
 api::Shape shape(const std::string& name) {
     return enumFromName<api::Shape>(name,
                                     {{"cube", api::Shape::Cube},
@@ -508,32 +499,6 @@ py::dict materialDict(const api::Material& m) {
     return d;
 }
 
-// `material` with the fields named in `fields` (add_material's names) replaced.
-api::Material updatedMaterial(api::Material m, const py::dict& fields) {
-    for (const auto& [key, value] : fields) {
-        const std::string name = py::str(key);
-        if (name == "diffuse") m.diffuse = vec3Arg(name, value);
-        else if (name == "ambient") m.ambient = vec3Arg(name, value);
-        else if (name == "specular") m.specular = vec3Arg(name, value);
-        else if (name == "reflective") m.reflective = vec3Arg(name, value);
-        else if (name == "transparent") m.transparent = vec3Arg(name, value);
-        else if (name == "emissive") m.emissive = vec3Arg(name, value);
-        else if (name == "shininess") m.shininess = realOption(name, value);
-        else if (name == "ior") m.ior = realOption(name, value);
-        else if (name == "blend") m.blend = realOption(name, value);
-        else if (name == "texture") m.texture.texture = handleArg(name, value);
-        else if (name == "bump_map") m.bumpMap.texture = handleArg(name, value);
-        else if (name == "repeat") {
-            const auto repeat = numbersArg<2>(name, value);
-            m.texture.repeatU = m.bumpMap.repeatU = repeat[0];
-            m.texture.repeatV = m.bumpMap.repeatV = repeat[1];
-        } else
-            throw py::value_error("set_material takes diffuse, ambient, specular, reflective, transparent, emissive, "
-                                  "shininess, ior, blend, texture, repeat and bump_map, not '" + name + "'");
-    }
-    return m;
-}
-
 py::dict lightDict(const api::Light& l) {
     py::dict d;
     d["type"] = lightTypeName(l.type);
@@ -548,24 +513,110 @@ py::dict lightDict(const api::Light& l) {
     return d;
 }
 
-// `light` with the fields named in `fields` (add_light's names) replaced.
-api::Light updatedLight(api::Light l, const py::dict& fields) {
-    for (const auto& [key, value] : fields) {
-        const std::string name = py::str(key);
-        if (name == "type") l.type = lightType(textOption(name, value));
-        else if (name == "color") l.color = vec3Arg(name, value);
-        else if (name == "position") l.position = vec3Arg(name, value);
-        else if (name == "direction") l.direction = vec3Arg(name, value);
-        else if (name == "attenuation") l.attenuation = vec3Arg(name, value);
-        else if (name == "angle") l.angleDegrees = realOption(name, value);
-        else if (name == "penumbra") l.penumbraDegrees = realOption(name, value);
-        else if (name == "width") l.width = realOption(name, value);
-        else if (name == "height") l.height = realOption(name, value);
-        else
-            throw py::value_error("set_light takes type, color, position, direction, attenuation, angle, penumbra, "
-                                  "width and height, not '" + name + "'");
+// ---------------------------------------------------------------------------------------
+// The one edit model (docs/modeler-protocol.md): keywords are the field table's (a field's
+// scenefile name, "texture.u" as texture_u), read from api::editableFields(); values are
+// checked for their type here (a TypeError naming the keyword), for their range by the
+// C++ API (InputError, a ValueError).
+
+const std::vector<api::FieldInfo>& fieldTable() {
+    static const std::vector<api::FieldInfo> table = api::editableFields();
+    return table;
+}
+
+// The owner of a node id's fields: "object-3" -> "object", "block-2" -> "transblock".
+std::string ownerOf(const std::string& node) {
+    const std::string kind = node.substr(0, node.find('-'));
+    return kind == "block" ? "transblock" : kind;
+}
+
+// The field of `owner` a keyword names; a ValueError listing the owner's keywords otherwise.
+const api::FieldInfo& fieldNamed(const std::string& owner, const std::string& keyword) {
+    std::string known;
+    for (const api::FieldInfo& field : fieldTable()) {
+        if (field.owner != owner) continue;
+        if (field.keyword == keyword || field.name == keyword) return field;
+        known += (known.empty() ? "" : ", ") + field.keyword;
     }
-    return l;
+    if (known.empty()) throw py::value_error("a " + owner + " has no fields to set");
+    throw py::value_error("a " + owner + " has no field '" + shortRepr(py::str(keyword)) + "' (its fields: " + known + ")");
+}
+
+std::vector<api::TransformStep> transformSteps(const std::string& name, const py::handle& value) {
+    if (PyUnicode_Check(value.ptr()) || !PySequence_Check(value.ptr()))
+        wrongType(name, "a list of (kind, numbers) steps", value);
+    std::vector<api::TransformStep> steps;
+    for (const py::handle& item : py::reinterpret_borrow<py::sequence>(value)) {
+        if (PyUnicode_Check(item.ptr()) || !PySequence_Check(item.ptr()) || py::len(item) != 2)
+            wrongType(name, "a list of (kind, numbers) steps, such as ('translate', (0, 1, 0))", item);
+        const auto pair = py::reinterpret_borrow<py::sequence>(item);
+        const std::string kind = textOption(name + "'s kind", pair[0]);
+        api::TransformStep step;
+        if (kind == "translate") step.kind = api::TransformStep::Kind::Translate;
+        else if (kind == "rotate") step.kind = api::TransformStep::Kind::Rotate;
+        else if (kind == "scale") step.kind = api::TransformStep::Kind::Scale;
+        else if (kind == "matrix") step.kind = api::TransformStep::Kind::Matrix;
+        else throw py::value_error(name + ": a step is translate, rotate, scale or matrix, not '" + shortRepr(pair[0]) + "'");
+        if (PyUnicode_Check(pair[1].ptr()) || !PySequence_Check(pair[1].ptr())) wrongType(name, "numbers", pair[1]);
+        for (const py::handle& number : py::reinterpret_borrow<py::sequence>(pair[1]))
+            step.values.push_back(realOption(name, number));
+        steps.push_back(std::move(step));
+    }
+    return steps;
+}
+
+api::FieldValue fieldValue(const api::FieldInfo& field, const std::string& keyword, const py::handle& value) {
+    if (field.kind == "number") return realOption(keyword, value);
+    if (field.kind == "color" || field.kind == "vector") return vec3Arg(keyword, value);
+    if (field.kind == "choice" || field.kind == "text" || field.kind == "file") return textOption(keyword, value);
+    if (field.kind == "matrix") {
+        if (!py::isinstance<api::Transform>(value)) wrongType(keyword, "a Transform", value);
+        return value.cast<api::Transform>();
+    }
+    return transformSteps(keyword, value);
+}
+
+api::FieldValues fieldValues(const std::string& owner, const py::kwargs& fields) {
+    api::FieldValues values;
+    for (const auto& [key, value] : fields) {
+        const std::string keyword = py::str(key);
+        values.emplace_back(std::string(fieldNamed(owner, keyword).name), fieldValue(fieldNamed(owner, keyword), keyword, value));
+    }
+    return values;
+}
+
+py::object fieldPython(const api::FieldValue& value) {
+    return std::visit(
+        [](const auto& v) -> py::object {
+            using V = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<V, api::Vec3>) return pyTuple(v);
+            else if constexpr (std::is_same_v<V, std::vector<api::TransformStep>>) {
+                static const char* const kKinds[] = {"translate", "rotate", "scale", "matrix"};
+                py::list steps;
+                for (const api::TransformStep& step : v)
+                    steps.append(py::make_tuple(kKinds[int(step.kind)], py::tuple(py::cast(step.values))));
+                return steps;
+            } else return py::cast(v);
+        },
+        value);
+}
+
+py::dict resultDict(const api::EditResult& result) {
+    py::dict d;
+    d["changed"] = result.changed;
+    d["added"] = result.added;
+    d["removed"] = result.removed;
+    return d;
+}
+
+// A node id from Python: a string ("object-3") or a SceneObject handle.
+std::string nodeArg(const std::string& name, const py::handle& value);
+
+std::vector<std::string> nodeArgs(const py::args& nodes) {
+    std::vector<std::string> ids;
+    for (const py::handle& node : nodes) ids.push_back(nodeArg("node", node));
+    if (ids.empty()) throw py::type_error("name at least one node (an id such as 'object-3', or a SceneObject)");
+    return ids;
 }
 
 // A handle on one object of a scene: the scene (kept alive by `owner`, the Python object
@@ -578,6 +629,11 @@ struct PyObjectHandle {
 
     api::SceneObject get() const { return scene->object(id); }
 };
+
+std::string nodeArg(const std::string& name, const py::handle& value) {
+    if (py::isinstance<PyObjectHandle>(value)) return "object-" + std::to_string(value.cast<const PyObjectHandle&>().id);
+    return textOption(name, value);
+}
 
 // The handles of every object of `scene`, held by `owner` (a Scene, or a Renderer whose
 // scene it is).
@@ -619,9 +675,16 @@ void bindSceneObject(py::module_& m) {
         .def_property_readonly("instances", [](const PyObjectHandle& h) { return h.get().instances; },
                                "How many instances of it are rendered.")
         .def("set_material", [](const PyObjectHandle& h, const py::kwargs& fields) {
-            h.scene->setMaterial(h.id, updatedMaterial(h.get().material, fields));
-        }, "Changes the fields given (add_material's names: diffuse=(r, g, b), shininess=..., ...), keeping the "
-           "others; in every instance. Values the loader refuses raise InputError (a ValueError) and change nothing.")
+            for (const auto& [key, value] : fields) {
+                const api::FieldInfo& field = fieldNamed("object", py::str(key));
+                if (field.group != "material" && field.group != "texture" && field.group != "bump map")
+                    throw py::value_error("set_material sets a material, a texture or a bump map, not " + field.name +
+                                          " (Scene.set sets any field)");
+            }
+            return resultDict(h.scene->set("object-" + std::to_string(h.id), fieldValues("object", fields)));
+        }, "Changes the fields given (the field table's keywords, cs123ray.fields(): diffuse=(r, g, b), "
+           "shininess=..., texture='wood.png', texture_u=2, ...), keeping the others; in every instance. Values the "
+           "loader refuses raise InputError (a ValueError), values of the wrong type TypeError, and change nothing.")
         .def("set_transform", [](const PyObjectHandle& h, const api::Transform& t) { h.scene->setObjectToWorld(h.id, t); },
              py::arg("transform"),
              "Places the object so that its first instance's object-to-world is `transform` (other instances, "
@@ -656,6 +719,8 @@ py::dict statsDict(const std::optional<api::FrameStats>& stats) {
     d["kernel_build_seconds"] = stats->kernelBuildSeconds;
     d["render_seconds"] = stats->renderSeconds;
     d["cancelled"] = stats->cancelled;
+    d["scene_update"] = py::dict("packing"_a = stats->sceneUpdate.packing, "bvh"_a = stats->sceneUpdate.bvh,
+                                 "tables"_a = stats->sceneUpdate.tables);
     return d;
 }
 
@@ -702,29 +767,38 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
             s.scene.setGlobals({realOption("ka", ka), realOption("kd", kd), realOption("ks", ks), realOption("kt", kt)});
         }, py::arg("ka") = 0.5, py::arg("kd") = 0.5, py::arg("ks") = 0.5, py::arg("kt") = 0.5,
            "The global coefficients of <globaldata>: ambient, diffuse, specular (and reflection), transparency.")
-        .def("add_light", [](PyScene& s, const py::object& type, const py::object& color, const py::object& position,
-                             const py::object& direction, const py::object& attenuation, const py::object& angle,
-                             const py::object& penumbra, const py::object& width, const py::object& height) {
-            const py::dict fields("type"_a = type, "color"_a = color, "position"_a = position,
-                                  "direction"_a = direction, "attenuation"_a = attenuation, "angle"_a = angle,
-                                  "penumbra"_a = penumbra, "width"_a = width, "height"_a = height);
-            s.scene.addLight(updatedLight(api::Light{}, fields));
-        }, py::arg("type") = "point", py::arg("color") = Triple{1, 1, 1}, py::arg("position") = Triple{3, 3, 3},
-           py::arg("direction") = Triple{0, 0, -1}, py::arg("attenuation") = Triple{1, 0, 0}, py::arg("angle") = 45.0,
-           py::arg("penumbra") = 0.0, py::arg("width") = 1.0, py::arg("height") = 1.0,
-           "A light: type 'point', 'directional', 'spot' or 'area'; attenuation (c1, c2, c3) of "
-           "1/(c1 + c2 d + c3 d^2); a spot's half-angle and penumbra in degrees; an area light's width and height. "
-           "Values the scenefile loader refuses raise InputError (a ValueError).")
+        .def("add_light", [](PyScene& s, const py::handle& type, const py::kwargs& fields) {
+            py::kwargs renamed;
+            for (const auto& [key, value] : fields)  // add_light's keyword before the table's: attenuation
+                renamed[py::str(key).equal(py::str("attenuation")) ? py::str("function") : py::str(key)] = value;
+            return resultDict(s.scene.addLight(textOption("type", type), fieldValues("light", renamed)));
+        }, py::arg("type") = "point",
+           "A light: type 'point', 'directional', 'spot' or 'area', with the fields given (the field table's "
+           "keywords, cs123ray.fields(): color, position, direction, function (attenuation, as it was called: c1, "
+           "c2, c3 of 1/(c1 + c2 d + c3 d^2)), a spot's angle and penumbra in degrees, an area light's width and "
+           "height). Values the scenefile loader refuses raise InputError (a ValueError). Returns "
+           "{'changed', 'added': [its id], 'removed'}.")
         .def("add_material", [](PyScene& s, const py::object& diffuse, const py::object& ambient,
                                 const py::object& specular, const py::object& reflective, const py::object& transparent,
                                 const py::object& emissive, const py::object& shininess, const py::object& ior,
                                 const py::object& texture, const py::object& blend, const py::object& repeat,
                                 const py::object& bumpMap) {
-            const py::dict fields("diffuse"_a = diffuse, "ambient"_a = ambient, "specular"_a = specular,
-                                  "reflective"_a = reflective, "transparent"_a = transparent, "emissive"_a = emissive,
-                                  "shininess"_a = shininess, "ior"_a = ior, "texture"_a = texture, "blend"_a = blend,
-                                  "repeat"_a = repeat, "bump_map"_a = bumpMap);
-            return s.scene.addMaterial(updatedMaterial(api::Material{}, fields));
+            api::Material m;
+            m.diffuse = vec3Arg("diffuse", diffuse);
+            m.ambient = vec3Arg("ambient", ambient);
+            m.specular = vec3Arg("specular", specular);
+            m.reflective = vec3Arg("reflective", reflective);
+            m.transparent = vec3Arg("transparent", transparent);
+            m.emissive = vec3Arg("emissive", emissive);
+            m.shininess = realOption("shininess", shininess);
+            m.ior = realOption("ior", ior);
+            m.blend = realOption("blend", blend);
+            m.texture.texture = handleArg("texture", texture);
+            m.bumpMap.texture = handleArg("bump_map", bumpMap);
+            const auto repeats = numbersArg<2>("repeat", repeat);
+            m.texture.repeatU = m.bumpMap.repeatU = repeats[0];
+            m.texture.repeatV = m.bumpMap.repeatV = repeats[1];
+            return s.scene.addMaterial(m);
         }, py::arg("diffuse") = Triple{1, 1, 1}, py::arg("ambient") = Triple{0, 0, 0},
            py::arg("specular") = Triple{0, 0, 0}, py::arg("reflective") = Triple{0, 0, 0},
            py::arg("transparent") = Triple{0, 0, 0}, py::arg("emissive") = Triple{0, 0, 0}, py::arg("shininess") = 0.0,
@@ -799,14 +873,59 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
             return lights;
         }, "The lights, as dicts of add_light's arguments, in order.")
         .def("set_light", [](PyScene& s, size_t index, const py::kwargs& fields) {
-            const std::vector<api::Light> lights = s.scene.lights();
+            std::vector<std::string> lights;
+            for (const api::OutlineEntry& entry : s.scene.outline())
+                if (entry.kind == "light") lights.push_back(entry.node);
             if (index >= lights.size())
                 throw py::value_error("light " + std::to_string(index) + " does not exist (the scene has " +
                                       std::to_string(lights.size()) + ")");
-            s.scene.setLight(index, updatedLight(lights[index], fields));
-        }, py::arg("index"), "Changes the fields given (add_light's names) of light `index`, keeping the others.")
+            return resultDict(s.scene.set(lights[index], fieldValues("light", fields)));
+        }, py::arg("index"),
+           "Changes the fields given of light `index` (the field table's keywords, cs123ray.fields(): type, color, "
+           "position, direction, function (the attenuation c1, c2, c3), angle, penumbra, width, height), keeping "
+           "the others.")
         .def("remove_light", [](PyScene& s, size_t index) { s.scene.removeLight(index); }, py::arg("index"),
              "Removes light `index`; the later ones move down.")
+        .def("outline", [](const PyScene& s) {
+            py::list nodes;
+            for (const api::OutlineEntry& entry : s.scene.outline())
+                nodes.append(py::dict("node"_a = entry.node, "parent"_a = entry.parent.empty() ? py::object(py::none()) : py::object(py::str(entry.parent)),
+                                      "depth"_a = entry.depth, "kind"_a = entry.kind, "text"_a = entry.text));
+            return nodes;
+        }, "Every node of the scene's tree, in document order, as dicts of node (its id: 'object-3', 'light-0', "
+           "'block-2', 'tree-0', 'placement-1', 'camera', 'globals'), parent, depth, kind and text.")
+        .def("get", [](const PyScene& s, const py::handle& node, const std::string& field) {
+            return fieldPython(s.scene.field(nodeArg("node", node), field));
+        }, py::arg("node"), py::arg("field"), "Field `field` (its keyword or scenefile name) of `node`.")
+        .def("set", [](PyScene& s, const py::handle& node, const py::kwargs& fields) {
+            const std::string id = nodeArg("node", node);
+            return resultDict(s.scene.set(id, fieldValues(ownerOf(id), fields)));
+        }, py::arg("node"),
+           "Sets fields of one node, all or none (keywords from cs123ray.fields()): an object's material, texture, "
+           "transform (its own transblock's steps, [('translate', (x, y, z)), ...]) or world (a Transform: it moves "
+           "alone); a light's; the camera's ('camera'); the globals' ('globals'); a transblock's transform; a "
+           "tree's name. Returns {'changed', 'added', 'removed'}.")
+        .def("add", [](PyScene& s, const std::string& shape, const py::object& parent, const py::object& file,
+                       const py::kwargs& fields) {
+            return resultDict(s.scene.add(shape, fieldValues("object", fields),
+                                          parent.is_none() ? "" : nodeArg("parent", parent),
+                                          file.is_none() ? std::filesystem::path() : std::filesystem::path(textOption("file", file))));
+        }, py::arg("shape"), py::arg("parent") = py::none(), py::arg("file") = py::none(),
+           "Adds a primitive ('cube', 'cylinder', 'cone', 'sphere', 'torus', or 'mesh' with file=, an .obj) in a "
+           "transblock of its own, at the end of the root tree or in transblock `parent`, with its fields set. "
+           "Returns {'changed', 'added': [the object, its transblock], 'removed'}.")
+        .def("delete", [](PyScene& s, const py::args& nodes) { return resultDict(s.scene.remove(nodeArgs(nodes))); },
+             "Removes the nodes given (objects, lights, transblocks with what they hold, placements, csg objects).")
+        .def("duplicate", [](PyScene& s, const py::args& nodes) { return resultDict(s.scene.duplicate(nodeArgs(nodes))); },
+             "A copy of each node given, right after it.")
+        .def("group", [](PyScene& s, const py::args& nodes) { return resultDict(s.scene.group(nodeArgs(nodes))); },
+             "Moves the objects given (of one transblock) into a new transblock there.")
+        .def("rename", [](PyScene& s, const py::handle& tree, const py::handle& name) {
+            return resultDict(s.scene.rename(nodeArg("tree", tree), textOption("name", name)));
+        }, py::arg("tree"), py::arg("name"), "Renames a tree (a master) and every placement of it.")
+        .def("make_unique", [](PyScene& s, const py::handle& placement) {
+            return resultDict(s.scene.makeUnique(nodeArg("placement", placement)));
+        }, py::arg("placement"), "Gives a placement of a master a copy of the master of its own.")
         .def("save", [](const PyScene& s, const std::filesystem::path& file) { s.scene.save(file); }, py::arg("file"),
              "Writes the scene as a CS123 scenefile (whole or not at all) that loads back to the same render, "
              "masters kept as masters, texture and mesh paths relative to `file`.")
@@ -835,6 +954,17 @@ void bindLoading(py::module_& m) {
 }
 
 void bindRendering(py::module_& m) {
+    m.def("fields", [] {
+        py::list fields;
+        for (const api::FieldInfo& f : fieldTable())
+            fields.append(py::dict("owner"_a = f.owner, "group"_a = f.group, "name"_a = f.name, "keyword"_a = f.keyword,
+                                   "kind"_a = f.kind, "help"_a = f.help, "min"_a = f.min, "max"_a = f.max,
+                                   "min_included"_a = f.minIncluded, "max_included"_a = f.maxIncluded,
+                                   "lights"_a = f.lights, "choices"_a = f.choices));
+        return fields;
+    }, "The editable fields, from the one table every editor reads (ray view's page, C++, Python): dicts of owner "
+       "(object, light, camera, globals, transblock, tree), group, name (the scenefile's), keyword (for Scene.set), "
+       "kind, help, range, the light types using it, choices.");
     m.def("list_devices", [] {
         py::list devices;
         for (const api::Device& d : api::listDevices()) {

@@ -1,5 +1,6 @@
 // ray view's editor (host/viewer/scene_editor.h): edits checked whole and refused without a
-// change, undo and redo, merged quick edits, saving that loads back to the edited scene.
+// change, undo and redo by user action, the page's routes of the edit model (/op, /outline,
+// /node), saving that loads back to the edited scene.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -55,13 +56,13 @@ TEST_CASE("SceneEditor: pick names the object, an edit changes its material and 
     CHECK(editor.canUndo());
     CHECK(editor.objectJson(id)["material"]["diffuse"] == json({1.0, 0.0, 0.0}));
 
-    REQUIRE(editor.undo());
+    REQUIRE(editor.undo()["done"]);
     CHECK(editor.scene()->materials[size_t(editor.scene()->primitives[size_t(instance)].material)].diffuse ==
           before->materials[size_t(before->primitives[size_t(instance)].material)].diffuse);
     CHECK_FALSE(editor.modified());
-    REQUIRE(editor.redo());
+    REQUIRE(editor.redo()["done"]);
     CHECK(editor.objectJson(id)["material"]["diffuse"] == json({1.0, 0.0, 0.0}));
-    CHECK_FALSE(editor.redo());
+    CHECK_FALSE(editor.redo()["done"]);
 }
 
 TEST_CASE("SceneEditor: a bad edit is refused with a message and changes nothing", "[viewer][editor]") {
@@ -88,34 +89,46 @@ TEST_CASE("SceneEditor: a bad edit is refused with a message and changes nothing
             "its material or its transform");
     refused(json::parse(R"({"object": 0})"), "its material or its transform");
     refused({{"object", 0}, {"material", {{"diffuse", {1, 0, 0}}, {"shininess", -1}}}}, "shininess");
-    refused({{"object", 99}, {"material", {{"diffuse", {1, 0, 0}}}}}, "no object 99");
+    refused({{"object", 99}, {"material", {{"diffuse", {1, 0, 0}}}}}, "object-99 does not exist");
     refused({{"object", 0}, {"transform", {{{"kind", "scale"}, {"v", {0, 1, 1}}}}}}, "scale of 0");
     refused({{"object", 0}, {"transform", {{{"kind", "matrix"}, {"v", {1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0}}}}}},
             "the matrix is singular");
     refused({{"object", 0}, {"transform", {{{"kind", "rotate"}, {"v", {0, 0, 0, 30}}}}}}, "axis");
-    refused({{"object", 0}, {"transform", {{{"kind", "shear"}, {"v", {1, 1, 1}}}}}}, "kind");
+    refused({{"object", 0}, {"transform", {{{"kind", "shear"}, {"v", {1, 1, 1}}}}}}, "translate, rotate, scale or matrix");
     refused({{"light", 3}, {"color", {1, 1, 1}}}, "no light 3");
     refused({{"light", 0}, {"attenuation", {0, 0, 0}}}, "divides by zero");
-    refused({{"light", 0}, {"color", {1, 1}}}, "[x, y, z]");
+    refused({{"light", 0}, {"color", {1, 1}}}, "color takes a color, three numbers [r, g, b]");
     refused(json::array(), "JSON object");
 }
 
-TEST_CASE("SceneEditor: quick edits of one thing are one step; transforms and lights; save loads back",
+TEST_CASE("SceneEditor: one user action is one step however quick the edits; transforms and lights; save loads back",
           "[viewer][editor]") {
     const fs::path file = copyOfShadows("save");
     ray::SceneEditor editor(file, {});
     const auto original = editor.scene();
-    for (double r : {0.2, 0.4, 0.6}) editor.edit({{"object", 1}, {"material", {{"diffuse", {r, 0, 0}}}}});
+    const ray::Camera view = original->camera;
+    // A color dragged across the picker: one action; a move, a light: one each.
+    for (double r : {0.2, 0.4, 0.6})
+        editor.operate(ray::edit::parseTypedJson(R"({"action": "pick-1", "op": "set", "node": "object-1",
+            "fields": {"diffuse": [)" + std::to_string(r) + R"(, 0, 0]}})"), view);
     editor.edit({{"object", 1}, {"transform", {{{"kind", "translate"}, {"v", {-1.8, 0.5, 0}}}}}});
     editor.edit({{"light", 0}, {"color", {0.5, 0.25, 1}}});
-    REQUIRE(editor.undo());  // the light
-    REQUIRE(editor.undo());  // the transform
-    REQUIRE(editor.undo());  // the three colors at once
+    // Quick edits of one thing without an action id are steps of their own (the 1.5 s merge is gone).
+    editor.edit({{"object", 2}, {"material", {{"shininess", 3}}}});
+    editor.edit({{"object", 2}, {"material", {{"shininess", 4}}}});
+    REQUIRE(editor.undo()["done"]);  // shininess 4
+    REQUIRE(editor.undo()["done"]);  // shininess 3
+    CHECK(editor.objectJson(2)["material"]["shininess"] == 20);
+    REQUIRE(editor.undo()["done"]);  // the light
+    REQUIRE(editor.undo()["done"]);  // the transform
+    const json colors = editor.undo();  // the three colors at once
+    CHECK(colors["done"]);
+    CHECK(colors["changed"]["tables"] == json::array({"materials"}));
     CHECK_FALSE(editor.canUndo());
     CHECK(editor.objectJson(1)["material"]["diffuse"] == json({0.9, 0.3, 0.3}));  // as the file has it
-    REQUIRE(editor.redo());
-    REQUIRE(editor.redo());
-    REQUIRE(editor.redo());
+    REQUIRE(editor.redo()["done"]);
+    REQUIRE(editor.redo()["done"]);
+    REQUIRE(editor.redo()["done"]);
     CHECK(editor.objectJson(1)["material"]["diffuse"] == json({0.6, 0.0, 0.0}));
     CHECK(editor.objectJson(1)["transform"] == json::parse(R"([{"kind": "translate", "v": [-1.8, 0.5, 0.0]}])"));
 
@@ -147,4 +160,42 @@ TEST_CASE("SceneEditor: quick edits of one thing are one step; transforms and li
     editor.reload();
     CHECK_FALSE(editor.canUndo());
     CHECK(editor.scene()->lights[0].color == original->lights[0].color);
+}
+
+TEST_CASE("SceneEditor: the outline names every node; a node's fields; an operation answers what it changed",
+          "[viewer][editor]") {
+    ray::SceneEditor editor(copyOfShadows("routes"), {});
+    const json outline = editor.outlineJson()["nodes"];
+    CHECK(outline[0]["node"] == "camera");
+    CHECK(outline[1]["node"] == "globals");
+    CHECK(outline[2]["kind"] == "light");
+    CHECK(outline[2]["text"] == "point light");
+    size_t objects = 0;
+    for (const json& node : outline) objects += node["kind"] == "object" ? 1 : 0;
+    CHECK(objects == editor.scene()->primitives.size());
+    const json sphere = editor.nodeJson("object-2");
+    CHECK(sphere["shape"] == "sphere");
+    CHECK(sphere["fields"][0]["name"] == "diffuse");
+    CHECK(sphere["own_block"] == true);
+    const ray::Camera view{{0, 9, 9}, {0, -1, -1}, {0, 1, 0}, 30, 0, 0};
+    const json added = editor.operate(ray::edit::parseTypedJson(R"({"op": "add-primitive", "shape": "torus"})"), view);
+    CHECK(added["added"].size() == 2);
+    CHECK(added["changed"]["outline"] == true);
+    const json camera = editor.operate(ray::edit::parseTypedJson(R"({"op": "camera-from-view"})"), view);
+    CHECK(camera["changed"]["tables"] == json::array({"camera"}));
+    CHECK(editor.nodeJson("camera")["fields"][0]["value"] == json({0.0, 9.0, 9.0}));
+    CHECK_THROWS_WITH(editor.nodeJson("object-99"), Catch::Matchers::Contains("object-99 does not exist"));
+    CHECK_THROWS_WITH(editor.nodeJson("sphere"), Catch::Matchers::Contains("names no node"));
+    // A texture is a file beside the scene: another folder, or a link out of it, is refused.
+    const fs::path folder = editor.file().parent_path();
+    fs::copy_file(ray::test::scenesDir() / "textures" / "wood.png", folder / "wood.png", fs::copy_options::overwrite_existing);
+    std::error_code ignored;
+    fs::remove(folder / "outside.png", ignored);
+    fs::create_symlink(ray::test::scenesDir() / "textures" / "wood.png", folder / "outside.png");
+    editor.operate(ray::edit::parseTypedJson(R"({"op": "set", "node": "object-2", "fields": {"texture": "wood.png"}})"), view);
+    for (const char* name : {"../wood.png", "/etc/passwd.png", "outside.png", "none.png"})
+        CHECK_THROWS_AS(editor.operate(ray::edit::parseTypedJson(std::string(R"({"op": "set", "node": "object-2", "fields": {"texture": ")") +
+                                                                  name + R"("}})"),
+                                       view),
+                        ray::EditError);
 }

@@ -4,6 +4,7 @@
 #include <new>
 #include <string>
 
+#include "edit/edit_error.h"
 #include "image/image.h"
 #include "ray/errors.h"
 #include "render/device_error.h"
@@ -41,6 +42,8 @@ void rethrowAsPublic() {
         throw;
     } catch (const ray::InputError& e) {
         throw inputErrorFrom(e.what());
+    } catch (const ray::edit::EditError& e) {
+        throw InputError(std::string("error: ") + e.what(), "", 0);
     } catch (const ray::DeviceError& e) {
         throw DeviceError(e.what());
     } catch (const ray::ImageError& e) {

@@ -1,7 +1,7 @@
-// The public API's checks of what its caller gives it, each throwing InputError with a
-// message that names the parameter as the caller (C++ or Python) knows it. Materials,
-// lights and cameras keep the scenefile loader's rules (scene/parameter_rules.h), so that a
-// scene built in code is refused exactly where the same scene written as XML would be.
+// The public API's checks of what its caller gives it that are not a scene's fields, each
+// throwing InputError with a message that names the parameter as the caller (C++ or Python)
+// knows it. Materials, lights, cameras and globals are the edit model's fields, checked by
+// its table (edit/field_table.h) with the scenefile loader's rules.
 #pragma once
 
 #include "ray/renderer.h"
@@ -12,10 +12,6 @@
 #pragma GCC visibility push(hidden)
 namespace ray::api::detail {
 
-void checkMaterial(const Material& material);
-void checkLight(const Light& light);
-void checkCamera(const ray::Camera& camera);
-void checkGlobals(const Globals& globals);
 // Numbers a scenefile could hold: finite (a translation, a scaling, a rotation's axis).
 void checkFinite(const char* name, const Vec3& values);
 void checkFinite(const char* name, double value);

@@ -33,6 +33,7 @@ FrameStats external(const ray::RenderedFrame& frame) {
     stats.renderSeconds = in.renderSeconds;
     stats.packSeconds = in.packSeconds;
     stats.uploadSeconds = in.uploadSeconds;
+    stats.sceneUpdate = {in.sceneUpdate.packing, in.sceneUpdate.bvh, in.sceneUpdate.tables};
     stats.cancelled = frame.cancelled;
     return stats;
 }
@@ -51,11 +52,11 @@ std::vector<Device> listDevices() {
 // Hidden: libray.so exports the public interface only (cmake/libray.map).
 struct __attribute__((visibility("hidden"))) Renderer::Impl {
     std::shared_ptr<Scene> scene;  // the caller's to edit (Renderer::scene)
-    // What frames render: a copy of the scene's flattened form, shared with the frame
-    // source, which keeps what it prepared for it (the packed scene on OpenCL devices) from
-    // frame to frame. Taken again when the scene was edited (frameScene()); the frame
-    // source then prepares only what the edit changed.
-    std::shared_ptr<ray::Scene> rendered;
+    // What frames render: the scene's flattened form, shared with the frame source, which
+    // keeps what it prepared for it (the packed scene on OpenCL devices) from frame to
+    // frame. Taken again when the scene was edited (frameScene()); the frame source then
+    // prepares only what the edit said it changed (the scene's lineage).
+    std::shared_ptr<const ray::Scene> rendered;
     // pick's search structure, over `picked` (rebuilt after an edit).
     std::shared_ptr<const ray::Scene> picked;
     std::unique_ptr<ray::reference::SceneIntersector> picker;
@@ -63,16 +64,12 @@ struct __attribute__((visibility("hidden"))) Renderer::Impl {
     Settings settings;
     std::unique_ptr<ray::FrameSource> frames;  // devices/renderer.h makeFrameSource
 
-    // The flattened scene as it is now, the same object as long as the scene is in the
-    // state it was last taken in (Scene::Impl::revision); after an edit, a copy that the
-    // frame source compares with what it prepared, to prepare only what changed.
-    uint64_t renderedRevision = 0;
-    const std::shared_ptr<ray::Scene>& frameScene() {
-        const Scene::Impl& now = scene->impl();
-        if (!rendered || renderedRevision != now.revision) {
-            rendered = std::make_shared<ray::Scene>(now.scene);
-            renderedRevision = now.revision;
-        }
+    // The flattened scene as it is now: the same object as long as the scene renders as
+    // it did when last taken (a change of its camera alone keeps its revision: each frame
+    // takes the camera itself).
+    const std::shared_ptr<const ray::Scene>& frameScene() {
+        std::shared_ptr<const ray::Scene> now = scene->impl().flattened();
+        if (!rendered || rendered->lineage.revision != now->lineage.revision) rendered = std::move(now);
         return rendered;
     }
 };
@@ -100,10 +97,7 @@ const std::string& Renderer::devices() const { return impl_->devices; }
 Scene& Renderer::scene() { return *impl_->scene; }
 const Scene& Renderer::scene() const { return *impl_->scene; }
 
-void Renderer::setCamera(const Camera& camera) {
-    detail::checkCamera(detail::toInternal(camera));
-    impl_->scene->setCamera(camera);
-}
+void Renderer::setCamera(const Camera& camera) { impl_->scene->setCamera(camera); }
 
 Camera Renderer::camera() const { return impl_->scene->camera(); }
 
@@ -114,14 +108,14 @@ std::optional<Pick> Renderer::pick(int x, int y) {
                              std::to_string(s.width) + "x" + std::to_string(s.height) + " image",
                          "", 0);
     return detail::translatingErrors([&]() -> std::optional<Pick> {
-        const std::shared_ptr<ray::Scene>& scene = impl_->frameScene();
+        const std::shared_ptr<const ray::Scene>& scene = impl_->frameScene();
         if (impl_->picked != scene) {
             impl_->picker.reset();
             impl_->picked = scene;
             impl_->picker = std::make_unique<ray::reference::SceneIntersector>(*scene);
         }
         const ray::RenderSettings settings = detail::toInternal(s);
-        const auto hit = ray::pickPixel(*scene, *impl_->picker, impl_->scene->impl().scene.camera, settings, x, y);
+        const auto hit = ray::pickPixel(*scene, *impl_->picker, impl_->scene->impl().document().camera, settings, x, y);
         if (!hit) return std::nullopt;
         Pick pick;
         pick.instance = size_t(hit->primitive);
@@ -158,7 +152,7 @@ FrameStats Renderer::render(float* rgb, size_t floatCount, const ProgressCallbac
         };
     return detail::translatingErrors([&] {
         const ray::RenderedFrame frame = impl_->frames->render(
-            impl_->frameScene(), impl_->scene->impl().scene.camera, detail::toInternal(impl_->settings), request);
+            impl_->frameScene(), impl_->scene->impl().document().camera, detail::toInternal(impl_->settings), request);
         std::copy(frame.image.rgb.begin(), frame.image.rgb.end(), rgb);
         return external(frame);
     });

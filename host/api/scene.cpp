@@ -1,23 +1,26 @@
-// The public Scene (include/ray/scene.h): a scene document (scene/scene_document.h) and
-// the internal flattened Scene made from it.
-//
-// Every edit of the document runs on a copy, which is flattened and only then kept: an
-// edit that fails (a bad value, an object since removed, a csg operand left empty)
-// changes nothing. Adding a primitive, a light, a camera or globals changes the flattened
-// scene in place, as flattening would (a primitive added in code is a transblock of its
-// own at the end of the root tree, so its instance comes last): scenes built in code add
-// primitives by the thousand.
+// The public Scene (include/ray/scene.h): the editing service (edit/edit_session.h) over a
+// scene document, as ray view's page edits it. Every edit is one operation of the one edit
+// model: the typed functions (setMaterial, setLight, setCamera, ...) turn their structs into
+// the field table's inputs (edit/struct_fields.h) and apply them; the generic ones (set,
+// add, remove, ...) take node ids and field names. Each is checked whole (InputError, and
+// nothing changes) and says what it changed, which the flattened scene carries to the
+// Renderer's frame source (it re-packs that alone). Adding primitives at the end of the
+// root tree changes the scene in place: scenes built in code add them by the thousand.
 #include "ray/scene.h"
 
-#include <atomic>
 #include <cmath>
 #include <map>
 
 #include "api/camera_conversion.h"
+#include "api/edit_conversion.h"
 #include "api/error_translation.h"
 #include "api/input_checks.h"
 #include "api/scene_impl.h"
 #include "core/math.h"
+#include "core/message_text.h"
+#include "edit/edit_error.h"
+#include "edit/field_values.h"
+#include "edit/struct_fields.h"
 #include "image/image.h"
 #include "scene/file_search.h"
 #include "scene/scene_loader.h"
@@ -26,34 +29,20 @@ namespace ray::api {
 
 namespace {
 
-ray::Vec3 internal(Vec3 v) { return detail::toInternal(v); }
-
-ray::Affine internal(const Transform& t) {
-    ray::Affine a;
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) a.m[r][c] = t.m[r][c];
-    return a;
-}
-
-Transform external(const ray::Affine& a) {
-    Transform t;
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) t.m[r][c] = a.m[r][c];
-    return t;
-}
+using detail::toInternal;
+using detail::toPublic;
+namespace edit = ray::edit;
 
 ray::TextureMap internal(const TextureUse& use) { return {use.texture, use.repeatU, use.repeatV}; }
 
-Vec3 external(const ray::Vec3& v) { return detail::toPublic(v); }
-
 ray::Material internal(const Material& material) {
     ray::Material m;
-    m.diffuse = internal(material.diffuse);
-    m.ambient = internal(material.ambient);
-    m.specular = internal(material.specular);
-    m.reflective = internal(material.reflective);
-    m.transparent = internal(material.transparent);
-    m.emissive = internal(material.emissive);
+    m.diffuse = toInternal(material.diffuse);
+    m.ambient = toInternal(material.ambient);
+    m.specular = toInternal(material.specular);
+    m.reflective = toInternal(material.reflective);
+    m.transparent = toInternal(material.transparent);
+    m.emissive = toInternal(material.emissive);
     m.shininess = material.shininess;
     m.ior = material.ior;
     m.blend = material.blend;
@@ -64,12 +53,12 @@ ray::Material internal(const Material& material) {
 
 Material external(const ray::Material& m) {
     Material material;
-    material.diffuse = external(m.diffuse);
-    material.ambient = external(m.ambient);
-    material.specular = external(m.specular);
-    material.reflective = external(m.reflective);
-    material.transparent = external(m.transparent);
-    material.emissive = external(m.emissive);
+    material.diffuse = toPublic(m.diffuse);
+    material.ambient = toPublic(m.ambient);
+    material.specular = toPublic(m.specular);
+    material.reflective = toPublic(m.reflective);
+    material.transparent = toPublic(m.transparent);
+    material.emissive = toPublic(m.emissive);
     material.shininess = m.shininess;
     material.ior = m.ior;
     material.blend = m.blend;
@@ -81,10 +70,10 @@ Material external(const ray::Material& m) {
 ray::Light internal(const Light& light) {
     ray::Light l;
     l.type = ray::LightType(int(light.type));  // same order: Point, Directional, Spot, Area
-    l.color = internal(light.color);
-    l.attenuation = internal(light.attenuation);
-    l.position = internal(light.position);
-    l.direction = internal(light.direction);
+    l.color = toInternal(light.color);
+    l.attenuation = toInternal(light.attenuation);
+    l.position = toInternal(light.position);
+    l.direction = toInternal(light.direction);
     l.angleDegrees = light.angleDegrees;
     l.penumbraDegrees = light.penumbraDegrees;
     l.width = light.width;
@@ -95,10 +84,10 @@ ray::Light internal(const Light& light) {
 Light external(const ray::Light& l) {
     Light light;
     light.type = LightType(int(l.type));
-    light.color = external(l.color);
-    light.attenuation = external(l.attenuation);
-    light.position = external(l.position);
-    light.direction = external(l.direction);
+    light.color = toPublic(l.color);
+    light.attenuation = toPublic(l.attenuation);
+    light.position = toPublic(l.position);
+    light.direction = toPublic(l.direction);
     light.angleDegrees = l.angleDegrees;
     light.penumbraDegrees = l.penumbraDegrees;
     light.width = l.width;
@@ -124,110 +113,108 @@ void checkIndex(int index, size_t count, const char* what) {
                  std::to_string(count) + "); use a handle returned by its add function");
 }
 
-// The inverse of a transform given for an object or a transblock; singular: InputError.
-ray::Affine invertible(const ray::Affine& transform, const std::string& what) {
-    const ray::TransformOp op = ray::TransformOp::matrix(transform);
-    if (auto why = op.whySingular()) badInput(what + ": " + *why + " (a zero scale?); it must be invertible");
-    return op.affine().second;
+void checkIndex(size_t index, size_t count, const char* what) {
+    checkIndex(int(std::min<size_t>(index, size_t(INT32_MAX))), count, what);
+}
+
+edit::NodeId objectNode(int id) { return {edit::NodeKind::Object, id}; }
+
+// Applies one operation of the edit model; its errors as the public InputError.
+edit::Outcome apply(Scene::Impl& impl, const edit::Operation& operation) {
+    return detail::translatingErrors([&] { return impl.session.apply(operation); });
+}
+
+// The document to walk: walking does not change it (its walks take a document they may
+// hand out places of).
+ray::SceneDocument& walkable(const Scene::Impl& impl) { return const_cast<ray::SceneDocument&>(impl.document()); }
+
+// A transform of one step, a matrix: what the API's Transforms are.
+edit::FieldInput matrixTransform(const char* field, edit::FieldOwner owner, const Transform& t) {
+    return {edit::findField(owner, field), std::vector<ray::TransformOp>{ray::TransformOp::matrix(toInternal(t))}, {}};
 }
 
 [[noreturn]] void noObject(int id) {
-    badInput("object " + std::to_string(id) +
-             " does not exist (removed, or never made); take ids from Scene::objects()");
+    badInput("object " + std::to_string(id) + " does not exist (removed, or never made); take ids from Scene::objects()");
 }
 
-ray::DocumentPlace placeOf(ray::SceneDocument& document, int id) {
-    std::optional<ray::DocumentPlace> place = ray::findObject(document, id);
-    if (!place) noObject(id);
-    return *place;
-}
-
-ray::PrimitiveNode& objectAt(const ray::DocumentPlace& place) {
-    return std::get<ray::PrimitiveNode>(place.block->items[place.item]);
-}
-
-// Where each object's instances are in a flattened scene: the first, and how many.
-struct InstanceIndex {
-    struct Entry {
-        const ray::PrimitiveInstance* first = nullptr;
-        size_t count = 0;
-    };
-    std::map<int, Entry> byObject;
-
-    explicit InstanceIndex(const ray::Scene& scene, int only = -1) {
-        for (const auto* list : {&scene.primitives, &scene.csgOperands})
-            for (const ray::PrimitiveInstance& instance : *list) {
-                if (instance.type == ray::PrimitiveType::Csg) continue;  // its operands count
-                if (instance.sourceObject < 0 || (only >= 0 && instance.sourceObject != only)) continue;
-                Entry& entry = byObject[instance.sourceObject];
-                if (!entry.first) entry.first = &instance;
-                ++entry.count;
-            }
-    }
-
-    const Entry* find(int id) const {
-        auto it = byObject.find(id);
-        return it == byObject.end() ? nullptr : &it->second;
-    }
-};
-
-// Object to world of the object's first instance, and its inverse; in its tree's frame
-// when it has none.
-std::pair<ray::Affine, ray::Affine> firstPlacement(const InstanceIndex& index, const ray::DocumentPlace& place,
-                                                   int id) {
-    if (const InstanceIndex::Entry* entry = index.find(id))
-        return {entry->first->objectToWorld, entry->first->worldToObject};
-    return ray::composedPlacement(place.blocks);
-}
-
-SceneObject describe(const ray::Scene& scene, const InstanceIndex& index,
-                     const ray::PrimitiveNode& node, const ray::DocumentPlace& place) {
+SceneObject describe(const ray::Scene& scene, const ray::PrimitiveNode& node, const ray::DocumentPlace& place,
+                     const std::map<int, std::pair<const ray::PrimitiveInstance*, size_t>>& instances) {
     SceneObject object;
     object.id = node.id;
     object.path = place.path;
     object.shape = Shape(int(node.type));  // same order as PrimitiveType (a primitive is never a csg)
     object.inMaster = place.tree->name != "root";
-    const InstanceIndex::Entry* entry = index.find(node.id);
-    object.instances = entry ? entry->count : 0;
-    object.material = external(entry ? scene.materials[size_t(entry->first->material)] : node.material);
-    object.objectToWorld = external(firstPlacement(index, place, node.id).first);
+    auto found = instances.find(node.id);
+    const ray::PrimitiveInstance* first = found == instances.end() ? nullptr : found->second.first;
+    object.instances = found == instances.end() ? 0 : found->second.second;
+    object.material = external(first ? scene.materials[size_t(first->material)] : node.material);
+    object.objectToWorld = toPublic(first ? first->objectToWorld : ray::composedPlacement(place.blocks).first);
     return object;
+}
+
+// Each object's first instance and how many it has (only object `only`, when >= 0).
+std::map<int, std::pair<const ray::PrimitiveInstance*, size_t>> instancesOf(const ray::Scene& scene, int only = -1) {
+    std::map<int, std::pair<const ray::PrimitiveInstance*, size_t>> byObject;
+    for (const auto* list : {&scene.primitives, &scene.csgOperands})
+        for (const ray::PrimitiveInstance& instance : *list) {
+            if (instance.type == ray::PrimitiveType::Csg) continue;  // its operands count
+            if (instance.sourceObject < 0 || (only >= 0 && instance.sourceObject != only)) continue;
+            auto& entry = byObject[instance.sourceObject];
+            if (!entry.first) entry.first = &instance;
+            ++entry.second;
+        }
+    return byObject;
+}
+
+// Every number of a light struct, those its type does not use too: a Light holds no number
+// a scenefile could not.
+void checkEveryField(const ray::Light& light) {
+    detail::translatingErrors([&] {
+        for (const edit::FieldInput& input : edit::lightFields(light, true)) edit::checkFieldValue(input, "light");
+    });
+}
+
+edit::NodeId lightNode(const Scene::Impl& impl, size_t index) {
+    checkIndex(index, impl.document().lights.size(), "light");
+    return {edit::NodeKind::Light, impl.document().lightIds[index]};
+}
+
+// Loads the document with `read` into a fresh session.
+template <class Read>
+void loadInto(std::unique_ptr<Scene::Impl>& impl, const LoadOptions& options, std::vector<std::string>& warnings,
+              Read read) {
+    detail::translatingErrors([&] {
+        ray::LoadOptions load = internal(options, warnings);
+        ray::SceneDocument document = read(load);
+        auto loaded = std::make_unique<Scene::Impl>(std::move(document), load);  // flattening warns here too
+        impl = std::move(loaded);
+    });
 }
 
 }  // namespace
 
-uint64_t Scene::Impl::newRevision() {
-    static std::atomic<uint64_t> last{0};
-    return ++last;
-}
-
-void Scene::Impl::edit(const std::function<void(ray::SceneDocument&)>& change) {
-    detail::translatingErrors([&] {
-        ray::SceneDocument changed = document;
-        change(changed);
-        ray::Scene flattened = ray::flattenDocument(changed, resources, options);
-        document = std::move(changed);
-        scene = std::move(flattened);
-        this->changed();
-    });
+std::vector<FieldInfo> editableFields() {
+    std::vector<FieldInfo> fields;
+    for (const edit::EditField& field : edit::editFields()) fields.push_back(toPublic(field));
+    return fields;
 }
 
 Transform Transform::translate(Vec3 t) {
     detail::checkFinite("translate", t);
-    return external(ray::Affine::translation(internal(t)));
+    return toPublic(ray::Affine::translation(toInternal(t)));
 }
 Transform Transform::scale(Vec3 s) {
     detail::checkFinite("scale", s);
-    return external(ray::Affine::scaling(internal(s)));
+    return toPublic(ray::Affine::scaling(toInternal(s)));
 }
 Transform Transform::rotate(Vec3 axis, double angleDegrees) {
     detail::checkFinite("rotate's axis", axis);
     detail::checkFinite("rotate's angle", angleDegrees);
     if (axis.x == 0 && axis.y == 0 && axis.z == 0)
         badInput("rotate: the axis (0, 0, 0) has no direction; give a non-zero axis, such as (0, 1, 0)");
-    return external(ray::Affine::rotation(internal(axis), angleDegrees));
+    return toPublic(ray::Affine::rotation(toInternal(axis), angleDegrees));
 }
-Transform operator*(const Transform& a, const Transform& b) { return external(internal(a) * internal(b)); }
+Transform operator*(const Transform& a, const Transform& b) { return toPublic(toInternal(a) * toInternal(b)); }
 
 Scene::Scene() : impl_(std::make_unique<Impl>()) {}
 Scene::~Scene() = default;
@@ -239,71 +226,52 @@ Scene& Scene::operator=(const Scene& other) {
 Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
 
-namespace {
-
-// Loads the document with `read`, flattens it, and keeps both in `impl`.
-template <class Read>
-void loadInto(Scene::Impl& impl, const LoadOptions& options, std::vector<std::string>& warnings, Read read) {
-    detail::translatingErrors([&] {
-        ray::LoadOptions load = internal(options, warnings);
-        impl.document = read(load);
-        impl.scene = ray::flattenDocument(impl.document, impl.resources, load);
-        impl.changed();
-        load.warn = [](const std::string&) {};  // what later flattenings find, loading reported
-        impl.options = load;
-    });
-}
-
-}  // namespace
-
 LoadResult Scene::load(const std::filesystem::path& file, const LoadOptions& options) {
     LoadResult result;
-    loadInto(*result.scene.impl_, options, result.warnings,
+    loadInto(result.scene.impl_, options, result.warnings,
              [&](const ray::LoadOptions& load) { return ray::loadSceneDocument(file, load); });
     return result;
 }
 
 LoadResult Scene::fromString(const std::string& xml, const std::filesystem::path& name, const LoadOptions& options) {
     LoadResult result;
-    loadInto(*result.scene.impl_, options, result.warnings,
+    loadInto(result.scene.impl_, options, result.warnings,
              [&](const ray::LoadOptions& load) { return ray::loadSceneDocumentFromText(xml, name, load); });
     return result;
 }
 
-Camera Scene::camera() const { return detail::toPublic(impl_->scene.camera); }
+Camera Scene::camera() const { return toPublic(impl_->document().camera); }
 
 void Scene::setCamera(const Camera& camera) {
-    ray::Camera internalCamera = detail::toInternal(camera);
-    detail::checkCamera(internalCamera);
-    impl_->scene.camera = internalCamera;
-    impl_->document.camera = internalCamera;  // not changed(): each frame reads the camera itself
+    apply(*impl_, edit::SetFields{{edit::NodeKind::Camera, 0}, edit::cameraFields(toInternal(camera))});
 }
 
 Globals Scene::globals() const {
-    const ray::GlobalCoefficients& g = impl_->scene.globals;
+    const ray::GlobalCoefficients& g = impl_->document().globals;
     return {g.ka, g.kd, g.ks, g.kt};
 }
 
 void Scene::setGlobals(const Globals& globals) {
-    detail::checkGlobals(globals);
-    impl_->scene.globals = {globals.ka, globals.kd, globals.ks, globals.kt};
-    impl_->document.globals = impl_->scene.globals;
-    impl_->changed();
+    apply(*impl_, edit::SetFields{{edit::NodeKind::Globals, 0},
+                                  edit::globalsFields({globals.ka, globals.kd, globals.ks, globals.kt})});
 }
 
 void Scene::addLight(const Light& light) {
-    detail::checkLight(light);
-    impl_->scene.lights.push_back(internal(light));
-    impl_->document.lights.push_back(internal(light));
-    impl_->changed();
+    checkEveryField(internal(light));
+    std::vector<edit::FieldInput> fields = edit::lightFields(internal(light));
+    fields.erase(fields.begin());  // its type: the operation's
+    apply(*impl_, edit::AddLight{ray::LightType(int(light.type)), std::move(fields)});
 }
 
 int Scene::addMaterial(const Material& material) {
-    detail::checkMaterial(material);
-    const size_t images = impl_->resources.images.size();
+    const ray::Material m = internal(material);
+    detail::translatingErrors([&] {
+        for (const edit::FieldInput& input : edit::materialFields(m, false)) edit::checkFieldValue(input, "material");
+    });
+    const size_t images = impl_->session.resources().images.size();
     if (material.texture.texture >= 0) checkIndex(material.texture.texture, images, "texture");
     if (material.bumpMap.texture >= 0) checkIndex(material.bumpMap.texture, images, "bump map texture");
-    impl_->materials.push_back(internal(material));
+    impl_->materials.push_back(m);
     return int(impl_->materials.size() - 1);
 }
 
@@ -314,12 +282,7 @@ int Scene::addTextureFromFile(const std::filesystem::path& file) {
     } catch (const ray::ImageError& e) {
         throw InputError(e.what(), file.string(), 0);
     }
-    impl_->resources.images.push_back(image);
-    impl_->resources.imageFiles.push_back(file);
-    impl_->scene.images.push_back(std::move(image));
-    impl_->scene.imageFiles.push_back(file);
-    impl_->changed();
-    return int(impl_->scene.images.size() - 1);
+    return impl_->session.addImage(std::move(image));
 }
 
 int Scene::addTextureFromPixels(int width, int height, const std::vector<float>& rgb) {
@@ -328,12 +291,7 @@ int Scene::addTextureFromPixels(int width, int height, const std::vector<float>&
                  "width*height*3 floats, not " + std::to_string(rgb.size()));
     ray::Image image(width, height);
     image.rgb = rgb;
-    impl_->resources.images.push_back(image);
-    impl_->resources.imageFiles.push_back("<memory>");
-    impl_->scene.images.push_back(std::move(image));
-    impl_->scene.imageFiles.push_back("<memory>");
-    impl_->changed();
-    return int(impl_->scene.images.size() - 1);
+    return impl_->session.addImage(std::move(image));
 }
 
 int Scene::addMesh(const std::vector<float>& positions, const std::vector<uint32_t>& triangles,
@@ -361,97 +319,60 @@ int Scene::addMesh(const std::vector<float>& positions, const std::vector<uint32
         mesh.triangles.push_back(corners);
     }
     mesh.computeBounds();
-    impl_->resources.meshes.push_back(mesh);
-    impl_->resources.meshFiles.push_back("<memory>");
-    impl_->scene.meshes.push_back(std::move(mesh));
-    impl_->scene.meshFiles.push_back("<memory>");
-    impl_->changed();
-    return int(impl_->scene.meshes.size() - 1);
+    return impl_->session.addMesh(std::move(mesh));
 }
 
-// A transblock of its own at the end of the root tree, holding the object; its instance
-// is appended to the flattened scene exactly as flattening would make it.
+namespace {
+
+// A primitive of `shape` with material handle `material`, placed by `transform` (object to
+// world, or to the transblock it is added to).
+edit::AddPrimitive primitiveToAdd(const Scene::Impl& impl, Shape shape, const Transform& transform, int material,
+                                  int mesh) {
+    checkIndex(material, impl.materials.size(), "material");
+    if (shape == Shape::Mesh) checkIndex(mesh, impl.session.resources().meshes.size(), "mesh");
+    edit::AddPrimitive add;
+    add.shape = ray::PrimitiveType(int(shape));  // same order as PrimitiveType
+    add.mesh = shape == Shape::Mesh ? mesh : -1;
+    add.fields = edit::materialFields(impl.materials[size_t(material)], true);
+    add.fields.push_back(matrixTransform("transform", edit::FieldOwner::Object, transform));
+    return add;
+}
+
+}  // namespace
+
 int Scene::addPrimitive(Shape shape, const Transform& objectToWorld, int material, int mesh) {
-    checkIndex(material, impl_->materials.size(), "material");
-    if (shape == Shape::Mesh) checkIndex(mesh, impl_->resources.meshes.size(), "mesh");
-    invertible(internal(objectToWorld), "a primitive's transform");
-    ray::SceneDocument& document = impl_->document;
-    ray::PrimitiveNode node;
-    node.type = ray::PrimitiveType(int(shape));  // same order as PrimitiveType
-    node.id = document.nextObjectId;
-    node.material = impl_->materials[size_t(material)];
-    node.mesh = shape == Shape::Mesh ? mesh : -1;
-    ray::Block block;
-    block.id = document.nextBlockId;
-    block.transforms.push_back(ray::TransformOp::matrix(internal(objectToWorld)));
-    ray::composeBlock(block);
-
-    ray::PrimitiveInstance instance;
-    instance.type = node.type;
-    instance.objectToWorld = ray::Affine::identity() * block.toParent;
-    instance.worldToObject = block.fromParent * ray::Affine::identity();
-    instance.material = int(impl_->scene.materials.size());
-    instance.mesh = node.mesh;
-    instance.sourceObject = node.id;
-    ray::fitObjectBox(instance, impl_->resources.meshes);
-
-    impl_->scene.materials.push_back(node.material);
-    impl_->scene.primitives.push_back(instance);
-    impl_->changed();
-    ++document.nextObjectId;
-    ++document.nextBlockId;
-    ++document.primitiveElements;
-    block.items.push_back(std::move(node));
-    document.rootToSet().tree.blocks.push_back(std::move(block));
-    return instance.sourceObject;
+    return apply(*impl_, primitiveToAdd(*impl_, shape, objectToWorld, material, mesh)).added.front().number;
 }
 
 int Scene::addPrimitiveTo(int nodeId, Shape shape, const Transform& toNode, int material, int mesh) {
-    checkIndex(material, impl_->materials.size(), "material");
-    if (shape == Shape::Mesh) checkIndex(mesh, impl_->resources.meshes.size(), "mesh");
-    invertible(internal(toNode), "a primitive's transform");
-    int id = -1;
-    impl_->edit([&](ray::SceneDocument& document) {
-        std::optional<ray::DocumentPlace> place = ray::findBlock(document, nodeId);
-        if (!place)
-            badInput("transblock " + std::to_string(nodeId) + " does not exist; take ids from Scene::nodes()");
-        ray::PrimitiveNode node;
-        node.type = ray::PrimitiveType(int(shape));
-        node.id = id = document.nextObjectId++;
-        node.material = impl_->materials[size_t(material)];
-        node.mesh = shape == Shape::Mesh ? mesh : -1;
-        ++document.primitiveElements;
-        ray::Block own;
-        own.id = document.nextBlockId++;
-        own.transforms.push_back(ray::TransformOp::matrix(internal(toNode)));
-        ray::composeBlock(own);
-        own.items.push_back(std::move(node));
-        ray::TreeNode tree;
-        tree.blocks.push_back(std::move(own));
-        place->block->items.push_back(ray::Box<ray::TreeNode>(std::move(tree)));
-    });
-    return id;
+    edit::AddPrimitive add = primitiveToAdd(*impl_, shape, toNode, material, mesh);
+    add.parent = edit::NodeId{edit::NodeKind::Block, nodeId};
+    return apply(*impl_, add).added.front().number;
 }
 
-size_t Scene::primitiveCount() const { return impl_->scene.primitives.size(); }
-size_t Scene::lightCount() const { return impl_->scene.lights.size(); }
+size_t Scene::primitiveCount() const { return impl_->flattened()->primitives.size(); }
+size_t Scene::lightCount() const { return impl_->document().lights.size(); }
 
 std::vector<SceneObject> Scene::objects() const {
-    const InstanceIndex index(impl_->scene);
+    const std::shared_ptr<const ray::Scene> scene = impl_->flattened();
+    const auto instances = instancesOf(*scene);
     std::vector<SceneObject> objects;
-    ray::forEachObject(impl_->document, [&](ray::PrimitiveNode& node, const ray::DocumentPlace& place) {
-        objects.push_back(describe(impl_->scene, index, node, place));
+    ray::forEachObject(walkable(*impl_), [&](ray::PrimitiveNode& node, const ray::DocumentPlace& place) {
+        objects.push_back(describe(*scene, node, place, instances));
     });
     return objects;
 }
 
 SceneObject Scene::object(int id) const {
-    ray::DocumentPlace place = placeOf(impl_->document, id);
-    return describe(impl_->scene, InstanceIndex(impl_->scene, id), objectAt(place), place);
+    std::optional<ray::DocumentPlace> place = ray::findObject(walkable(*impl_), id);
+    if (!place) noObject(id);
+    const std::shared_ptr<const ray::Scene> scene = impl_->flattened();
+    return describe(*scene, std::get<ray::PrimitiveNode>(place->block->items[place->item]), *place,
+                    instancesOf(*scene, id));
 }
 
 int Scene::objectOfInstance(size_t instance) const {
-    const std::vector<ray::PrimitiveInstance>& primitives = impl_->scene.primitives;
+    const std::vector<ray::PrimitiveInstance>& primitives = impl_->flattened()->primitives;
     if (instance >= primitives.size())
         badInput("instance " + std::to_string(instance) + " does not exist (the scene renders " +
                  std::to_string(primitives.size()) + ")");
@@ -459,76 +380,29 @@ int Scene::objectOfInstance(size_t instance) const {
 }
 
 void Scene::setMaterial(int id, const Material& material) {
-    detail::checkMaterial(material);
-    const size_t images = impl_->resources.images.size();
-    if (material.texture.texture >= 0) checkIndex(material.texture.texture, images, "texture");
-    if (material.bumpMap.texture >= 0) checkIndex(material.bumpMap.texture, images, "bump map texture");
     const SceneObject current = object(id);
-    impl_->edit([&](ray::SceneDocument& document) {
-        ray::PrimitiveNode& node = objectAt(placeOf(document, id));
-        const ray::TextureMap texture = node.material.texture, bumpMap = node.material.bumpMap;
-        node.material = internal(material);
-        // A texture the file names stays named by it (so a saved file names it as it did)
-        // unless another one replaces it: then the handle's own file is written.
-        if (node.files) {
-            if (material.texture.texture != current.material.texture.texture) {
-                node.files->texture.reset();
-                node.files->missingTexture.clear();
-            } else if (node.files->texture) {
-                node.material.texture.image = texture.image;
-            }
-            if (material.bumpMap.texture != current.material.bumpMap.texture) {
-                node.files->bumpMap.reset();
-                node.files->missingBumpMap.clear();
-            } else if (node.files->bumpMap) {
-                node.material.bumpMap.image = bumpMap.image;
-            }
-        }
+    std::vector<edit::FieldInput> fields = edit::materialFields(internal(material), true);
+    // A texture the file names stays named by it (so a saved file names it as it did)
+    // unless another one replaces it: then the handle's own file is written.
+    std::erase_if(fields, [&](const edit::FieldInput& input) {
+        const edit::SpecialField special = input.field->special;
+        return (special == edit::SpecialField::Texture && material.texture.texture == current.material.texture.texture) ||
+               (special == edit::SpecialField::BumpMap && material.bumpMap.texture == current.material.bumpMap.texture);
     });
+    apply(*impl_, edit::SetFields{objectNode(id), std::move(fields)});
 }
 
 void Scene::setObjectToWorld(int id, const Transform& objectToWorld) {
-    const ray::Affine target = internal(objectToWorld);
-    invertible(target, "the object's transform");
-    const InstanceIndex index(impl_->scene, id);
-    impl_->edit([&](ray::SceneDocument& document) {
-        ray::DocumentPlace place = placeOf(document, id);
-        const ray::Affine worldToObject = firstPlacement(index, place, id).second;
-        ray::Block& block = *place.block;
-        if (block.items.size() == 1) {
-            // Alone in its transblock: the block takes B' = B · W · T, so that the first
-            // instance, P · B', is T (P · B = W⁻¹).
-            const ray::Affine toParent = block.toParent * worldToObject * target;
-            invertible(toParent, "the object's transform, in its transblock's frame,");
-            block.transforms = {ray::TransformOp::matrix(toParent)};
-            ray::composeBlock(block);
-            return;
-        }
-        // It shares its transblock: it gets one of its own, inside an inline tree.
-        ray::Block own;
-        own.id = document.nextBlockId++;
-        const ray::Affine toParent = worldToObject * target;
-        invertible(toParent, "the object's transform, in its transblock's frame,");
-        own.transforms = {ray::TransformOp::matrix(toParent)};
-        ray::composeBlock(own);
-        own.items.push_back(std::move(block.items[place.item]));
-        ray::TreeNode tree;
-        tree.blocks.push_back(std::move(own));
-        block.items[place.item] = ray::Box<ray::TreeNode>(std::move(tree));
-    });
+    apply(*impl_, edit::SetFields{objectNode(id), {{edit::findField(edit::FieldOwner::Object, "world"),
+                                                    toInternal(objectToWorld), {}}}});
 }
 
-void Scene::removeObject(int id) {
-    impl_->edit([&](ray::SceneDocument& document) {
-        ray::DocumentPlace place = placeOf(document, id);
-        place.block->items.erase(place.block->items.begin() + std::ptrdiff_t(place.item));
-    });
-}
+void Scene::removeObject(int id) { apply(*impl_, edit::DeleteNodes{{objectNode(id)}}); }
 
 std::vector<SceneNode> Scene::nodes() const {
     std::vector<SceneNode> nodes;
-    ray::forEachBlock(impl_->document, [&](ray::Block& block, const ray::DocumentPlace& place) {
-        SceneNode node{block.id, place.path, external(block.toParent), {}};
+    ray::forEachBlock(walkable(*impl_), [&](ray::Block& block, const ray::DocumentPlace& place) {
+        SceneNode node{block.id, place.path, toPublic(block.toParent), {}};
         for (const ray::SceneItem& item : block.items)
             if (const auto* master = std::get_if<ray::MasterReference>(&item)) node.masters.push_back(master->name);
         nodes.push_back(std::move(node));
@@ -537,46 +411,117 @@ std::vector<SceneNode> Scene::nodes() const {
 }
 
 void Scene::setNodeTransform(int nodeId, const Transform& toParent) {
-    invertible(internal(toParent), "the transblock's transform");
-    impl_->edit([&](ray::SceneDocument& document) {
-        std::optional<ray::DocumentPlace> place = ray::findBlock(document, nodeId);
-        if (!place)
-            badInput("transblock " + std::to_string(nodeId) + " does not exist; take ids from Scene::nodes()");
-        place->block->transforms = {ray::TransformOp::matrix(internal(toParent))};
-        ray::composeBlock(*place->block);
-    });
+    apply(*impl_, edit::SetFields{{edit::NodeKind::Block, nodeId},
+                                  {matrixTransform("transform", edit::FieldOwner::Block, toParent)}});
 }
 
 std::vector<Light> Scene::lights() const {
     std::vector<Light> lights;
-    for (const ray::Light& light : impl_->document.lights) lights.push_back(external(light));
+    for (const ray::Light& light : impl_->document().lights) lights.push_back(external(light));
     return lights;
 }
 
 void Scene::setLight(size_t index, const Light& light) {
-    checkIndex(int(std::min<size_t>(index, size_t(INT32_MAX))), impl_->document.lights.size(), "light");
-    detail::checkLight(light);
+    const edit::NodeId node = lightNode(*impl_, index);
     ray::Light l = internal(light);
-    l.radius = impl_->document.lights[index].radius;  // read and kept, not in the API
-    impl_->document.lights[index] = l;
-    impl_->scene.lights[index] = l;
-    impl_->changed();
+    l.radius = impl_->document().lights[index].radius;  // read and kept, not in the API
+    checkEveryField(l);
+    apply(*impl_, edit::SetFields{node, edit::lightFields(l)});
 }
 
-void Scene::removeLight(size_t index) {
-    checkIndex(int(std::min<size_t>(index, size_t(INT32_MAX))), impl_->document.lights.size(), "light");
-    ray::removeLight(impl_->document, index);  // and the element it was read from, with it
-    impl_->scene.lights.erase(impl_->scene.lights.begin() + std::ptrdiff_t(index));
-    impl_->changed();
-}
+void Scene::removeLight(size_t index) { apply(*impl_, edit::DeleteNodes{{lightNode(*impl_, index)}}); }
 
 std::string Scene::toText() const {
-    const std::filesystem::path anchor = impl_->document.file.empty() ? "scene.xml" : impl_->document.file;
-    return detail::translatingErrors([&] { return ray::documentToText(impl_->document, impl_->resources, anchor); });
+    const ray::SceneDocument& document = impl_->document();
+    const std::filesystem::path anchor = document.file.empty() ? "scene.xml" : document.file;
+    return detail::translatingErrors(
+        [&] { return ray::documentToText(document, impl_->session.resources(), anchor); });
 }
 
 void Scene::save(const std::filesystem::path& file) const {
-    detail::translatingErrors([&] { ray::saveDocument(impl_->document, impl_->resources, file); });
+    detail::translatingErrors([&] { ray::saveDocument(impl_->document(), impl_->session.resources(), file); });
+}
+
+// ---------------------------------------------------------------------------------------
+// The one edit model, by node id and field name
+
+std::vector<OutlineEntry> Scene::outline() const {
+    std::vector<OutlineEntry> entries;
+    for (const edit::OutlineEntry& entry : impl_->session.outline()) entries.push_back(toPublic(entry));
+    return entries;
+}
+
+FieldValue Scene::field(const NodeId& node, const std::string& name) const {
+    const edit::NodeId id = detail::nodeFrom(node);
+    return detail::translatingErrors([&]() -> FieldValue {
+        const edit::NodeView view = impl_->session.describe(id);
+        for (const auto& [field, value] : view.fields)
+            if (field->name == name || field->keyword() == name) return toPublic(value);
+        badInput("a " + std::string(edit::nodeKindName(id.kind)) + " " + node + " has no field '" +
+                 quotedForMessage(name, 60) + "'");
+    });
+}
+
+EditResult Scene::set(const NodeId& node, const FieldValues& fields) {
+    const edit::NodeId id = detail::nodeFrom(node);
+    return toPublic(apply(*impl_, edit::SetFields{id, detail::inputsFrom(id.kind, fields)}));
+}
+
+EditResult Scene::add(const std::string& shape, const FieldValues& fields, const NodeId& parent,
+                      const std::filesystem::path& meshFile) {
+    edit::AddPrimitive add;
+    const std::vector<std::string_view>& shapes = edit::shapeNames();
+    auto known = std::find(shapes.begin(), shapes.end(), shape);
+    if (known == shapes.end())
+        badInput("add: the shape is cube, cylinder, cone, sphere, torus or mesh, not '" + quotedForMessage(shape, 40) + "'");
+    static const ray::PrimitiveType kShapes[] = {ray::PrimitiveType::Cube, ray::PrimitiveType::Cylinder,
+                                                 ray::PrimitiveType::Cone, ray::PrimitiveType::Sphere,
+                                                 ray::PrimitiveType::Torus, ray::PrimitiveType::Mesh};
+    add.shape = kShapes[known - shapes.begin()];
+    add.meshFile = meshFile.string();
+    if (add.shape == ray::PrimitiveType::Mesh && add.meshFile.empty()) badInput("add: a mesh needs its .obj file");
+    if (!parent.empty()) add.parent = detail::nodeFrom(parent);
+    add.fields = detail::inputsFrom(edit::FieldOwner::Object, fields);
+    return toPublic(apply(*impl_, add));
+}
+
+EditResult Scene::addLight(const std::string& type, const FieldValues& fields) {
+    const std::vector<std::string_view>& types = edit::lightTypeNames();
+    auto known = std::find(types.begin(), types.end(), type);
+    if (known == types.end())
+        badInput("addLight: the type is point, directional, spot or area, not '" + quotedForMessage(type, 40) + "'");
+    return toPublic(apply(*impl_, edit::AddLight{ray::LightType(known - types.begin()),
+                                                 detail::inputsFrom(edit::FieldOwner::Light, fields)}));
+}
+
+namespace {
+
+std::vector<edit::NodeId> nodesFrom(const std::vector<NodeId>& nodes) {
+    std::vector<edit::NodeId> ids;
+    for (const NodeId& node : nodes) ids.push_back(detail::nodeFrom(node));
+    return ids;
+}
+
+}  // namespace
+
+EditResult Scene::remove(const std::vector<NodeId>& nodes) {
+    return toPublic(apply(*impl_, edit::DeleteNodes{nodesFrom(nodes)}));
+}
+
+EditResult Scene::duplicate(const std::vector<NodeId>& nodes) {
+    return toPublic(apply(*impl_, edit::DuplicateNodes{nodesFrom(nodes)}));
+}
+
+EditResult Scene::group(const std::vector<NodeId>& nodes) {
+    return toPublic(apply(*impl_, edit::GroupNodes{nodesFrom(nodes)}));
+}
+
+EditResult Scene::rename(const NodeId& tree, const std::string& name) {
+    return set(tree, {{"name", name}});
+}
+
+EditResult Scene::makeUnique(const NodeId& placement) {
+    return toPublic(apply(*impl_, edit::MakeUnique{detail::nodeFrom(placement)}));
 }
 
 }  // namespace ray::api

@@ -1,11 +1,12 @@
-// What a public ray::api::Scene holds: its scene document, and the internal flattened
-// Scene both renderers take, kept flattened from it after every edit.
+// What a public ray::api::Scene holds: the editing service (edit/edit_session.h) over its
+// scene document, the same service ray view's page edits through, without history (a
+// program keeps its own), and the material handles of addMaterial.
 #pragma once
 
-#include <cstdint>
-#include <functional>
+#include <memory>
 #include <vector>
 
+#include "edit/edit_session.h"
 #include "ray/scene.h"
 #include "scene/scene.h"
 #include "scene/scene_document.h"
@@ -19,25 +20,19 @@ struct Scene::Impl {
         options.warn = [](const std::string&) {};
         return options;
     }
+    static ray::edit::SessionOptions sessionOptions(const ray::LoadOptions& load) { return {load, false, {}}; }
 
-    ray::SceneDocument document;  // the scene as its file has it (scene/scene_document.h)
-    ray::Resources resources;     // its images and meshes, and those added in code
-    ray::Scene scene;             // the document flattened: what Renderers take
-    // Which state `scene` is in: a number no other state of any Scene had (copies share
-    // it with their source), set anew by every change but the camera's (changed()), which
-    // each frame reads for itself. A Renderer takes the flattened scene again only when
-    // its revision differs from the one it rendered last.
-    uint64_t revision = newRevision();
+    explicit Impl(ray::SceneDocument document = {}, const ray::LoadOptions& load = quietOptions())
+        : session(std::move(document), sessionOptions(load)) {}
+
+    // The document, its images and meshes, and the document flattened: what Renderers take.
+    // Every change makes a new flattened scene whose lineage (scene/scene_changes.h) says
+    // what changed, so that a Renderer's frame source re-packs that alone.
+    ray::edit::EditSession session;
     std::vector<ray::Material> materials;  // addMaterial's handles
-    // How it was loaded; warnings after loading are not reported (loading reported them).
-    ray::LoadOptions options = quietOptions();
 
-    static uint64_t newRevision();
-    void changed() { revision = newRevision(); }
-
-    // Applies `change` to a copy of the document, flattens the copy, and keeps both;
-    // when either throws (InputError, public), nothing has changed.
-    void edit(const std::function<void(ray::SceneDocument&)>& change);
+    const ray::SceneDocument& document() const { return session.document(); }
+    std::shared_ptr<const ray::Scene> flattened() const { return session.scene(); }
 };
 
 }  // namespace ray::api

@@ -1,9 +1,13 @@
 // The engine's packed scene (scene_packing.h), kept from frame to frame: packed on the first
 // frame and again only when the scene changes (setScene, an editor's edit) or a setting that
 // shapes the tables does (the area lights' sample grid, trilinear mipmaps). After an edit,
-// only what differs is packed again when it can be (repackScene: no BVH build for a material
-// or light edit, a refit for moved primitives), and each table that came out the same keeps
-// its version, so that the devices keep its buffer (scene_upload.h).
+// only what the edit changed is packed again when it can be (repackScene: no BVH build for a
+// material or light edit, a refit for moved primitives): the edits say what they changed
+// (the scene's lineage, scene/scene_changes.h), and only a scene with no such word (a file
+// reloaded from disk) is compared with the one packed. The tables re-packed get new
+// versions and the others keep theirs, so that the devices upload those alone
+// (scene_upload.h); the frame's RenderStats::sceneUpdate says which, and whether the BVH was
+// kept, refitted or rebuilt.
 #pragma once
 
 #include <cstdint>

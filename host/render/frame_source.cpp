@@ -2,7 +2,7 @@
 
 namespace ray {
 
-uint64_t FrameSource::renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera,
+RenderStats FrameSource::renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera,
                                   const RenderSettings& settings,
                                   const std::function<void(const FrameTile&)>& onTile,
                                   const std::atomic<bool>& cancel) {
@@ -12,7 +12,7 @@ uint64_t FrameSource::renderFrame(const std::shared_ptr<const Scene>& scene, con
         const TileRect& r = tile.rect;
         onTile(FrameTile{r.x, r.y, r.width, r.height, quantize8(tile.rgb, r.pixels() * 3)});
     };
-    return render(scene, camera, settings, request).stats.totalRays();
+    return render(scene, camera, settings, request).stats;
 }
 
 std::shared_ptr<const Scene> borrowedScene(const Scene& scene) {

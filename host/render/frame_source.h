@@ -95,9 +95,9 @@ public:
     // The devices, for a person (the viewer's status line).
     virtual std::string deviceName() const = 0;
 
-    // The viewer's frame: tiles as 8-bit RGB, as it sends them to the page; returns the rays
-    // traced (partial when cancelled).
-    uint64_t renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
+    // The viewer's frame: tiles as 8-bit RGB, as it sends them to the page; returns the
+    // frame's statistics (its rays, partial when cancelled; what it re-packed).
+    RenderStats renderFrame(const std::shared_ptr<const Scene>& scene, const Camera& camera, const RenderSettings& settings,
                          const std::function<void(const FrameTile&)>& onTile, const std::atomic<bool>& cancel);
 };
 

@@ -37,6 +37,21 @@ struct DistributionStats {
     double dispatchMillisecondsPerTile() const { return tiles > 0 ? dispatchSeconds * 1e3 / tiles : 0; }
 };
 
+// How a frame got the scene's packed tables (the OpenCL engine keeps them from frame to
+// frame, opencl/packed_scene_cache.h): what an edit cost the next frame.
+struct SceneUpdateStats {
+    // "none": the tables packed for an earlier frame, kept whole (or no packing: the host
+    // renderer); "edit": re-packed as the edits' change sets said (scene/scene_changes.h);
+    // "compared": re-packed after comparing the scenes (a file reloaded from disk);
+    // "full": packed whole (the first frame, a change of shape).
+    std::string packing = "none";
+    // The BVH: "kept", "refit" (moved primitives, the tree's shape kept) or "rebuilt".
+    std::string bvh = "kept";
+    // The tables given new contents, by their names in cl/shared_types.h RAY_SCENE_BUFFERS
+    // ("materials"): each device uploads these again, and only these.
+    std::vector<std::string> tables;
+};
+
 struct RenderStats {
     int width = 0, height = 0, samples = 0, depth = 0;
     std::string device;
@@ -44,6 +59,7 @@ struct RenderStats {
     double loadSeconds = 0, bvhBuildSeconds = 0, kernelBuildSeconds = 0, renderSeconds = 0;
     double uploadSeconds = 0;
     double packSeconds = 0;  // OpenCL: packing the scene, when the frame (re)packed (the API's; not printed)
+    SceneUpdateStats sceneUpdate;  // OpenCL: what the frame re-packed and re-uploaded
     // OpenCL: every device of the selection; the distributed render adds a rank to each.
     std::vector<DeviceStats> devices;
     std::vector<int> deviceRanks;  // parallel to devices when rendered through MPI, else empty

@@ -14,6 +14,7 @@
 #include "core/math.h"
 #include "scene/csg.h"
 #include "scene/mesh.h"
+#include "scene/scene_changes.h"
 
 namespace ray {
 
@@ -124,6 +125,9 @@ struct Scene {
     // primitives: they are only ever intersected through their csg object).
     std::vector<CsgObject> csgObjects;
     std::vector<PrimitiveInstance> csgOperands;
+    // Which scene this is, and what the edits that made it from earlier ones changed
+    // (scene_changes.h): a renderer that packed an earlier one re-packs that alone.
+    SceneLineage lineage;
 };
 
 // Bad input: the message is complete ("scene.xml:12: error: ..."), ready to print.

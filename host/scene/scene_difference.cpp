@@ -91,7 +91,49 @@ bool sameAll(const std::vector<T>& a, const std::vector<T>& b, Same same) {
     return true;
 }
 
+// `scene` with the images its materials use and the meshes its instances use alone, each
+// numbered in the order it is first used.
+Scene usedResourcesOnly(const Scene& scene) {
+    Scene used = scene;
+    used.images.clear();
+    used.imageFiles.clear();
+    std::vector<int> imageIndex(scene.images.size(), -1);
+    auto renumberImage = [&](int& image) {
+        if (image < 0 || size_t(image) >= scene.images.size()) return;
+        int& index = imageIndex[size_t(image)];
+        if (index < 0) {
+            index = int(used.images.size());
+            used.images.push_back(scene.images[size_t(image)]);
+        }
+        image = index;
+    };
+    for (Material& m : used.materials) {
+        renumberImage(m.texture.image);
+        renumberImage(m.bumpMap.image);
+    }
+    used.meshes.clear();
+    used.meshFiles.clear();
+    std::vector<int> meshIndex(scene.meshes.size(), -1);
+    for (auto* list : {&used.primitives, &used.csgOperands})
+        for (PrimitiveInstance& instance : *list) {
+            if (instance.mesh < 0 || size_t(instance.mesh) >= scene.meshes.size()) continue;
+            int& index = meshIndex[size_t(instance.mesh)];
+            if (index < 0) {
+                index = int(used.meshes.size());
+                used.meshes.push_back(scene.meshes[size_t(instance.mesh)]);
+            }
+            instance.mesh = index;
+        }
+    return used;
+}
+
 }  // namespace
+
+SceneDifference compareRendered(const Scene& a, const Scene& b) {
+    SceneDifference d = compareScenes(usedResourcesOnly(a), usedResourcesOnly(b));
+    d.camera = false;
+    return d;
+}
 
 SceneDifference compareScenes(const Scene& a, const Scene& b) {
     SceneDifference d;

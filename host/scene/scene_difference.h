@@ -1,30 +1,24 @@
-// Which parts of two flattened scenes differ: what a renderer that keeps a packed scene from
-// frame to frame must pack and upload again after an edit (a material's color, a light, an
-// object moved), and what it may keep (the BVH, when no primitive moved).
+// Which parts of two flattened scenes differ, found by comparing them: what a renderer that
+// keeps a packed scene from frame to frame must pack and upload again when it has no change
+// set for the new scene (scene_changes.h): a file reloaded from disk, a scene it has not
+// seen descend from the one it packed.
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/scene_changes.h"
 
 namespace ray {
 
-struct SceneDifference {
-    // The primitives' shapes, transforms, object boxes, motions, meshes and csg objects
-    // (with their operands): what the BVH is built from.
-    bool geometry = false;
-    // Of a geometry difference: only the primitives' (and csg operands') transforms and
-    // motions differ, not their number, shapes, meshes or csg programs. A BVH of the same
-    // shape then still holds every primitive once its boxes are refitted.
-    bool transformsOnly = false;
-    bool primitiveMaterials = false;  // which material a primitive uses (geometry unchanged)
-    bool materials = false;           // the material table
-    bool lights = false;
-    bool images = false;              // the textures' pixels
-    bool globals = false, camera = false;
+using SceneDifference = SceneChanges;
 
-    bool any() const { return geometry || primitiveMaterials || materials || lights || images || globals || camera; }
-};
-
-// Compares every field that a render reads (not the source file names or lines).
+// Compares every field that a render reads (not the source file names or lines, nor the
+// lineage).
 SceneDifference compareScenes(const Scene& a, const Scene& b);
+
+// What of two scenes renders differently: compareScenes over the images and meshes they use
+// alone, each numbered in the order first used. (An editor's scene keeps every image and
+// mesh it read, as an image a deleted object used; the same scene loaded from its saved
+// file holds those its objects name.) The camera is not compared: renders take their own.
+SceneDifference compareRendered(const Scene& a, const Scene& b);
 
 }  // namespace ray

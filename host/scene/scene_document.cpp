@@ -84,7 +84,8 @@ void composeBlock(Block& block) {
 SceneDocument::SceneDocument(const SceneDocument& other)
     : file(other.file), globals(other.globals), camera(other.camera), lights(other.lights), trees(other.trees),
       treeOrder(other.treeOrder), scenefileLine(other.scenefileLine), primitiveElements(other.primitiveElements),
-      nextObjectId(other.nextObjectId), nextBlockId(other.nextBlockId), source(other.source),
+      nextObjectId(other.nextObjectId), nextBlockId(other.nextBlockId), nextNodeId(other.nextNodeId),
+      lightIds(other.lightIds), source(other.source),
       lightSources(other.lightSources), typedNumbers(other.typedNumbers) {
     resolveMasters();  // the copied references point into `other`
 }
@@ -121,9 +122,37 @@ NamedTree& SceneDocument::rootToSet() {
     auto [it, added] = trees.try_emplace("root");
     if (added) {
         it->second.name = "root";
+        it->second.id = nextNodeId++;
         treeOrder.push_back("root");
     }
     return it->second;
+}
+
+namespace {
+
+void assignIds(TreeNode& node, int& next) {
+    for (Block& block : node.blocks)
+        for (SceneItem& item : block.items) {
+            if (auto* master = std::get_if<MasterReference>(&item)) {
+                if (master->id < 0) master->id = next++;
+            } else if (auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
+                assignIds(**subtree, next);
+            } else if (auto* csg = std::get_if<Box<CsgNode>>(&item)) {
+                if ((*csg)->id < 0) (*csg)->id = next++;
+                for (TreeNode& operand : (*csg)->operands) assignIds(operand, next);
+            }
+        }
+}
+
+}  // namespace
+
+void assignNodeIds(SceneDocument& document) {
+    for (NamedTree* tree : treesInOrder(document)) {
+        if (tree->id < 0) tree->id = document.nextNodeId++;
+        assignIds(tree->tree, document.nextNodeId);
+    }
+    while (document.lightIds.size() < document.lights.size()) document.lightIds.push_back(document.nextNodeId++);
+    document.lightIds.resize(document.lights.size());
 }
 
 // ---------------------------------------------------------------------------------------
@@ -271,8 +300,10 @@ void setTypedNumber(SceneDocument& document, const std::string& key, const std::
 
 size_t addLight(SceneDocument& document, const Light& light) {
     document.lightSources.resize(document.lights.size(), kNoSource);  // those added in code have none
+    assignNodeIds(document);
     document.lights.push_back(light);
     document.lightSources.push_back(kNoSource);
+    document.lightIds.push_back(document.nextNodeId++);
     return document.lights.size() - 1;
 }
 
@@ -283,6 +314,7 @@ void removeLight(SceneDocument& document, size_t index) {
     document.lights.erase(document.lights.begin() + std::ptrdiff_t(index));
     if (index < document.lightSources.size())
         document.lightSources.erase(document.lightSources.begin() + std::ptrdiff_t(index));
+    if (index < document.lightIds.size()) document.lightIds.erase(document.lightIds.begin() + std::ptrdiff_t(index));
 }
 
 // ---------------------------------------------------------------------------------------

@@ -12,7 +12,9 @@
 // in its document for the document's life (SceneDocument::nextObjectId hands them out;
 // a removed object's id is never reused), and so has every <transblock> (Block::id). Each
 // flattened PrimitiveInstance names the primitive element it came from
-// (PrimitiveInstance::sourceObject).
+// (PrimitiveInstance::sourceObject). The editor's other nodes have ids as stable, from
+// SceneDocument::nextNodeId: every top-level tree, master placement, csg object and light
+// (assignNodeIds gives them to a document that lacks them).
 //
 // Masters. An object inside a master is one element however many times the master is
 // placed: editing its material or its transform edits the master, so every instance
@@ -142,6 +144,7 @@ struct MasterReference {
     int line = 0;
     NamedTree* target = nullptr;  // set by the count pass (and after a document is copied)
     SourceId source = kNoSource;
+    int id = -1;  // stable (see above)
 };
 
 using SceneItem = std::variant<PrimitiveNode, Box<TreeNode>, MasterReference, Box<CsgNode>>;
@@ -178,12 +181,14 @@ struct CsgNode {
     int line = 0;
     SourceId source = kNoSource;
     std::vector<TreeNode> operands;
+    int id = -1;  // stable (see above)
 };
 
 // A top-level <object type="tree" name="...">.
 struct NamedTree {
     enum class State { Uncounted, Counting, Counted };
     std::string name;
+    int id = -1;  // stable (see above): a rename keeps it
     int line = 0;
     TreeNode tree;
     // Set by the count pass.
@@ -202,6 +207,10 @@ struct SceneDocument {
     int scenefileLine = 0;
     size_t primitiveElements = 0;  // <object type="primitive"> elements read
     int nextObjectId = 0, nextBlockId = 0;
+    // The ids of trees, placements, csg objects and lights (lightIds, in the order of
+    // `lights`; addLight and removeLight keep the two in step).
+    int nextNodeId = 0;
+    std::vector<int> lightIds;
 
     // The file's text (null for a document made in code) and, in the order of `lights`,
     // the <lightdata> each light was read from (lights past its end were added in code;
@@ -245,6 +254,10 @@ struct DocumentPlace {
     std::string path;                    // "root/transblock[1]/object[0]" ("gear/..." in a master)
 };
 
+// Gives every tree, master placement, csg object and light that has no id one (loading
+// does, so that the editor can name them).
+void assignNodeIds(SceneDocument& document);
+
 // The top-level trees in the file's order, then those made in code.
 std::vector<NamedTree*> treesInOrder(SceneDocument& document);
 
@@ -269,8 +282,8 @@ std::string numberKey(const std::string& owner, const std::string& field, size_t
 // `value`, bit for bit; the shortest text that reads back as `value` otherwise.
 std::string typedNumberText(const SceneDocument& document, const std::string& key, double value);
 
-// A light added after the others (one made in code: a save writes it afresh); returns its
-// index. removeLight takes the light and the element it was read from (a save removes
+// A light added after the others (one made in code: a save writes it afresh), with an id of
+// its own (lightIds); returns its index. removeLight takes the light and the element it was read from (a save removes
 // that element): lights are removed through it, never from SceneDocument::lights alone.
 // Throws InputError for an index out of range.
 size_t addLight(SceneDocument& document, const Light& light);

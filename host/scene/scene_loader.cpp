@@ -128,6 +128,7 @@ SceneDocument documentWithText(std::string bytes, XmlTree tree, const fs::path& 
     auto source = std::make_shared<const SourceText>(std::move(bytes), std::move(tree));
     SceneDocument document = documentFromRoot(source->tree().root(), file, options, diagnostics);
     document.source = std::move(source);
+    assignNodeIds(document);  // the editor's names for trees, placements, csg objects and lights
     return document;
 }
 
@@ -197,6 +198,7 @@ namespace loader {
 Scene flattenWithDiagnostics(SceneDocument& document, Resources& resources, const Diagnostics& diagnostics,
                              const LoadOptions& options) {
     Scene scene;
+    scene.lineage.revision = SceneLineage::fresh();  // a scene of its own until an edit says otherwise
     scene.sourceFile = document.file;
     scene.globals = document.globals;
     scene.camera = document.camera;

@@ -30,7 +30,7 @@ std::string lowercase(std::string text) {
     return text;
 }
 
-std::string extensionList(std::initializer_list<std::string_view> extensions) {
+std::string extensionList(std::span<const std::string_view> extensions) {
     std::string list;
     for (std::string_view extension : extensions) list += (list.empty() ? "" : " or ") + std::string(extension);
     return list;
@@ -46,8 +46,8 @@ fs::path realFolder(const fs::path& folder) {
 }  // namespace
 
 fs::path fileInFolder(const fs::path& folder, std::string_view name, std::string_view what,
-                      std::initializer_list<std::string_view> extensions) {
-    if (name.empty()) refuse(what, name, "is empty; give a file name such as other" + std::string(*extensions.begin()));
+                      std::span<const std::string_view> extensions) {
+    if (name.empty()) refuse(what, name, "is empty; give a file name such as other" + std::string(extensions.front()));
     if (hasControlCharacter(name)) refuse(what, name, "holds a control character (a NUL byte, a newline); give a plain file name");
     if (name.size() > kMaxPathBytes) refuse(what, name, "is longer than a path can be (" + std::to_string(name.size()) + " bytes)");
     const fs::path given(name), home = realFolder(folder);
@@ -69,6 +69,25 @@ fs::path fileInFolder(const fs::path& folder, std::string_view name, std::string
     const std::string extension = lowercase(file.extension().string());
     if (std::find(extensions.begin(), extensions.end(), extension) == extensions.end())
         refuse(what, name, "does not end in " + extensionList(extensions));
+    return file;
+}
+
+fs::path fileToRead(const fs::path& folder, std::string_view name, std::string_view what,
+                    std::span<const std::string_view> extensions) {
+    const fs::path file = fileInFolder(folder, name, what, extensions);
+    std::error_code ec;
+    const fs::file_status status = fs::symlink_status(file, ec);
+    if (ec || status.type() == fs::file_type::not_found)
+        refuse(what, name, "does not exist in the scene's folder; put the file beside the scene");
+    if (fs::is_symlink(status)) {
+        const fs::path target = fs::canonical(file, ec);
+        if (ec) refuse(what, name, "is a link to nothing");
+        if (target.parent_path() != file.parent_path())
+            refuse(what, name, "is a link leading out of the scene's folder; the viewer reads files beside the scene only");
+        if (!fs::is_regular_file(target, ec)) refuse(what, name, "is not a file (a folder, a device or a pipe)");
+        return target;
+    }
+    if (!fs::is_regular_file(status)) refuse(what, name, "is not a file (a folder, a device or a pipe)");
     return file;
 }
 

@@ -1,4 +1,5 @@
-// The files a viewer request may name: files directly in the scene's folder, by name.
+// The files a viewer request may name: files directly in the scene's folder, by name: a
+// scene saved as another, a texture or a mesh an edit reads.
 //
 // The page is trusted to ask, not to choose where ray writes: a name from a request ("save
 // as other.xml") is checked here before it becomes a path. It must be a plain file name in
@@ -12,6 +13,7 @@
 
 #include <filesystem>
 #include <initializer_list>
+#include <span>
 #include <stdexcept>
 #include <string_view>
 
@@ -31,7 +33,17 @@ struct FileExists : std::runtime_error {
 // `extensions` (".xml"). `what` names the operation in messages ("save as"). Throws
 // BadFileName.
 std::filesystem::path fileInFolder(const std::filesystem::path& folder, std::string_view name, std::string_view what,
-                                   std::initializer_list<std::string_view> extensions);
+                                   std::span<const std::string_view> extensions);
+inline std::filesystem::path fileInFolder(const std::filesystem::path& folder, std::string_view name,
+                                          std::string_view what, std::initializer_list<std::string_view> extensions) {
+    return fileInFolder(folder, name, what, std::span<const std::string_view>(extensions.begin(), extensions.size()));
+}
+
+// A file an edit reads (a texture, an .obj mesh): `name` as fileInFolder takes it, which
+// must be a regular file there, or a link to one in the same folder (a link leading out of
+// it is refused: the page names files beside the scene, nothing else). Throws BadFileName.
+std::filesystem::path fileToRead(const std::filesystem::path& folder, std::string_view name, std::string_view what,
+                                 std::span<const std::string_view> extensions);
 
 // Checks that `file` (from fileInFolder) may be written: not a link, not a folder or a
 // device, and, unless `replace`, not there at all. Throws BadFileName or FileExists.

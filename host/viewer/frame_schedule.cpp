@@ -115,9 +115,9 @@ void Session::renderLoop() {
             changed_.notify_all();
         }
         auto start = Clock::now();
-        uint64_t rays = 0;
+        RenderStats stats;
         try {
-            rays = source_->renderFrame(scene, view.camera, view.settings,
+            stats = source_->renderFrame(scene, view.camera, view.settings,
                                         [&](const FrameTile& tile) {
                                             std::lock_guard lock(mutex_);
                                             tiles_.push_back(tile);
@@ -146,8 +146,12 @@ void Session::renderLoop() {
             errorIsFrames_ = false;
         }
         frameDone_ = true;
+        const uint64_t rays = stats.totalRays();
         doneJson_ = {{"frame", frame_}, {"seconds", seconds}, {"rays", rays},
-                     {"mrays", seconds > 0 ? double(rays) / seconds / 1e6 : 0.0}, {"device", source_->deviceName()}};
+                     {"mrays", seconds > 0 ? double(rays) / seconds / 1e6 : 0.0}, {"device", source_->deviceName()},
+                     {"scene_update", {{"packing", stats.sceneUpdate.packing},
+                                       {"bvh", stats.sceneUpdate.bvh},
+                                       {"tables", stats.sceneUpdate.tables}}}};
         doneJson_.update(frameKindJson(kind));
         changed_.notify_all();
     }

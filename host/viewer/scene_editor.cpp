@@ -1,11 +1,10 @@
 #include "viewer/scene_editor.h"
 
-#include <cmath>
-#include <variant>
-
+#include "core/message_text.h"
+#include "edit/field_table.h"
+#include "edit/node_views.h"
 #include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
-#include "scene/parameter_rules.h"
 #include "viewer/folder_files.h"
 
 namespace ray {
@@ -13,167 +12,62 @@ namespace ray {
 namespace {
 
 using nlohmann::json;
+using edit::EditSession;
+using edit::FieldOwner;
+using edit::NodeId;
+using edit::NodeKind;
 
-// Successive edits of one thing within this long are one step of the history.
-constexpr auto kMergeEdits = std::chrono::milliseconds(1500);
-constexpr size_t kHistory = 200;
-constexpr size_t kMaxTransforms = 16;
+// A file an edit names is one beside the scene (viewer/folder_files.h): no other folder,
+// no link out of it.
+edit::FileResolver confinedTo(const std::filesystem::path& sceneFile) {
+    const std::filesystem::path folder = std::filesystem::absolute(sceneFile).parent_path();
+    return [folder](const std::string& name, edit::FileUse use) {
+        static const std::string_view kObj[] = {".obj"};
+        const std::span<const std::string_view> extensions =
+            use == edit::FileUse::Mesh ? std::span<const std::string_view>(kObj)
+                                       : std::span<const std::string_view>(edit::findField(FieldOwner::Object, "texture")->extensions);
+        return fileToRead(folder, name, use == edit::FileUse::Mesh ? "mesh" : "texture", extensions);
+    };
+}
+
+edit::SessionOptions sessionOptions(const std::filesystem::path& file, const LoadOptions& options) {
+    return {options, true, confinedTo(file)};
+}
 
 json vecJson(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
 
-double numberFrom(const json& j, const std::string& name) {
-    if (!j.is_number()) throw EditError(name + " must be a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) throw EditError(name + " must be a finite number");
-    return v;
-}
+// The page of today's light fields: the table's, "attenuation" for the file's "function".
+std::string tableName(const std::string& legacy) { return legacy == "attenuation" ? "function" : legacy; }
 
-Vec3 vecFrom(const json& j, const std::string& name) {
-    if (!j.is_array() || j.size() != 3) throw EditError(name + " must be [x, y, z]");
-    return {numberFrom(j[0], name), numberFrom(j[1], name), numberFrom(j[2], name)};
-}
-
-void check(const std::optional<RuleBroken>& broken) {
-    if (broken) throw EditError(broken->sentence());
-}
-
-Vec3 colorFrom(const json& j, const std::string& name) {
-    Vec3 c = vecFrom(j, name);
-    check(brokenRule(name, c, rules::kColorChannel));
-    return c;
-}
-
-const char* kindName(TransformKind kind) {
-    switch (kind) {
-        case TransformKind::Translate: return "translate";
-        case TransformKind::Rotate: return "rotate";
-        case TransformKind::Scale: return "scale";
-        case TransformKind::Matrix: return "matrix";
-    }
-    return "?";
-}
-
-size_t valueCount(TransformKind kind) {
-    return kind == TransformKind::Matrix ? 12 : kind == TransformKind::Rotate ? 4 : 3;
-}
-
-json materialJson(const Material& m) {
-    return {{"diffuse", vecJson(m.diffuse)},         {"ambient", vecJson(m.ambient)},
-            {"specular", vecJson(m.specular)},       {"reflective", vecJson(m.reflective)},
-            {"transparent", vecJson(m.transparent)}, {"emissive", vecJson(m.emissive)},
-            {"shininess", m.shininess},              {"ior", m.ior},
-            {"blend", m.blend}};
-}
-
-void editMaterial(Material& m, const json& j) {
-    if (!j.is_object() || j.empty()) throw EditError("material must be an object of fields to set");
-    for (const auto& [key, value] : j.items()) {
-        if (key == "diffuse") m.diffuse = colorFrom(value, key);
-        else if (key == "ambient") m.ambient = colorFrom(value, key);
-        else if (key == "specular") m.specular = colorFrom(value, key);
-        else if (key == "reflective") m.reflective = colorFrom(value, key);
-        else if (key == "transparent") m.transparent = colorFrom(value, key);
-        else if (key == "emissive") m.emissive = colorFrom(value, key);
-        else if (key == "shininess") check(brokenRule(key, m.shininess = numberFrom(value, key), rules::kShininess));
-        else if (key == "ior") check(brokenRule(key, m.ior = numberFrom(value, key), rules::kIor));
-        else if (key == "blend") check(brokenRule(key, m.blend = numberFrom(value, key), rules::kBlend));
-        else throw EditError("a material has no field '" + key + "' (diffuse, ambient, specular, reflective, "
-                             "transparent, emissive, shininess, ior, blend)");
-    }
-}
-
-std::vector<TransformOp> transformsFrom(const json& j) {
-    if (!j.is_array()) throw EditError("transform must be a list of {\"kind\", \"v\"}");
-    if (j.size() > kMaxTransforms) throw EditError("a transblock may hold at most 16 transforms here");
-    std::vector<TransformOp> ops;
-    for (const json& item : j) {
-        if (!item.is_object() || !item.contains("kind") || !item["kind"].is_string() || !item.contains("v"))
-            throw EditError("each transform must be {\"kind\": translate|rotate|scale|matrix, \"v\": [...]}");
-        const std::string kind = item["kind"];
-        TransformOp op;
-        if (kind == "translate") op.kind = TransformKind::Translate;
-        else if (kind == "rotate") op.kind = TransformKind::Rotate;
-        else if (kind == "scale") op.kind = TransformKind::Scale;
-        else if (kind == "matrix") op.kind = TransformKind::Matrix;
-        else throw EditError("a transform's kind is translate, rotate, scale or matrix, not '" + kind + "'");
-        const json& v = item["v"];
-        const size_t n = valueCount(op.kind);
-        if (!v.is_array() || v.size() != n)
-            throw EditError(kind + " takes " + std::to_string(n) + " numbers" +
-                            (op.kind == TransformKind::Rotate ? " (the axis x, y, z and the angle in degrees)" : ""));
-        for (size_t i = 0; i < n; ++i) op.v[i] = numberFrom(v[i], kind);
-        if (auto why = op.whySingular()) throw EditError(kind + ": " + *why + "; it must be invertible");
-        ops.push_back(op);
-    }
-    return ops;
-}
-
-json lightJson(const Light& l, size_t index) {
-    static const char* const kTypes[] = {"point", "directional", "spot", "area"};
-    return {{"index", index},
-            {"type", kTypes[int(l.type)]},
-            {"color", vecJson(l.color)},
-            {"position", vecJson(l.position)},
-            {"direction", vecJson(l.direction)},
-            {"attenuation", vecJson(l.attenuation)},
-            {"angle", l.angleDegrees},
-            {"penumbra", l.penumbraDegrees},
-            {"width", l.width},
-            {"height", l.height}};
-}
-
-void editLight(Light& l, const json& j) {
-    for (const auto& [key, value] : j.items()) {
-        if (key == "light") continue;
-        if (key == "color") l.color = colorFrom(value, key);
-        else if (key == "position") l.position = vecFrom(value, key);
-        else if (key == "direction") {
-            l.direction = vecFrom(value, key);
-            if (length(l.direction) == 0) throw EditError("a light's direction must not be (0, 0, 0)");
-        } else if (key == "attenuation") check(brokenRule(key, l.attenuation = vecFrom(value, key), rules::kAttenuation));
-        else if (key == "angle") check(brokenRule(key, l.angleDegrees = numberFrom(value, key), rules::kSpotAngle));
-        else if (key == "penumbra") check(brokenRule(key, l.penumbraDegrees = numberFrom(value, key), rules::kPenumbra));
-        else if (key == "width") check(brokenRule(key, l.width = numberFrom(value, key), rules::kAreaSide));
-        else if (key == "height") check(brokenRule(key, l.height = numberFrom(value, key), rules::kAreaSide));
-        else throw EditError("a light has no field '" + key + "' that can be edited here (color, position, direction, "
-                             "attenuation, angle, penumbra, width, height)");
-    }
-    if (l.attenuation == Vec3{0, 0, 0}) throw EditError("attenuation (0, 0, 0) divides by zero; make c1, c2 or c3 positive");
-}
-
-int intFrom(const json& j, const std::string& name) {
-    if (!j.is_number_integer()) throw EditError(name + " must be a whole number");
-    return j.get<int>();
+int wholeNumber(const json& value, const char* name) {
+    if (!value.is_number_integer()) throw EditError(std::string(name) + " must be a whole number", EditError::Kind::Type, name);
+    const int64_t n = value.get<int64_t>();
+    if (n < 0 || n > INT32_MAX)
+        throw EditError(std::string("there is no ") + name + " " + quotedForMessage(value.dump(), 30), EditError::Kind::Value, name);
+    return int(n);
 }
 
 }  // namespace
 
 SceneEditor::SceneEditor(const std::filesystem::path& file, const LoadOptions& options)
-    : file_(file), options_(options) {
-    document_ = loadSceneDocument(file_, options_);
-    scene_ = flatten(document_);
-}
+    : file_(file), options_(options), session_(loadSceneDocument(file, options), sessionOptions(file, options)) {}
 
 SceneEditor::SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options)
-    : file_(file), options_(options) {
-    document_ = loadSceneDocumentFromText(text, file_, options_);
-    scene_ = flatten(document_);
-    modified_ = true;  // the file is written by the first save
+    : file_(file), options_(options),
+      session_(loadSceneDocumentFromText(text, file, options), sessionOptions(file, options)) {
+    session_.setModified();  // the file is written by the first save
 }
 
-std::shared_ptr<const Scene> SceneEditor::flatten(SceneDocument& document) {
-    return std::make_shared<const Scene>(flattenDocument(document, resources_, options_));
-}
-
-json SceneEditor::pick(const Camera& camera, const RenderSettings& settings, int x, int y) const {
+json SceneEditor::pick(const Camera& camera, const RenderSettings& settings, int x, int y) {
     if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
         throw EditError("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
                         std::to_string(settings.width) + "x" + std::to_string(settings.height) + " image");
-    const reference::SceneIntersector intersector(*scene_, reference::SceneSearch::Bvh, settings.courseMeshes);
-    const std::optional<PickedSurface> hit = pickPixel(*scene_, intersector, camera, settings, x, y);
-    if (!hit) return {{"object", nullptr}, {"pixel", {x, y}}};
-    const int id = scene_->primitives[size_t(hit->primitive)].sourceObject;
-    json out = id >= 0 ? objectJson(id) : json{{"object", nullptr}};
+    const std::shared_ptr<const Scene> scene = session_.scene();
+    const reference::SceneIntersector intersector(*scene, reference::SceneSearch::Bvh, settings.courseMeshes);
+    const std::optional<PickedSurface> hit = pickPixel(*scene, intersector, camera, settings, x, y);
+    if (!hit) return {{"object", nullptr}, {"node", nullptr}, {"pixel", {x, y}}};
+    const int id = scene->primitives[size_t(hit->primitive)].sourceObject;
+    json out = id >= 0 ? objectJson(id) : json{{"object", nullptr}, {"node", nullptr}};
     out["instance"] = hit->primitive;
     out["point"] = vecJson(hit->point);
     out["normal"] = vecJson(hit->normal);
@@ -182,122 +76,129 @@ json SceneEditor::pick(const Camera& camera, const RenderSettings& settings, int
     return out;
 }
 
-json SceneEditor::objectJson(int id) const {
-    std::optional<DocumentPlace> place = findObject(document_, id);
-    if (!place) throw EditError("there is no object " + std::to_string(id));
-    const PrimitiveNode& node = std::get<PrimitiveNode>(place->block->items[place->item]);
-    json transforms = json::array();
-    for (const TransformOp& op : place->block->transforms)
-        transforms.push_back({{"kind", kindName(op.kind)},
-                              {"v", std::vector<double>(op.v.begin(), op.v.begin() + long(valueCount(op.kind)))}});
-    size_t objects = 0, instances = 0;
-    for (const SceneItem& item : place->block->items) objects += std::holds_alternative<PrimitiveNode>(item) ? 1 : 0;
-    for (const PrimitiveInstance& p : scene_->primitives) instances += p.sourceObject == id ? 1 : 0;
-    return {{"object", id},
-            {"type", primitiveTypeName(node.type)},
-            {"path", place->path},
-            {"line", node.line},
-            {"material", materialJson(node.material)},
-            {"transform", transforms},
-            {"block_items", place->block->items.size()},
-            {"block_objects", objects},
-            {"instances", instances}};
+json SceneEditor::outlineJson() {
+    return {{"nodes", edit::outlineJson(session_.outline())}};
 }
 
-json SceneEditor::lightsJson() const {
+json SceneEditor::nodeJson(const std::string& id) {
+    const std::optional<NodeId> node = NodeId::parse(id);
+    if (!node)
+        throw EditError("id '" + quotedForMessage(id, 60) + "' names no node (camera, globals, light-N, tree-N, block-N, "
+                        "object-N, placement-N, csg-N)",
+                        EditError::Kind::Value, "id");
+    return edit::nodeJson(session_.describe(*node));
+}
+
+json SceneEditor::operate(const edit::TypedJson& request, const Camera& view) {
+    if (request.value.is_object() && request.value.value("op", json()) == "revert") {
+        const std::string action = request.value.value("action", json()).is_string() ? request.value["action"].get<std::string>() : "";
+        const bool done = session_.revert(action);
+        return {{"done", done}, {"changed", {{"tables", json::array()}, {"nodes", json::array()}, {"outline", done}}},
+                {"added", json::array()}, {"removed", json::array()}};
+    }
+    const edit::JsonOperation operation = edit::operationFromJson(request, &view);
+    return edit::outcomeJson(session_.apply(operation.operation, operation.action));
+}
+
+json SceneEditor::stepJson(const std::optional<edit::Outcome>& outcome) {
+    json out = outcome ? edit::outcomeJson(*outcome) : edit::outcomeJson({});
+    out["done"] = outcome.has_value();
+    return out;
+}
+
+json SceneEditor::undo() { return stepJson(session_.undo()); }
+json SceneEditor::redo() { return stepJson(session_.redo()); }
+
+json SceneEditor::objectJson(int id) {
+    const json node = nodeJson(NodeId{NodeKind::Object, id}.text());
+    json material = json::object(), transform = json::array();
+    for (const json& field : node["fields"]) {
+        const edit::EditField* f = edit::findField(FieldOwner::Object, field["name"].get<std::string>());
+        if (f->group == "material") material[field["name"].get<std::string>()] = field["value"];
+        if (f->special == edit::SpecialField::Transforms) transform = field["value"];
+    }
+    return {{"object", id},          {"node", node["node"]},  {"type", node["shape"]},
+            {"path", node["path"]},  {"line", node["line"]},  {"material", material},
+            {"transform", transform}, {"block_objects", 1},   {"instances", node["instances"]},
+            {"own_block", node["own_block"]}};
+}
+
+json SceneEditor::lightsJson() {
     json lights = json::array();
-    for (size_t i = 0; i < document_.lights.size(); ++i) lights.push_back(lightJson(document_.lights[i], i));
+    const SceneDocument& document = session_.document();
+    for (size_t i = 0; i < document.lights.size(); ++i) {
+        const Light& l = document.lights[i];
+        lights.push_back({{"index", i},
+                          {"node", NodeId{NodeKind::Light, document.lightIds[i]}.text()},
+                          {"type", lightTypeName(l.type)},
+                          {"color", vecJson(l.color)},
+                          {"position", vecJson(l.position)},
+                          {"direction", vecJson(l.direction)},
+                          {"attenuation", vecJson(l.attenuation)},
+                          {"angle", l.angleDegrees},
+                          {"penumbra", l.penumbraDegrees},
+                          {"width", l.width},
+                          {"height", l.height}});
+    }
     return lights;
 }
 
-void SceneEditor::edit(const json& request) {
-    if (!request.is_object()) throw EditError("an edit must be a JSON object");
-    SceneDocument edited = document_;
-    std::string key;
-    if (request.contains("object")) {
-        const int id = intFrom(request["object"], "object");
-        std::optional<DocumentPlace> place = findObject(edited, id);
-        if (!place) throw EditError("there is no object " + std::to_string(id));
-        const bool material = request.contains("material"), transform = request.contains("transform");
+// The page of today's edits as operations of the edit model: the same checks, the same
+// meaning (a transform edit moves the object), one step each.
+void SceneEditor::edit(const edit::TypedJson& request) {
+    const json& body = request.value;
+    if (!body.is_object()) throw EditError("an edit must be a JSON object", EditError::Kind::Type);
+    edit::SetFields set;
+    if (body.contains("object")) {
+        set.node = {NodeKind::Object, wholeNumber(body["object"], "object")};
+        const bool material = body.contains("material"), transform = body.contains("transform");
         if (material == transform) throw EditError("an object's edit sets its material or its transform (one of them)");
         if (material) {
-            editMaterial(std::get<PrimitiveNode>(place->block->items[place->item]).material, request["material"]);
-            key = "object " + std::to_string(id) + " material";
+            const json& fields = body["material"];
+            if (!fields.is_object() || fields.empty())
+                throw EditError("material must be an object of fields to set", EditError::Kind::Type, "material");
+            for (const auto& [name, value] : fields.items()) {
+                const edit::EditField* field = edit::findField(FieldOwner::Object, name);
+                if (!field || field->group != "material")
+                    throw EditError("a material has no field '" + quotedForMessage(name, 60) + "'", EditError::Kind::Value,
+                                    quotedForMessage(name, 60), set.node.text());
+                set.fields.push_back(edit::fieldInputFromJson(*field, value, request, "/material/" + name, set.node.text()));
+            }
         } else {
-            place->block->transforms = transformsFrom(request["transform"]);
-            composeBlock(*place->block);
-            key = "object " + std::to_string(id) + " transform";
+            set.fields.push_back(edit::fieldInputFromJson(*edit::findField(FieldOwner::Object, "transform"),
+                                                          body["transform"], request, "/transform", set.node.text()));
         }
-    } else if (request.contains("light")) {
-        const int index = intFrom(request["light"], "light");
-        if (index < 0 || size_t(index) >= edited.lights.size())
+    } else if (body.contains("light")) {
+        const int index = wholeNumber(body["light"], "light");
+        const SceneDocument& document = session_.document();
+        if (size_t(index) >= document.lights.size())
             throw EditError("there is no light " + std::to_string(index) + " (the scene has " +
-                            std::to_string(edited.lights.size()) + ")");
-        editLight(edited.lights[size_t(index)], request);
-        key = "light " + std::to_string(index);
+                            std::to_string(document.lights.size()) + ")", EditError::Kind::Value, "light");
+        set.node = {NodeKind::Light, document.lightIds[size_t(index)]};
+        for (const auto& [name, value] : body.items()) {
+            if (name == "light") continue;
+            const edit::EditField* field = edit::findField(FieldOwner::Light, tableName(name));
+            if (!field || field->special != edit::SpecialField::None)
+                throw EditError("a light has no field '" + quotedForMessage(name, 60) + "' that can be edited here",
+                                EditError::Kind::Value, quotedForMessage(name, 60), set.node.text());
+            set.fields.push_back(edit::fieldInputFromJson(*field, value, request, "/" + name, set.node.text()));
+        }
     } else {
         throw EditError("an edit names an \"object\" (its id) or a \"light\" (its index)");
     }
-    apply(std::move(edited), key);
-}
-
-void SceneEditor::apply(SceneDocument document, const std::string& key) {
-    std::shared_ptr<const Scene> scene;
-    try {
-        scene = flatten(document);
-    } catch (const std::exception& e) {
-        throw EditError(std::string("the edit was not made: ") + e.what());
-    }
-    const auto now = std::chrono::steady_clock::now();
-    const bool merge = !undo_.empty() && key == lastKey_ && now - lastEditAt_ < kMergeEdits;
-    if (!merge) {
-        undo_.push_back({std::move(document_), modified_});
-        if (undo_.size() > kHistory) undo_.erase(undo_.begin());
-    }
-    document_ = std::move(document);
-    scene_ = std::move(scene);
-    redo_.clear();
-    lastKey_ = key;
-    lastEditAt_ = now;
-    modified_ = true;
-    ++version_;
-}
-
-bool SceneEditor::undo() {
-    if (undo_.empty()) return false;
-    State state = std::move(undo_.back());
-    undo_.pop_back();
-    scene_ = flatten(state.document);
-    redo_.push_back({std::move(document_), modified_});
-    document_ = std::move(state.document);
-    modified_ = state.modified;
-    lastKey_.clear();
-    ++version_;
-    return true;
-}
-
-bool SceneEditor::redo() {
-    if (redo_.empty()) return false;
-    State state = std::move(redo_.back());
-    redo_.pop_back();
-    scene_ = flatten(state.document);
-    undo_.push_back({std::move(document_), modified_});
-    document_ = std::move(state.document);
-    modified_ = state.modified;
-    lastKey_.clear();
-    ++version_;
-    return true;
+    session_.apply(set);
 }
 
 SaveRequest saveRequestFrom(const nlohmann::json& request) {
     SaveRequest save;
     if (!request.is_object()) throw EditError("save: the request is a JSON object, {} or {\"as\": \"other.xml\"}");
     if (request.contains("as")) {
-        if (!request["as"].is_string()) throw EditError("save as: the name must be a string");
+        if (!request["as"].is_string()) throw EditError("save as: the name must be a string", EditError::Kind::Type, "as");
         save.as = request["as"].get<std::string>();
     }
     if (request.contains("replace")) {
-        if (!request["replace"].is_boolean()) throw EditError("save: replace is true or false");
+        if (!request["replace"].is_boolean())
+            throw EditError("save: replace is true or false", EditError::Kind::Type, "replace");
         save.replace = request["replace"].get<bool>();
     }
     return save;
@@ -312,32 +213,18 @@ std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bo
         if (!std::filesystem::equivalent(target, own, ec)) checkMayWrite(target, replace, "save as");
     }
     try {
-        saveDocument(document_, resources_, target);
+        saveDocument(session_.document(), session_.resources(), target);
     } catch (const InputError& e) {
         throw EditError(std::string("not saved: ") + e.what());
     }
     std::error_code ec;
-    if (std::filesystem::equivalent(target, own, ec)) {
-        modified_ = false;
-        for (State& s : undo_) s.modified = true;  // each differs from the file now written
-        for (State& s : redo_) s.modified = true;
-    }
-    lastKey_.clear();  // the next edit is a step of its own
+    if (std::filesystem::equivalent(target, own, ec)) session_.saved();
     return target;
 }
 
 void SceneEditor::reload() {
     SceneDocument document = loadSceneDocument(file_, options_);
-    Resources resources;
-    auto scene = std::make_shared<const Scene>(flattenDocument(document, resources, options_));
-    document_ = std::move(document);
-    resources_ = std::move(resources);
-    scene_ = std::move(scene);
-    undo_.clear();
-    redo_.clear();
-    lastKey_.clear();
-    modified_ = false;
-    ++version_;
+    session_.reload(std::move(document), Resources{});
 }
 
 }  // namespace ray

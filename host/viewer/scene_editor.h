@@ -1,25 +1,29 @@
-// What `ray view` edits: the scene document of the file it opened (scene/scene_document.h),
-// its flattened scene for the frames, edits given as JSON by the page, undo and redo, and
-// saving. Kept apart from the HTTP server so that tests drive it directly.
+// What `ray view` edits: the editing service (edit/edit_session.h) over the file it opened,
+// spoken in the page's JSON (docs/modeler-protocol.md): the field table, the outline, a
+// node's fields, operations with their action ids, undo and redo, and saving into the
+// scene's folder. The page, the C++ API and Python edit through the same service, with the
+// same operations and fields. Kept apart from the HTTP server so that tests drive it
+// directly.
 //
-// Every edit is checked whole before anything changes: a bad one (an unknown object, a
-// negative color, a transform that flattens to nothing) throws EditError with a message
-// and leaves the document, its history and the scene as they were. A good one is applied
-// to a copy of the document, which is flattened; only then does it replace the document,
-// the one before going to the undo history. Edits of the same thing in quick succession
-// (a color dragged across the picker) are one step of the history.
+// Every edit is checked whole before anything changes: a refused one throws EditError (a
+// sentence naming the field) and leaves the document, its history and the scene as they
+// were. One user action is one step of the history (the operations carrying its action id:
+// a drag), however quick or slow.
+//
+// POST /edit and GET /object, the page's routes before the edit model, are kept here as
+// translations onto the same operations until the studio page has moved to /op and /node.
 #pragma once
 
-#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
-#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "edit/edit_error.h"
+#include "edit/edit_json.h"
+#include "edit/edit_session.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 #include "scene/scene_document.h"
@@ -27,9 +31,7 @@
 
 namespace ray {
 
-struct EditError : std::invalid_argument {
-    using std::invalid_argument::invalid_argument;
-};
+using EditError = edit::EditError;
 
 // What POST /save asks: {"as": name} (absent: the file the editor opened) and
 // {"replace": true} to replace an existing file.
@@ -49,32 +51,39 @@ public:
     SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options);
 
     // The flattened scene of the document as it is now: a new object after each edit, undo,
-    // redo or reload (the frame source then prepares only what changed).
-    std::shared_ptr<const Scene> scene() const { return scene_; }
+    // redo or reload, whose lineage says what changed (the frame source re-packs that alone).
+    std::shared_ptr<const Scene> scene() const { return session_.scene(); }
     const std::filesystem::path& file() const { return file_; }
 
     // What pixel (x, y) of a settings-sized image from `camera` shows (reference pickPixel):
-    // {"object": id, "instance", "point", "normal", "distance"} and the object's description
-    // (objectJson), or {"object": null} on the background. Throws EditError for a pixel
-    // outside the image.
-    nlohmann::json pick(const Camera& camera, const RenderSettings& settings, int x, int y) const;
-    // An object: {"object": id, "type", "path", "line", "material": {...}, "transform": [ops],
-    // "block_objects": how many objects share its transblock (they move with it),
-    // "instances": how many times it is placed}. Throws EditError for an unknown id.
-    nlohmann::json objectJson(int id) const;
-    // The lights, each {"index", "type", "color", "position", "direction", "attenuation",
-    // "angle", "penumbra", "width", "height"}.
-    nlohmann::json lightsJson() const;
+    // {"node": "object-N", "object": id, "instance", "point", "normal", "distance"} and the
+    // object's description (objectJson), or {"object": null} on the background. Throws
+    // EditError for a pixel outside the image.
+    nlohmann::json pick(const Camera& camera, const RenderSettings& settings, int x, int y);
 
-    // One edit (see the page): {"object": id, "material": {field: value, ...}},
-    // {"object": id, "transform": [{"kind": "translate"|"rotate"|"scale", "v": [...]}, ...]},
-    // or {"light": index, field: value, ...}. Throws EditError.
-    void edit(const nlohmann::json& request);
-    bool canUndo() const { return !undo_.empty(); }
-    bool canRedo() const { return !redo_.empty(); }
-    // False when there is nothing to undo (redo).
-    bool undo();
-    bool redo();
+    // GET /outline: {"nodes": [...]}; GET /node?id=: the node's fields and values.
+    nlohmann::json outlineJson();
+    nlohmann::json nodeJson(const std::string& id);
+    // POST /op: {"changed", "added", "removed"}. `view` is the viewer's camera, for
+    // camera-from-view. "revert" undoes the latest step if it is the action's. Throws EditError.
+    nlohmann::json operate(const edit::TypedJson& request, const Camera& view);
+    // POST /undo, /redo: {"done", "changed", "added", "removed"}.
+    nlohmann::json undo();
+    nlohmann::json redo();
+    bool canUndo() const { return session_.canUndo(); }
+    bool canRedo() const { return session_.canRedo(); }
+
+    // The page of today's routes, kept until it speaks /op and /node:
+    // an object {"object": id, "node", "type", "path", "line", "material": {...},
+    // "transform": [its own transforms], "block_objects": 1, "instances"} (throws EditError
+    // for an unknown id); the lights, each {"index", "node", "type", "color", "position", ...};
+    // an edit {"object": id, "material": {field: value}} or {"object": id, "transform": [...]}
+    // or {"light": index, field: value} (attenuation for the file's function).
+    nlohmann::json objectJson(int id);
+    nlohmann::json lightsJson();
+    void edit(const edit::TypedJson& request);
+    void edit(const nlohmann::json& request) { edit(edit::TypedJson{request, {}}); }
+
     // Writes the document atomically to the file it was opened from, or to `as`, a .xml file
     // in the opened file's folder (viewer/folder_files.h: no other folder, no link), which
     // must not exist unless `replace`. Returns where it wrote. Throws BadFileName,
@@ -84,28 +93,16 @@ public:
     // the edits were made to another version. Throws InputError (the editor is unchanged).
     void reload();
     // How many edits, undos, redos and reloads have changed the scene so far.
-    uint64_t version() const { return version_; }
+    uint64_t version() const { return session_.version(); }
     // Whether the document differs from the file as last loaded or saved.
-    bool modified() const { return modified_; }
+    bool modified() const { return session_.modified(); }
 
 private:
-    struct State {
-        SceneDocument document;
-        bool modified = false;
-    };
-    void apply(SceneDocument document, const std::string& key);
-    std::shared_ptr<const Scene> flatten(SceneDocument& document);
+    nlohmann::json stepJson(const std::optional<edit::Outcome>& outcome);
 
     std::filesystem::path file_;
     LoadOptions options_;
-    mutable SceneDocument document_;  // mutable: findObject walks it by non-const reference
-    Resources resources_;
-    std::shared_ptr<const Scene> scene_;
-    std::vector<State> undo_, redo_;
-    std::string lastKey_;  // what the last edit changed, for merging quick successive edits
-    std::chrono::steady_clock::time_point lastEditAt_;
-    uint64_t version_ = 0;
-    bool modified_ = false;
+    edit::EditSession session_;
 };
 
 }  // namespace ray

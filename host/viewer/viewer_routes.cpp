@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/message_text.h"
+#include "edit/edit_json.h"
 #include "viewer/folder_files.h"
 #include "viewer/request_guard.h"
 #include "viewer/viewer_page.h"
@@ -23,6 +24,13 @@ namespace {
 void badRequest(httplib::Response& response, const std::string& why) {
     response.status = 400;
     response.set_content(json{{"error", why}}.dump(), "application/json");
+}
+
+// An edit refused: 400 with the sentence, the field and the node it is about; 409 for a
+// name in use (docs/modeler-protocol.md).
+void refused(httplib::Response& response, const EditError& error) {
+    response.status = error.kind == EditError::Kind::Exists ? 409 : 400;
+    response.set_content(edit::errorJson(error).dump(), "application/json");
 }
 
 // A whole number from the query: "x must be a whole number" rather than std::stoi's "stoi".
@@ -93,8 +101,8 @@ httplib::Server::HandlerResponse explainError(const httplib::Request&, httplib::
     if (response.status == 413)
         why = "the request's body is over the " + std::to_string(kMaxRequestBody / 1024) + " KiB limit";
     else if (response.status == 404)
-        why = "there is no such route (the viewer serves /, /state, /settings, /events, /view, /pick, /object, "
-              "/explain, /edit, /undo, /redo and /save)";
+        why = "there is no such route (the viewer serves /, /state, /settings, /fields, /outline, /node, /events, "
+              "/view, /pick, /object, /explain, /op, /edit, /undo, /redo and /save)";
     response.set_content(json{{"error", why}}.dump(), "application/json");
     return httplib::Server::HandlerResponse::Handled;
 }
@@ -119,6 +127,19 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     });
     server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {
         response.set_content(settingControlsJson().dump(), "application/json");
+    });
+    server.Get("/fields", [fields = edit::fieldTableJson().dump()](const httplib::Request&, httplib::Response& response) {
+        response.set_content(fields, "application/json");
+    });
+    server.Get("/outline", [&](const httplib::Request&, httplib::Response& response) {
+        response.set_content(session.outline().dump(), "application/json");
+    });
+    server.Get("/node", [&](const httplib::Request& request, httplib::Response& response) {
+        try {
+            response.set_content(session.node(request.get_param_value("id")).dump(), "application/json");
+        } catch (const EditError& e) {
+            refused(response, e);
+        }
     });
     server.Get("/state", [&](const httplib::Request&, httplib::Response& response) {
         response.set_content(session.state().dump(), "application/json");
@@ -150,13 +171,15 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     server.Get("/object", [&](const httplib::Request& request, httplib::Response& response) {
         try {
             response.set_content(session.object(intParameter(request, "id")).dump(), "application/json");
+        } catch (const EditError& e) {
+            refused(response, e);
         } catch (const std::exception& e) {
             badRequest(response, e.what());
         }
     });
     // Editing: only with the access token (a viewer started with --no-token shows the scene
     // and does not change it or its file).
-    for (const char* action : {"edit", "undo", "redo", "save"}) {
+    for (const char* action : {"op", "edit", "undo", "redo", "save"}) {
         server.Post(std::string("/") + action, [&session, action, editable = editable](const httplib::Request& request,
                                                                                      httplib::Response& response) {
             if (!editable) {
@@ -172,6 +195,8 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
             } catch (const FileExists& e) {
                 response.status = 409;
                 response.set_content(json{{"error", e.what()}, {"exists", true}}.dump(), "application/json");
+            } catch (const EditError& e) {
+                refused(response, e);
             } catch (const json::exception& e) {
                 badRequest(response, std::string("the edit is not JSON as expected: ") + e.what());
             } catch (const std::exception& e) {

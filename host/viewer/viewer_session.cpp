@@ -61,11 +61,11 @@ uint64_t Session::request(const std::string& body) {
 }
 
 // Where "save scene" writes, whether there is something to undo or redo, the lights.
-json Session::editorStateLocked() const {
+json Session::editorStateLocked() {
     return {{"file", std::filesystem::absolute(editor_.file()).lexically_normal().string()},
             {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
             {"can_redo", editor_.canRedo()}, {"lights", editor_.lightsJson()},
-            {"editable", !options_.token.empty()}};
+            {"editable", !options_.token.empty()}, {"scene_version", sceneVersion_}};
 }
 
 json Session::pick(int x, int y) {
@@ -78,19 +78,33 @@ json Session::object(int id) {
     return editor_.objectJson(id);
 }
 
+json Session::outline() {
+    std::lock_guard lock(mutex_);
+    json out = editor_.outlineJson();
+    out["scene_version"] = sceneVersion_;
+    return out;
+}
+
+json Session::node(const std::string& id) {
+    std::lock_guard lock(mutex_);
+    return editor_.nodeJson(id);
+}
+
 json Session::edit(const std::string& action, const std::string& body) {
     std::lock_guard lock(mutex_);
-    json request = body.empty() ? json::object() : json::parse(body);
+    const edit::TypedJson request = edit::parseTypedJson(body);
     json out = json::object();
-    if (action == "edit") {
+    if (action == "op") {
+        out = editor_.operate(request, view_.camera);
+    } else if (action == "edit") {
         editor_.edit(request);
-        if (request.contains("object")) out["object"] = editor_.objectJson(request["object"].get<int>());
+        if (request.value.contains("object")) out["object"] = editor_.objectJson(request.value["object"].get<int>());
     } else if (action == "undo") {
-        out["done"] = editor_.undo();
+        out = editor_.undo();
     } else if (action == "redo") {
-        out["done"] = editor_.redo();
+        out = editor_.redo();
     } else if (action == "save") {
-        const SaveRequest save = saveRequestFrom(request);
+        const SaveRequest save = saveRequestFrom(request.value);
         const std::filesystem::path saved = editor_.save(save.as, save.replace);
         // Its own save is not a change on disk to reload (which would clear the history).
         sceneTime_ = lastWrite();
@@ -102,8 +116,9 @@ json Session::edit(const std::string& action, const std::string& body) {
         ++sceneVersion_;
         newRequest();
     }
-    out.update(editorStateLocked());
-    out["scene_version"] = sceneVersion_;
+    const json state = editorStateLocked();
+    out.update(state);  // the page of today reads them here
+    out["editor"] = state;
     return out;
 }
 

@@ -52,8 +52,13 @@ public:
     nlohmann::json pick(int x, int y);
     // GET /object: an object's description (SceneEditor::objectJson).
     nlohmann::json object(int id);
-    // POST /edit, /undo, /redo, /save: the editor's state after it (and the edited object).
-    // A change to the scene re-renders the view, preview first.
+    // GET /outline, GET /node (docs/modeler-protocol.md).
+    nlohmann::json outline();
+    nlohmann::json node(const std::string& id);
+    // POST /op, /edit, /undo, /redo, /save: what it changed and the editor's state after it
+    // ("editor", and at the top level for the page of today), and the edited object for
+    // /edit. A change to the scene re-renders the view, preview first. Throws EditError
+    // (a body that is not JSON too), BadFileName, FileExists.
     nlohmann::json edit(const std::string& action, const std::string& body);
     // GET /explain: pixel (x, y)'s tree of rays, naming the view and scene it was made for,
     // so that the page can tell when a later frame has made it stale.
@@ -78,7 +83,7 @@ private:
     using Clock = std::chrono::steady_clock;
 
     // The editor's part of the state. Called with mutex_ held.
-    nlohmann::json editorStateLocked() const;
+    nlohmann::json editorStateLocked();
     void log(const std::string& message) const;
 
     // frame_schedule.cpp

@@ -108,6 +108,15 @@ struct FrameStats {
     double kernelBuildSeconds = 0;          ///< compiling (or loading the cached) kernel
     double renderSeconds = 0;               ///< rendering the frame
     bool cancelled = false;                 ///< stopped early: unrendered pixels are black
+    /// How the frame got the scene's tables after the latest edits (OpenCL devices).
+    struct SceneUpdate {
+        /// "none": an earlier frame's kept (or no tables: the host renderer); "edit": re-packed
+        /// as the edits said; "compared": re-packed after comparing scenes; "full": packed whole.
+        std::string packing = "none";
+        std::string bvh = "kept";         ///< "kept", "refit" or "rebuilt"
+        std::vector<std::string> tables;  ///< the tables re-packed, which every device uploads again
+    };
+    SceneUpdate sceneUpdate;  ///< what this frame re-packed and re-uploaded
 };
 
 /// What a pixel shows (Renderer::pick): the surface its camera ray meets first.

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "ray/errors.h"
@@ -133,6 +135,71 @@ struct SceneNode {
     std::vector<std::string> masters;  ///< the masters it places (`<object type="master">`), in order
 };
 
+// The one edit model. Every edit, from ray view's page, C++ or Python, is one operation on
+// the scene's document through one editing service, with one table of editable fields
+// (docs/modeler-protocol.md has the model, and its HTTP form). Nodes are named by id
+// strings: "camera", "globals", "light-N", "tree-N", "block-N" (a transblock), "object-N",
+// "placement-N" (a master placed), "csg-N"; ids are stable for the scene's life. Fields are
+// named as the scenefile names them ("diffuse", "shininess", "texture.u").
+
+
+/// A node's id: "object-12", "light-0", "block-3", "camera", ...
+using NodeId = std::string;
+
+/// One step of a transblock, as a scenefile writes it.
+struct TransformStep {
+    /// translate and scale take x, y, z; rotate an axis x, y, z and an angle in degrees;
+    /// matrix the first three rows of a 4×4, row by row (12 numbers).
+    enum class Kind { Translate, Rotate, Scale, Matrix };
+    Kind kind = Kind::Translate;  ///< which step
+    std::vector<double> values;   ///< its numbers, as above
+};
+
+/// A field's value. Which alternative a field takes is its FieldInfo::kind: "number" a
+/// double, "color" and "vector" a Vec3, "choice", "text" and "file" a string ("" for no
+/// file), "matrix" a Transform, "transforms" a list of TransformStep.
+using FieldValue = std::variant<double, Vec3, std::string, Transform, std::vector<TransformStep>>;
+/// Fields and their values, set together (all or none).
+using FieldValues = std::vector<std::pair<std::string, FieldValue>>;
+
+/// One editable field, from the table every editor reads (editableFields()).
+struct FieldInfo {
+    std::string owner;    ///< the kind of node it belongs to: object, light, camera, globals, transblock, tree
+    std::string group;    ///< a heading: material, texture, bump map, transform, light, ...
+    std::string name;     ///< the scenefile's name: "diffuse", "texture.u"
+    std::string keyword;  ///< the name as a Python keyword: "texture_u"
+    std::string kind;     ///< number, color, vector, choice, text, file, transforms, matrix
+    std::string help;     ///< one phrase
+    ///@{
+    /// The range of a number (each of a color's or vector's): -inf, +inf when open.
+    double min = 0, max = 0;
+    bool minIncluded = true, maxIncluded = true;
+    ///@}
+    std::vector<std::string> lights;  ///< a light's field: the light types using it (empty: all)
+    std::vector<std::string> choices; ///< a choice's choices
+};
+
+/// Every editable field, in the order an editor shows them.
+std::vector<FieldInfo> editableFields();
+
+/// What an edit did.
+struct EditResult {
+    /// What the renderer re-packs for it: geometry (a rebuild) or transforms (a refit),
+    /// primitives, materials, lights, textures, globals, camera.
+    std::vector<std::string> changed;
+    std::vector<NodeId> added;    ///< nodes made: the object (then its transblock), the copies, ...
+    std::vector<NodeId> removed;  ///< nodes removed
+};
+
+/// One node of the scene's tree (Scene::outline()).
+struct OutlineEntry {
+    NodeId node;          ///< its id
+    NodeId parent;        ///< its parent's id; "" for the camera, globals, lights and trees
+    int depth = 0;        ///< how deep it is in the tree
+    std::string kind;     ///< camera, globals, light, tree, transblock, object, placement, csg
+    std::string text;     ///< what it is: "sphere", "point light", "master leg"
+};
+
 class Scene;
 
 /// How a scenefile is read.
@@ -248,6 +315,42 @@ public:
     /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
     /// cannot be written.
     void save(const std::filesystem::path& file) const;
+    ///@}
+
+    /// \name The one edit model (docs/modeler-protocol.md)
+    /// The operations ray view's page makes, by node id and field name: each checked whole
+    /// (InputError naming the field, and nothing changes), each saying what it changed.
+    /// The typed functions above are these for their structs.
+    ///@{
+
+    /// Every node, in document order (the camera, the globals, the lights, then the trees).
+    std::vector<OutlineEntry> outline() const;
+    /// Field `field` of `node`. Throws InputError for a node or field that does not exist.
+    FieldValue field(const NodeId& node, const std::string& field) const;
+    /// Sets fields of one node: a material and texture of an object, its "transform" (its
+    /// own transblock's steps) or "world" (where it is: it moves alone, getting a transblock
+    /// of its own if it shares one), a light, the camera, the globals, a transblock's
+    /// "transform", a tree's "name".
+    EditResult set(const NodeId& node, const FieldValues& fields);
+    /// A primitive ("cube", "cylinder", "cone", "sphere", "torus", or "mesh" with `meshFile`,
+    /// an .obj) in a transblock of its own, at the end of the root tree or inside transblock
+    /// `parent`, with `fields` set (its material, "transform", "world"). added: the object,
+    /// then its transblock.
+    EditResult add(const std::string& shape, const FieldValues& fields = {}, const NodeId& parent = "",
+                   const std::filesystem::path& meshFile = {});
+    /// A light of `type` (point, directional, spot, area) with `fields` set.
+    EditResult addLight(const std::string& type, const FieldValues& fields = {});
+    /// Removes objects, lights, transblocks (with what they hold), placements, csg objects.
+    EditResult remove(const std::vector<NodeId>& nodes);
+    /// A copy of each node right after it.
+    EditResult duplicate(const std::vector<NodeId>& nodes);
+    /// Objects of one transblock moved into a new transblock there.
+    EditResult group(const std::vector<NodeId>& nodes);
+    /// Renames a tree (a master) and every placement of it.
+    EditResult rename(const NodeId& tree, const std::string& name);
+    /// Gives a placement of a master a copy of the master of its own: editing it then
+    /// changes that placement alone.
+    EditResult makeUnique(const NodeId& placement);
     ///@}
 
     /// \cond INTERNAL

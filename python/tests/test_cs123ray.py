@@ -253,9 +253,10 @@ def test_materials_lights_and_cameras_follow_the_loaders_rules():
                (scene.add_material, {"blend": 1.5}, "blend must be between 0 and 1, not 1.5"),
                (scene.add_material, {"diffuse": (1, -1, 0)}, "diffuse must be 0 or more in each component"),
                (scene.add_light, {"type": "spot", "angle": 0}, "angle must be more than 0 and at most 180, not 0"),
-               (scene.add_light, {"attenuation": (1, -1, 0)}, "attenuation must be 0 or more in each component"),
+               (scene.add_light, {"attenuation": (1, -1, 0)}, "function must be 0 or more in each component"),
+               (scene.add_light, {"function": (1, -1, 0)}, "function must be 0 or more in each component"),
                (scene.add_light, {"type": "area", "width": 0}, "width must be more than 0, not 0"),
-               (scene.set_camera, {"position": (0, 0, 0), "look": (0, 0, 0)}, "the camera looks nowhere")]
+               (scene.set_camera, {"position": (0, 0, 0), "look": (0, 0, 0)}, "look (0, 0, 0) has no direction")]
     for add, arguments, expected in refused:
         with pytest.raises(ValueError) as raised:
             add(**arguments)

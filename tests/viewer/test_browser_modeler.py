@@ -2,7 +2,8 @@
 the object under the pointer and marks it; its color input set to red turns the view's centre
 red within seconds; a bad value is refused with the server's message and changes nothing;
 undo and redo; "save scene" writes the file it opened (the page names it) and `ray` renders
-that file red there; save as writes another; without the token nothing can be edited.
+that file red there; save as writes another; without the token nothing can be edited. What the
+server holds is read as the page reads it, GET /node (docs/modeler-protocol.md).
 Usage: python3 test_browser_modeler.py RAY_BINARY SCENE (scenes/shadows.xml)
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
 import json
@@ -48,6 +49,13 @@ def set_input(driver, selector, value):
         selector, value)
 
 
+def node_field(viewer, node, name):
+    """Field `name` of `node` as the server holds it (GET /node)."""
+    status, answer = viewer.json("GET", f"/node?id={node}")
+    assert status == 200, answer
+    return next(f["value"] for f in answer["fields"] if f["name"] == name)
+
+
 def field_value(driver, selector):
     return driver.execute_script("return document.querySelector(arguments[0]).value", selector)
 
@@ -79,7 +87,9 @@ try:
     near = [marker[4 * (j * WIDTH + i) + 3] for j in range(CY - 9, CY + 10) for i in range(CX - 9, CX + 10)]
     assert sum(1 for a in near if a > 0) >= 20, "the selected object is not marked"
     assert driver.find_element(By.CSS_SELECTOR, "[data-field=diffuse]").get_attribute("type") == "color"
-    print(f"click: selected {selected['type']} {selected['path']} (object {selected['object']}), marked")
+    print(f"click: selected {selected['type']} {selected['path']} ({selected['node']}), marked")
+    node = selected["node"]
+    original = {name: node_field(viewer, node, name) for name in ["shininess", "ior"]}
 
     # Its color set to red: the view's centre turns red within seconds.
     version = driver.execute_script("return window.rayViewer.sceneVersion")
@@ -105,9 +115,8 @@ try:
         "return document.querySelector('[data-field=shininess]').closest('.field').querySelector('.field-error').textContent")
     assert "shininess" in beside, beside
     assert field_value(driver, "[data-field=shininess]") == shininess, field_value(driver, "[data-field=shininess]")
-    status, current = viewer.json("GET", f"/object?id={selected['object']}")
-    assert status == 200 and current["material"]["shininess"] == selected["material"]["shininess"], current
-    assert current["material"]["diffuse"] == [1, 0, 0], current
+    assert node_field(viewer, node, "shininess") == original["shininess"]
+    assert node_field(viewer, node, "diffuse") == [1, 0, 0]
     print(f"bad value: HTTP 400 '{error['error']}', shown beside the field, which went back to {shininess}; "
           "the object unchanged")
 
@@ -115,11 +124,10 @@ try:
     edits = driver.execute_script("return window.rayViewer.edits")
     set_input(driver, "[data-field=ior]", "1.25")
     wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=30)
-    status, current = viewer.json("GET", f"/object?id={selected['object']}")
-    assert current["material"]["ior"] == 1.25, current["material"]
+    assert node_field(viewer, node, "ior") == 1.25
     driver.find_element(By.ID, "undo").click()
     wait_for(driver, "document.querySelector('[data-field=ior]') && "
-                     f"Number(document.querySelector('[data-field=ior]').value) === {selected['material']['ior']}", timeout=30)
+                     f"Number(document.querySelector('[data-field=ior]').value) === {original['ior']}", timeout=30)
     print("after the refusal: ior 1.25 accepted (nothing blocked), then undone")
 
     # Undo brings the color back, redo makes it red again.
@@ -160,7 +168,8 @@ try:
 
     # A light and a transform edited in the panel change the view; undone, the view is back.
     saved_centre = pixel(driver, CX, CY)
-    driver.find_element(By.CSS_SELECTOR, "#outline [data-node=light-0]").click()
+    light = driver.execute_script("return document.querySelector('#outline [data-node^=light-]').dataset.node")
+    driver.find_element(By.CSS_SELECTOR, f"#outline [data-node={light}]").click()
     wait_for(driver, "document.querySelector('#fields [data-field=color]')")
     set_input(driver, "#fields [data-field=color]", "#000000")  # the only light off: ambient alone
     deadline = time.time() + 20
@@ -170,18 +179,18 @@ try:
     driver.find_element(By.ID, "undo").click()
     wait_for(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
                  f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
-    status, state = viewer.json("GET", "/state")
-    assert state["lights"][0]["color"] == [1.0, 1.0, 1.0], state["lights"]
-    # The floor (the selected cube) lowered by 0.5 along its transblock's translate's y.
-    driver.find_element(By.CSS_SELECTOR, f"#outline [data-node=object-{selected['object']}]").click()
-    translate = "[data-field=translate][data-component='1']"
+    assert node_field(viewer, light, "color") == [1, 1, 1]
+    # The floor (the selected cube) lowered by 0.5 along its transblock's translate's y (the
+    # transform's first step, a translate).
+    driver.find_element(By.CSS_SELECTOR, f"#outline [data-node={node}]").click()
+    assert node_field(viewer, node, "transform")[0]["kind"] == "translate"
+    translate = "#fields [data-field=transform][data-op='0'][data-component='1']"
     wait_for(driver, f"document.querySelector(\"{translate}\")")
     translate_y = float(field_value(driver, translate))
     edits = driver.execute_script("return window.rayViewer.edits")
     set_input(driver, translate, str(translate_y - 0.5))
     wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=20)
-    status, current = viewer.json("GET", f"/object?id={selected['object']}")
-    assert current["transform"][0]["v"][1] == translate_y - 0.5, current["transform"]
+    assert node_field(viewer, node, "transform")[0]["v"][1] == translate_y - 0.5
     deadline = time.time() + 20
     while pixel(driver, CX, CY)[:3] == saved_centre[:3]:
         assert time.time() < deadline, "the transform edit did not change the view"
@@ -192,12 +201,11 @@ try:
     print("panel: the light switched off darkened the view, the floor lowered changed it; each undone")
 
     # Without the token nothing is edited.
-    body = json.dumps({"object": selected["object"], "material": {"diffuse": [0, 0, 1]}}).encode()
-    status, _ = viewer.request("POST", "/edit", body, headers={})
+    body = json.dumps({"op": "set", "node": node, "fields": {"diffuse": [0, 0, 1]}}).encode()
+    status, _ = viewer.request("POST", "/op", body, headers={})
     assert status == 403, status
-    status, current = viewer.json("GET", f"/object?id={selected['object']}")
-    assert current["material"]["diffuse"] == [1, 0, 0]
-    print("without the token: POST /edit is 403, nothing changed")
+    assert node_field(viewer, node, "diffuse") == [1, 0, 0]
+    print("without the token: POST /op is 403, nothing changed")
 finally:
     driver.quit()
     viewer.close()
@@ -205,7 +213,8 @@ finally:
 # A viewer started open (--no-token) shows the scene and edits nothing.
 open_viewer = Viewer(ray, scene, "--device", "cpu", "--no-token", "--width", "64", "--height", "48")
 try:
-    status, answer = open_viewer.json("POST", "/edit", json.dumps({"light": 0, "color": [1, 0, 0]}).encode())
+    body = {"op": "set", "node": "camera", "fields": {"pos": [0, 1, 5]}}
+    status, answer = open_viewer.json("POST", "/op", json.dumps(body).encode())
     assert status == 403 and "token" in answer["error"], (status, answer)
     status, answer = open_viewer.json("POST", "/save", b"{}")
     assert status == 403, status

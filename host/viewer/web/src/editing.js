@@ -2,21 +2,19 @@
 // it shows, the toolbar's operations and the drags of the gizmo and the keyboard; each
 // turned into a request to the server's editor, and what the page shows after each.
 //
-// The requests themselves are a server module's: server_ops.js speaks the one edit model
-// (docs/modeler-protocol.md: /fields, /outline, /node, /op), server_legacy.js the routes of
-// a viewer without it (/edit, /object). The first the server answers is used.
+// The requests themselves are server_ops.js's, in the one edit model (docs/modeler-protocol.md:
+// /fields, /outline, /node, /op), which the server that serves this page always has.
 import { frameSphere } from "./camera.js";
 import { highlight, showOutline } from "./outline.js";
 import { matrixFromRows, moveOutline, rowsFromMatrix, showSelection as showOverlaySelection } from "./overlay.js";
 import { showFields } from "./properties.js";
-import { legacyServer } from "./server_legacy.js";
 import { opsServer } from "./server_ops.js";
 import { emit, record, state } from "./state.js";
 import { getJson, postJson } from "./api.js";
 
 const editError = document.getElementById("edit-error");
 const selectionLine = document.getElementById("selection");
-let server = legacyServer;
+const server = opsServer;
 
 // ---- What the server says about the editor: file, modified, undo and redo, editable.
 export function showEditorState(editor) {
@@ -83,7 +81,6 @@ async function selectNode(id) {
 export async function selectAtPixel({ x, y }) {
   const picked = await server.pick(x, y);
   setSelection(picked);
-  if (picked && picked.node && server === legacyServer) await showTree();
 }
 
 async function showTree() {
@@ -222,7 +219,8 @@ export function runAction(name) {
 }
 
 export async function initEditing(first) {
-  if (await opsServer.available()) server = opsServer;
+  // The field table, which the properties panel is built from.
+  if (!(await opsServer.available())) editError.textContent = "the server did not answer GET /fields: no editing";
   record.editor = server.name;
   showEditorState(first);
   await showTree();

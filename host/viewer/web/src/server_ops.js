@@ -63,7 +63,10 @@ export const opsServer = {
   async pick(x, y) {
     const { answer } = await getJson(`/pick?x=${x}&y=${y}`);
     const id = answer.node ?? (answer.object === null || answer.object === undefined ? null : `object-${answer.object}`);
-    return id ? this.load(id) : { error: answer.error };
+    if (!id) return { error: answer.error };
+    // The pick's own facts kept with the node's: the pixel and the point the user clicked.
+    const node = await this.load(id);
+    return node && { ...node, pixel: answer.pixel, point: answer.point };
   },
   commit(selection, field, value) {
     return postJson("/op", { action: newAction("field"), op: "set", node: selection.node, fields: { [field.name]: value } });

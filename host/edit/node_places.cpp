@@ -1,0 +1,127 @@
+#include "edit/node_places.h"
+
+#include <charconv>
+
+#include "edit/edit_error.h"
+
+namespace ray::edit {
+
+namespace {
+
+class NodeWalk {
+public:
+    NodeWalk(SceneDocument& document, const std::function<bool(const NodePlace&)>& visit)
+        : document_(document), visit_(visit) {}
+
+    void run() {
+        if (emit({NodeKind::Camera, 0}, 0, std::nullopt) || emit({NodeKind::Globals, 0}, 0, std::nullopt)) return;
+        for (size_t i = 0; i < document_.lights.size(); ++i) {
+            place_.index = i;
+            if (emit({NodeKind::Light, i < document_.lightIds.size() ? document_.lightIds[i] : -1}, 0, std::nullopt))
+                return;
+        }
+        for (NamedTree* tree : treesInOrder(document_)) {
+            place_ = {};
+            place_.tree = tree;
+            place_.path = tree->name;
+            const NodeId treeId{NodeKind::Tree, tree->id};
+            if (emit(treeId, 0, std::nullopt) || walkTree(tree->tree, 1, treeId)) return;
+        }
+    }
+
+private:
+    bool emit(const NodeId& id, int depth, const std::optional<NodeId>& parent) {
+        place_.id = id;
+        place_.depth = depth;
+        place_.parent = parent;
+        return visit_(place_);
+    }
+
+    // place_.path is one buffer, each level's part appended and cut off again: a walk is made
+    // for every lookup of a node (findNode), and a new string for every node of a scene of
+    // 10^4 objects made each add of one cost more than the add itself.
+    bool walkTree(TreeNode& node, int depth, const NodeId& parent) {
+        const size_t prefix = place_.path.size();
+        for (size_t b = 0; b < node.blocks.size(); ++b) {
+            Block& block = node.blocks[b];
+            appendPath("/transblock[", b);
+            place_.blocks.push_back(&block);
+            place_.holder = &node;
+            place_.index = b;
+            const NodeId blockId{NodeKind::Block, block.id};
+            if (emit(blockId, depth, parent) || walkItems(block, depth + 1, blockId)) return true;
+            place_.blocks.pop_back();
+            place_.path.resize(prefix);
+        }
+        return false;
+    }
+
+    bool walkItems(Block& block, int depth, const NodeId& parent) {
+        const size_t blockPath = place_.path.size();
+        for (size_t i = 0; i < block.items.size(); ++i) {
+            SceneItem& item = block.items[i];
+            place_.path.resize(blockPath);
+            appendPath("/object[", i);
+            auto at = [&] {
+                place_.holder = nullptr;
+                place_.index = i;
+            };
+            if (auto* primitive = std::get_if<PrimitiveNode>(&item)) {
+                at();
+                if (emit({NodeKind::Object, primitive->id}, depth, parent)) return true;
+            } else if (auto* master = std::get_if<MasterReference>(&item)) {
+                at();
+                if (emit({NodeKind::Placement, master->id}, depth, parent)) return true;
+            } else if (auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
+                // An inline tree is no node of its own: its transblocks are the block's children.
+                if (walkTree(**subtree, depth, parent)) return true;
+            } else if (auto* csg = std::get_if<Box<CsgNode>>(&item)) {
+                at();
+                const NodeId csgId{NodeKind::Csg, (*csg)->id};
+                if (emit(csgId, depth, parent)) return true;
+                const size_t itemPath = place_.path.size();
+                for (size_t k = 0; k < (*csg)->operands.size(); ++k) {
+                    place_.path.resize(itemPath);
+                    appendPath("/operand[", k);
+                    if (walkTree((*csg)->operands[k], depth + 1, csgId)) return true;
+                }
+            }
+        }
+        place_.path.resize(blockPath);
+        return false;
+    }
+
+    void appendPath(const char* part, size_t index) {
+        char number[24];
+        char* end = std::to_chars(number, number + sizeof number, index).ptr;
+        place_.path.append(part).append(number, end).push_back(']');
+    }
+
+    SceneDocument& document_;
+    const std::function<bool(const NodePlace&)>& visit_;
+    NodePlace place_;
+};
+
+}  // namespace
+
+void walkNodes(SceneDocument& document, const std::function<bool(const NodePlace&)>& visit) {
+    NodeWalk(document, visit).run();
+}
+
+std::optional<NodePlace> findNode(SceneDocument& document, const NodeId& id) {
+    std::optional<NodePlace> found;
+    walkNodes(document, [&](const NodePlace& place) {
+        if (place.id == id) found = place;
+        return found.has_value();
+    });
+    return found;
+}
+
+NodePlace requireNode(SceneDocument& document, const NodeId& id) {
+    std::optional<NodePlace> place = findNode(document, id);
+    if (!place) throw EditError(id.text() + " does not exist (removed, or never made)", EditError::Kind::Value, "",
+                                id.text());
+    return *place;
+}
+
+}  // namespace ray::edit
