@@ -153,7 +153,7 @@ static inline int csgCombine(int operation, int countA, int countB, float* times
  * combines the last two lists into the first of them. Every operand adds at most two
  * boundaries and a combination never adds any, so RAY_CSG_BOUNDARIES hold the whole stack
  * (5 bytes a boundary, 320 in all); a combination works in place, with no copy. */
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit) {
     float times[RAY_CSG_BOUNDARIES];

@@ -9,27 +9,6 @@
 
 #define RAY_INFINITY INFINITY
 
-/* How the kernel's functions are built: where PoCL compiles (it defines
- * POCL_DEVICE_ADDRESS_BITS), as calls where that is faster; elsewhere inlined into the one
- * kernel, as GPU drivers build OpenCL.
- *
- * RAY_CALL_ON_POCL: a helper that PoCL's CPU code runs faster as a call than inlined into
- * the loop that calls it (with intersectPrimitive inlined, traceBvh's walk held more state
- * and spilled it: chess took 5% more instructions).
- * RAY_INLINED_OFF_POCL: a function on the trace path (traceSample, transmitFromInside,
- * traceCameraRay, shadeFrame, traceBvh, the intersectors). Where LLVM keeps one a call,
- * each call level has a frame of its own and saves the registers live across it: LLVM's
- * own build of renderTile for gfx906 (scripts/kernel_resources.py, "calls") kept
- * shadeFrame, intersectCsg and transmitFromInside calls and needed 2,336 B of scratch a
- * work-item; with the path inlined, 1,936 B. */
-#ifdef POCL_DEVICE_ADDRESS_BITS
-#define RAY_CALL_ON_POCL __attribute__((noinline))
-#define RAY_INLINED_OFF_POCL
-#else
-#define RAY_CALL_ON_POCL inline __attribute__((always_inline))
-#define RAY_INLINED_OFF_POCL __attribute__((always_inline))
-#endif
-
 typedef struct {
     float3 origin;
     float3 direction; /* unit length in world space */
@@ -213,15 +192,15 @@ typedef struct {
 
 /* The torus and meshes: cl/torus_mesh.cl. A mesh's walk keeps its stack in the scene
  * walk's unused entries, the `spareCount` from `spare` on (BvhStack). */
-RAY_INLINED_OFF_POCL void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
+RAY_INLINED_ON_GPU
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
                    float2* barycentric);
 
 /* Constructive solid geometry: cl/csg.cl. prims is the primitive buffer (the program's
  * records are indexed in it), csg the object's own record. */
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit);
 
@@ -234,7 +213,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
  * Motion blur: at time t the instance is translated by t·motion (motions[index], world
  * space), which is the same as moving the ray's origin back by it. The host sets every
  * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
-static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
+static RAY_CALL_ON_CPU void intersectPrimitive(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
                                __global const float4* motions, __global const RayPrimitive* prim, int index, Ray ray,
                                bool courseMeshes, BvhStackEntry* spare, int spareCount, Hit* hit) {
     float3 origin = ray.origin;
@@ -288,15 +267,15 @@ static RAY_CALL_ON_POCL void intersectPrimitive(__global const RayWideBvhNode* n
  * which the ray enters each child's box within (0, tMax), +infinity for a child it misses
  * and for an absent one.
  *
- * Two shapes of the same arithmetic, operation for operation (so the same bits): on PoCL
- * the four children at once in float4s, which its CPU code runs as SIMD; elsewhere one child
+ * Two shapes of the same arithmetic, operation for operation (so the same bits): on a CPU
+ * the four children at once in float4s, which its CPU code runs as SIMD; on a GPU one child
  * at a time in floats. On a GPU each work-item's float4 is four scalar registers, and the
  * ray's coordinates spread over float4s (origin.x - node->minX and the like) became six
  * four-register splats that LLVM hoists out of the walk's loop: on gfx906 at 64 VGPRs they
  * held 24 registers for the whole walk, and renderTile spilled 800 B more scratch. On PoCL
  * the one-child shape costs 5% more instructions (chess). tests/rusticl.sh renders the
  * bundled scenes with the scalar shape and compares them with PoCL's. */
-#ifdef POCL_DEVICE_ADDRESS_BITS
+#ifdef RAY_DEVICE_CPU
 /* The slab test of a wide node's children at once, lane c child c, in the vector type
  * FloatN of as many lanes as the node has children: the four-wide tree's, and the
  * sixteen-wide one CPU devices walk a ray at a time (cpuChildEntryDistances), are this one
@@ -538,7 +517,7 @@ static inline void intersectLeaf(__global const RayWideBvhNode* nodes, __global 
  * once (afterOverflow). Returns the next node, -1 when the walk is over. With fourWideRefs,
  * the inner children are handed on as references into the four-wide tree from the
  * sixteen-wide walk of CPU devices (fourWideRef). */
-static inline RAY_INLINED_OFF_POCL
+static inline RAY_INLINED_ON_GPU
 int fourWideStep(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
                  __global const RayTriangle* triangles, __global const float4* motions, Ray ray,
                  float3 inverseDirection, bool anyHit, bool courseMeshes, bool fourWideRefs, BvhStack* stack,
@@ -567,7 +546,7 @@ int fourWideStep(__global const RayWideBvhNode* nodes, __global const RayPrimiti
     return anyHitFound(anyHit, hit) ? -1 : afterOverflow(nextNode(&inner, stack, limit), stack);
 }
 
-#ifdef POCL_DEVICE_ADDRESS_BITS
+#ifdef RAY_DEVICE_CPU
 /* CPU devices walk the sixteen-wide tree (RayCpuBvhNode, cl/shared_types.h): the children
  * of a node are tested in one float16 slab test, and the children entered become bit masks,
  * so that a step's branches are one per leaf entered and one on how many inner children
@@ -653,13 +632,13 @@ static inline int nextCpuNode(__global const RayCpuBvhNode* node, float16 entry,
  * visited; hits are still compared by key): exact, slower. GPUs walk the four-wide tree
  * (nodes), CPU devices the sixteen-wide one (cpuNodes); both find the same hit, hits being
  * ranked by distance and then by order (Hit.order) whatever the order of the walk. */
-RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
+RAY_INLINED_ON_GPU bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
                                    __global const RayPrimitive* prims, __global const RayTriangle* triangles,
                                    __global const float4* motions, Ray ray, float tMax, bool anyHit,
                                    bool courseMeshes, Hit* hit) {
     startTrace(hit, tMax);
     float3 inverseDirection = safeInverse(ray.direction);
-#ifdef POCL_DEVICE_ADDRESS_BITS
+#ifdef RAY_DEVICE_CPU
     BvhStackEntry entries[RAY_CPU_BVH_STACK];
     BvhStack stack = emptyBvhStack(entries, RAY_CPU_BVH_STACK);
     int next = 0;
@@ -690,7 +669,7 @@ RAY_INLINED_OFF_POCL bool traceBvh(__global const RayWideBvhNode* nodes, __globa
         next = afterOverflow(nextCpuNode(node, entry, inners, anyHit, &stack, limit), &stack);
     } while (next != -1);
 #else
-    (void)cpuNodes; /* CPU devices' tree: PoCL's walk above */
+    (void)cpuNodes; /* CPU devices' tree: the walk above */
     BvhStackEntry entries[RAY_BVH_SHORT_STACK];
     BvhStack stack = emptyBvhStack(entries, RAY_BVH_SHORT_STACK);
     int next = 0;

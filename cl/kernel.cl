@@ -1,5 +1,5 @@
 /* The kernel's entry point, renderTile: a work-item renders one pixel (renderPixel,
- * cl/render.cl), or on a kernel built for packets (-DRAY_PACKET_WIDTH: CPU devices) a block
+ * cl/render.cl), or in a packet build (CPU devices: cl/device/variant.h) a block
  * of pixels together (renderBlock, cl/packet_render.cl). */
 
 /* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough

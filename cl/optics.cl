@@ -78,10 +78,10 @@ static inline float fresnelReflectance(float cosIncident, float n1, float n2) {
 #define RAY_DIM_AREA(light, cell, axis) \
     (RAY_DIM_AREA_BASE + 2u * ((uint)(light) * RAY_MAX_AREA_CELLS + (uint)(cell)) + (uint)(axis))
 
-/* A call on PoCL (RAY_CALL_ON_POCL): inlined into the loop over the lights, the axes U and V,
+/* A call on PoCL (RAY_CALL_ON_CPU): inlined into the loop over the lights, the axes U and V,
  * the same for every cell, were moved out of it by LLVM and computed for every light,
  * point lights included: chess took 4% more instructions. */
-static RAY_CALL_ON_POCL float3 areaLightPoint(__global const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
+static RAY_CALL_ON_CPU float3 areaLightPoint(__global const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
     float3 d = light->direction.xyz;
     float3 helper = fabs(d.y) > 0.99f ? (float3)(0.0f, 0.0f, 1.0f) : (float3)(0.0f, 1.0f, 0.0f);
     float3 u = normalize(cross(helper, d));

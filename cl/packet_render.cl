@@ -1,9 +1,8 @@
 /* The packet path of CPU devices: a work-item renders a block of RAY_PACKET_WIDTH pixels
  * (RAY_PIXEL_BLOCK_WIDTH × RAY_PIXEL_BLOCK_HEIGHT, cl/shared_types.h) and traces their camera
  * rays, and then each light's shadow rays, a packet at a time (traceBvhPacket,
- * cl/packet_trace.cl). Built only with -DRAY_PACKET_WIDTH (host/opencl/opencl_engine.cpp
- * passes it to CPU devices); a GPU's work-item renders one pixel (renderPixel), SIMT being
- * its packet.
+ * cl/packet_trace.cl). Built only in a packet build (a CPU device's: cl/device/variant.h);
+ * a GPU's work-item renders one pixel (renderPixel), SIMT being its packet.
  *
  * Everything else is the single-ray path's own code, a pixel at a time: each pixel keeps
  * its sampler (any antialiasing mode), takes its samples and lens rays in its own order and
@@ -43,7 +42,7 @@ static inline void addUnblockedSamples(LightSamples* lights, const int* unblocke
 /* Traces camera ray rays[l] of each pixel of `lanes` (non-zero: it has one) through its
  * whole tree: colors[l], as traceCameraRay gives it. The camera rays go as one packet, then
  * the shadow rays of their hits, a packet for each light sample in turn. */
-static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
+static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
                                                    const Ray* rays, const int* lanes, PixelTrace* counters,
                                                    float3* colors) {
     const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
@@ -105,7 +104,7 @@ typedef struct {
 /* Renders the block whose top left pixel is (x0, y0) of the tile, writing the colors of its
  * pixels that lie in the tile and the image, and the sum of their ray counts to *rayCounts
  * (the block's entry: renderTile). */
-static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRenderParams* params, int x0, int y0,
+static RAY_CALL_ON_CPU void renderBlock(const SceneBuffers* scene, const RayRenderParams* params, int x0, int y0,
                                          __global float4* tileColors, __global uint4* rayCounts) {
     BlockPixel pixels[RAY_PACKET_WIDTH];
     PixelTrace counters[RAY_PACKET_WIDTH];

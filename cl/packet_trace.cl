@@ -1,6 +1,6 @@
 /* The packet walk: RAY_PACKET_WIDTH rays through the scene's BVH at once, for CPU devices
- * (cl/packet_render.cl). Built only when the host passes -DRAY_PACKET_WIDTH (4, 8 or 16:
- * the device's CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT); GPUs never see it.
+ * (cl/packet_render.cl). Built only in a packet build (a CPU device's: cl/device/variant.h);
+ * GPUs never see it.
  *
  * Why: PoCL runs traceBvh, one ray per work-item, as scalar code (its control flow is too
  * divergent to vectorise across work-items), so a CPU's 8- or 16-wide vector units idle.
@@ -28,13 +28,11 @@ typedef float8 PacketFloat;
 typedef int8 PacketInt;
 #define RAY_PACKET_LOAD(pointer) vload8(0, pointer)
 #define RAY_PACKET_STORE(value, pointer) vstore8(value, 0, pointer)
-#elif RAY_PACKET_WIDTH == 4
+#else
 typedef float4 PacketFloat;
 typedef int4 PacketInt;
 #define RAY_PACKET_LOAD(pointer) vload4(0, pointer)
 #define RAY_PACKET_STORE(value, pointer) vstore4(value, 0, pointer)
-#else
-#error "RAY_PACKET_WIDTH must be 4, 8 or 16"
 #endif
 
 /* The smallest lane of a packet: halves folded onto each other. */
@@ -393,7 +391,7 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
  * hits[l] as traceBvh(rays[l], tMax[l], ...) gives it; lanes not traced keep hits[l] as
  * they were. The children of a node are visited nearest first for the packet's nearest ray
  * (closest hits), or in node order (anyHit). */
-RAY_CALL_ON_POCL void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
+RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
                                      __global const RayPrimitive* prims, __global const RayTriangle* triangles,
                                      __global const float4* motions,
                                      const Ray* rays, const float* tMax, const int* lanes, bool anyHit,

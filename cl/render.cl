@@ -180,7 +180,7 @@ static inline bool leavesTransparentObject(int features, bool entering, float3 t
     return !entering && refracts(features, transparent);
 }
 
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth, Ray* aboveRay, float3 d,
                         float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
     if (atDepthLimit(params, depth)) return; /* no bounce left: I_t is black */
@@ -299,7 +299,7 @@ static inline void addLights(Frame* frame, const LightSamples* lights) {
  * and as *next, and Mesa's rusticl hands a struct argument over by reference (a by-value
  * parameter written in place wrote the caller's ray: the first child, written to *next, came
  * back as the last shadow ray, and tests/rusticl.sh saw mirrors differ from PoCL's). */
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth, Ray frameRay,
                 Ray* next, PixelTrace* counter) {
     Frame* frame = &tree->frames[depth];
@@ -332,7 +332,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
  * shadow rays at one traceBvh call), the loop's first step whenever a frame has just been
  * pushed (a GPU compiler inlines every call site). Inline on PoCL as well: there a call of
  * its own cost chess 1% more instructions. */
-static inline RAY_INLINED_OFF_POCL
+static inline RAY_INLINED_ON_GPU
 float3 walkRayTree(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, Ray ray, bool pushed,
                    PixelTrace* counter) {
     Frame* stack = tree->frames;
@@ -367,7 +367,7 @@ float3 walkRayTree(const SceneBuffers* scene, const RayRenderParams* params, Ray
 
 #ifndef RAY_PACKET_WIDTH /* the packet path: cl/packet_render.cl */
 /* The color of one camera ray (walkRayTree). */
-static inline RAY_INLINED_OFF_POCL
+static inline RAY_INLINED_ON_GPU
 float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
     RayTree tree;
     counter->primary++;
@@ -442,7 +442,7 @@ static inline float3 lensRayTerm(const RayRenderParams* params, float3 color) {
 #ifndef RAY_PACKET_WIDTH /* the packet path: cl/packet_render.cl */
 /* One sample of the pixel, unclamped (startSample): the mean of its lens rays' terms, one
  * trace site in a loop. */
-static inline RAY_INLINED_OFF_POCL
+static inline RAY_INLINED_ON_GPU
 float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int i, int j, float sx, float sy,
                           PixelTrace* counter) {
     float2 lens = startSample(params, counter);
@@ -663,7 +663,7 @@ static inline void addSample(PixelSampler* s, const RayRenderParams* params, flo
  * work-item in a loop and keeps the private variables of the kernel's own body in arrays
  * with an entry per work-item (the sampler, the ray tree's frames), whose addressing cost
  * chess 3% more instructions than a call with its own stack frame. */
-static RAY_CALL_ON_POCL float3 renderPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j,
+static RAY_CALL_ON_CPU float3 renderPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j,
                                            PixelTrace* counter) {
     PixelSampler sampler;
     startSampler(&sampler, params);

@@ -61,7 +61,7 @@ int quarticBreakpoints(float4 c, int order, const float* b, int n, float* out) {
  * the fourth power, swamps the float mantissa). Its roots on the box's span are then
  * isolated through the derivatives' roots and bisected: robust for grazing rays (two close
  * roots) and rays through the hole (none) alike. */
-RAY_INLINED_OFF_POCL void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal) {
+RAY_INLINED_ON_GPU void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal) {
     float scale = length(d);
     if (scale == 0.0f) return;
     float3 u = d / scale;
@@ -152,7 +152,7 @@ static inline void intersectTriangle(__global const RayTriangle* triangle, int i
  * empty there and is empty again when the walk ends, an overflow included (afterOverflow),
  * so the scene walk's own entries below are never touched.
  * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
                    float2* barycentric) {

@@ -17,6 +17,7 @@
 
 #include "core/memory_limits.h"
 #include "opencl/kernel_arguments.h"
+#include "opencl/kernel_variant.h"
 #include "opencl/scene_packing.h"
 #include "render/device_error.h"
 #include "render/tile_scheduler.h"
@@ -100,27 +101,20 @@ std::string shortStackOption() {
     return " -DRAY_BVH_SHORT_STACK=" + std::to_string(entries);
 }
 
-// How many rays a work-item of the device traces together (cl/packet_trace.cl): on a CPU
-// device its native float vector width (16 with AVX-512, 8 with AVX2, 4 with SSE), since
-// PoCL runs a one-ray walk as scalar code; 1 on other devices, whose SIMT is their packet,
-// and on Mesa's llvmpipe, which runs work-items in SIMT lanes as a GPU does (and stands in
-// for one in tests/rusticl.sh). RAY_CPU_PACKETS=0 keeps a CPU device on one ray per
-// work-item, and 4, 8 or 16 sets the width (tests/cpu_paths.sh compares the paths' images).
-int packetLanes(const OpenClDevice& device) {
-    if (!device.isCpu || device.isLlvmpipe) return 1;
+// A test hook: RAY_CPU_PACKETS=0 keeps a CPU device on one ray per work-item, and 4, 8 or
+// 16 sets its packet width (kernelVariantFor; tests/cpu_paths.sh compares the paths' images).
+std::optional<int> cpuLanesForTests() {
     const std::string setting = std::getenv("RAY_CPU_PACKETS") ? std::getenv("RAY_CPU_PACKETS") : "";
     if (setting == "0") return 1;
     if (setting == "4" || setting == "8" || setting == "16") return std::stoi(setting);
-    const unsigned width = device.nativeFloatWidth;
-    return width >= 16 ? 16 : width >= 8 ? 8 : width >= 4 ? 4 : 1;
+    return std::nullopt;
 }
 
-std::string buildOptions(int maxDepth, int lanes) {
+std::string buildOptions(int maxDepth, const KernelVariant& variant) {
     // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
     // the intersection code relies on IEEE infinities.
-    std::string options = "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption();
-    if (lanes > 1) options += " -DRAY_PACKET_WIDTH=" + std::to_string(lanes);
-    return options;
+    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption() +
+           variant.buildDefine();
 }
 
 DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
@@ -170,7 +164,7 @@ struct Frame;
 struct DeviceSlot {
     OpenClDevice device;
     int index = 0;  // position in the engine's selection
-    int packetLanes = 1;  // rays a work-item traces together (packetLanes): the kernel's build and launches
+    KernelVariant variant;  // what its kernel runs (kernelVariantFor): the kernel's build and launches
 
     // The thread's mailbox, under `mutex`.
     std::mutex mutex;
@@ -502,7 +496,7 @@ private:
     // compute unit, which take the tile's blocks from the queue (cl/kernel.cl).
     cl::NDRange globalSize(const TileRect& rect) const {
         const size_t group = frame_.workGroupSize;
-        if (slot_.packetLanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
+        if (slot_.variant.lanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
         auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
         return cl::NDRange(roundUp(rect.width), roundUp(rect.height));
     }
@@ -517,7 +511,7 @@ private:
         // At most kTilesInFlight launches, finished in order: this output's last user is done.
         const size_t output = launches_++ % kTilesInFlight;
         DeviceSlot::TileOutput& out = slot_.outputs[output];
-        const TileEntries entries = tileEntries(rect.width, rect.height, slot_.packetLanes);
+        const TileEntries entries = tileEntries(rect.width, rect.height, slot_.variant.lanes);
         sizeTileOutput(slot_, out, entries);  // at prepareDevice for the frame's tiles
         // Arguments are captured at enqueue time.
         kernel.setArg(kernel_argument::kParams, sizeof(params), &params);
@@ -657,7 +651,7 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
     cl::Buffer unwritten(slot.context, CL_MEM_WRITE_ONLY, sizeof(cl_float4) + sizeof(cl_uint4));
     kernel.setArg(kernel_argument::kTileColors, unwritten);
     kernel.setArg(kernel_argument::kTileRayCounts, unwritten);
-    if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
+    if (slot.variant.lanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
     slot.queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group, group), cl::NDRange(group, group));
     slot.queue.finish();
 }
@@ -674,7 +668,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     if (!slot.context()) {
         slot.context = cl::Context(slot.device.device);
         slot.queue = cl::CommandQueue(slot.context, slot.device.device);
-        if (slot.packetLanes > 1) {
+        if (slot.variant.lanes > 1) {
             cl_uint empty[2] = {0, 0};
             slot.blockQueue = cl::Buffer(slot.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(empty), empty);
         }
@@ -705,7 +699,7 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         start = Clock::now();
         if (hooks.slowBuildSeconds) std::this_thread::sleep_for(std::chrono::seconds(*hooks.slowBuildSeconds));
         DeviceSlot::Program p;
-        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.packetLanes),
+        p.program = buildKernelProgram(slot.device, slot.context, buildOptions(depth, slot.variant),
                                        [&](const cl::Program& program) {
                                            launchOnNoPixels(slot, program, frame.params, frame.workGroupSize);
                                        });
@@ -719,9 +713,9 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
     // set at each launch.
     for (size_t i = 0; i < kSceneBufferCount; ++i)
         kernel.setArg(kernel_argument::kFirstSceneBuffer + cl_uint(i), slot.sceneBuffers[i]);
-    if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
+    if (slot.variant.lanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
     for (DeviceSlot::TileOutput& out : slot.outputs)
-        sizeTileOutput(slot, out, tileEntries(frame.tileWidth, frame.tileHeight, slot.packetLanes));
+        sizeTileOutput(slot, out, tileEntries(frame.tileWidth, frame.tileHeight, slot.variant.lanes));
     slot.queue.finish();
     std::lock_guard lock(frame.mutex);
     frame.uploadSeconds = std::max(frame.uploadSeconds, uploadSeconds);
@@ -814,7 +808,7 @@ OpenClEngine::OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenC
     for (const OpenClDevice& d : impl_->selection) {
         auto slot = std::make_shared<DeviceSlot>();
         slot->device = d;
-        slot->packetLanes = packetLanes(d);
+        slot->variant = kernelVariantFor(d, cpuLanesForTests());
         slot->index = int(impl_->slots.size());
         slot->thread = std::thread(serveFrames, slot);
         impl_->slots.push_back(std::move(slot));
