@@ -1,6 +1,6 @@
 /* The kernel's entry point, renderTile: a work-item renders one pixel (renderPixel,
- * cl/render.cl), or in a packet build (CPU devices: cl/device/variant.h) a block
- * of pixels together (renderBlock, cl/packet_render.cl). */
+ * cl/render/pixel.cl), or in a packet build (CPU devices: cl/device/variant.h) a block of
+ * pixels together (renderBlock, cl/device/cpu/packet_render.cl). */
 
 /* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
  * work-items in flight to hide memory latency. What does not fit spills to scratch, which

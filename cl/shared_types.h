@@ -66,7 +66,7 @@ struct alignas(64) int16 {
 #define RAY_TORUS_MAJOR_RADIUS 0.375f
 #define RAY_TORUS_MINOR_RADIUS 0.125f
 
-/* Constructive solid geometry (host/scene/csg.h, cl/csg.cl). A csg object's postfix program
+/* Constructive solid geometry (host/scene/csg.h, cl/geometry/csg.cl). A csg object's postfix program
  * is a run of records in the primitive buffer, after the primitives the BVH indexes (so no
  * BVH leaf names them): an operand step is the operand's own RayPrimitive (info.x a
  * RAY_PRIM_* of a convex primitive), an operator step has info.x = RAY_CSG_UNION,
@@ -152,7 +152,7 @@ RAY_STRUCT(RayBvhNode) {
  * -1 (its bounds are empty, but the walk tests the index: a slab test can "hit" an empty
  * box). Node 0 is the root. Leaves and children are in the binary tree's order, absent
  * children last: the primitives under a node are one range, from its leftmost leaf to its
- * rightmost (cl/intersect.cl leafRange, which a walk whose short stack overflows uses). */
+ * rightmost (cl/traversal/wide_walk.cl leafRange, which a walk whose short stack overflows uses). */
 RAY_TABLE_STRUCT(RayWideBvhNode) {
     float4 minX, maxX;
     float4 minY, maxY;
@@ -162,7 +162,7 @@ RAY_TABLE_STRUCT(RayWideBvhNode) {
 } RAY_END_STRUCT(RayWideBvhNode);
 
 /* A node of the sixteen-wide BVH over the scene's primitives that CPU devices walk a ray at
- * a time (cl/intersect.cl, traceBvh for PoCL): 512 bytes, eight cache lines.
+ * a time (cl/device/cpu/walk.cl): 512 bytes, eight cache lines.
  *
  * Why a second tree: on a CPU a ray's walk is a chain of steps, each waiting on the node it
  * loads and on the branches its box tests decide, and the single-ray walk of reflected rays
@@ -170,7 +170,7 @@ RAY_TABLE_STRUCT(RayWideBvhNode) {
  * sixteen children a node, one float16 slab test (an AVX-512 register, two AVX ones) takes
  * a ray past what four-wide nodes take two steps for: on 10⁵ spheres 4.96 M steps instead of
  * 10.0 M. GPUs keep the four-wide tree, whose small nodes suit their registers, and so does
- * the packet walk (cl/packet_trace.cl), whose box tests grow with the children a node has.
+ * the packet walk (cl/device/cpu/packet_trace.cl), whose box tests grow with the children a node has.
  *
  * The host collapses the four-wide scene tree into it (host/accel/wide_bvh.h). Lanes as in
  * RayWideBvhNode: lane c of minX..maxZ is child c's box, index and count its link. A count
@@ -281,9 +281,9 @@ RAY_STRUCT(RayRenderParams) {
 } RAY_END_STRUCT(RayRenderParams);
 
 /* The block of pixels one work-item renders (width × height): one pixel, or in a packet
- * build (RAY_PACKET_WIDTH lanes, CPU devices: cl/device/variant.h, cl/packet_render.cl) a
- * block of that many pixels, 4 × 4 for 16 lanes, 4 × 2 for 8, 2 × 2 for 4. The host sizes its
- * launches by it (host/opencl/opencl_engine.cpp). */
+ * build (RAY_PACKET_WIDTH lanes, CPU devices: cl/device/variant.h,
+ * cl/device/cpu/packet_render.cl) a block of that many pixels, 4 × 4 for 16 lanes, 4 × 2
+ * for 8, 2 × 2 for 4. The host sizes its launches by it (host/opencl/opencl_engine.cpp). */
 #define RAY_PIXEL_BLOCK_WIDTH(lanes) ((lanes) >= 8 ? 4 : (lanes) >= 4 ? 2 : 1)
 #define RAY_PIXEL_BLOCK_HEIGHT(lanes) ((lanes) / RAY_PIXEL_BLOCK_WIDTH(lanes))
 
@@ -294,9 +294,9 @@ RAY_STRUCT(RayRenderParams) {
  *    device limits (WHAT names the buffer in the message), the device's buffers, their
  *    uploads and the kernel's arguments (host/opencl/kernel_arguments.h) all follow;
  * and in the kernel (OpenCL C),
- *  - a parameter of renderTile (cl/render.cl): __global const TYPE* NAME, after the launch
+ *  - a parameter of renderTile (cl/kernel.cl): __global const TYPE* NAME, after the launch
  *    parameters and before the tile's outputs;
- *  - a field of SceneBuffers (cl/shading.cl), which the kernel reads as scene->NAME.
+ *  - a field of SceneBuffers (cl/shading/shading.cl), which the kernel reads as scene->NAME.
  * To add a buffer: an entry here (its type defined above, the same layout on both sides),
  * code in packScene that fills it, and the kernel code that reads it. Nothing else lists
  * the buffers. The kernel needs at least one element in each (OpenCL refuses empty

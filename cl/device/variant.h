@@ -2,18 +2,19 @@
  * (host/opencl/kernel_variant.cpp) and passed to the build as one define, -DRAY_CPU_LANES=n.
  *
  *  - Absent: a device whose work-items run in SIMT lanes, a GPU (or Mesa's llvmpipe, which
- *    runs them as a GPU does). A work-item renders one pixel (renderPixel, cl/render.cl) and
- *    walks the four-wide tree testing its children a box at a time (cl/intersect.cl); every
- *    function on the trace path is inlined, as GPU drivers build OpenCL.
+ *    runs them as a GPU does). A work-item renders one pixel (cl/render/pixel.cl) and walks
+ *    the four-wide tree testing its children a box at a time (cl/device/gpu/); every function
+ *    on the trace path is inlined, as GPU drivers build OpenCL.
  *  - 1: a CPU device whose work-items are threads (PoCL), one pixel a work-item. A ray walks
- *    the sixteen-wide tree (traceBvh, cl/intersect.cl), testing a node's children at once in
+ *    the sixteen-wide tree (cl/device/cpu/walk.cl), testing a node's children at once in
  *    vector registers, and some helpers stay calls.
  *  - 4, 8 or 16: the same CPU device, a work-item rendering a block of that many pixels whose
- *    camera and shadow rays it traces as packets in OpenCL vector types (cl/packet_*.cl);
- *    the rest of each pixel's ray tree as with 1.
+ *    camera and shadow rays it traces as packets in OpenCL vector types
+ *    (cl/device/cpu/packet_*.cl); the rest of each pixel's ray tree as with 1.
  *
- * From the switch follow RAY_DEVICE_CPU (defined for 1, 4, 8, 16), RAY_PACKET_WIDTH (4, 8 or
- * 16) and the two inlining attributes below. */
+ * Everything outside cl/device/ is the same source for every device. From the switch follow
+ * RAY_DEVICE_CPU (defined for 1, 4, 8, 16), RAY_PACKET_WIDTH (4, 8 or 16) and the two
+ * inlining attributes below. */
 #ifndef RAY_DEVICE_VARIANT_H
 #define RAY_DEVICE_VARIANT_H
 
@@ -33,14 +34,12 @@
  * inlined into the one kernel.
  *
  * RAY_CALL_ON_CPU: a helper that PoCL's CPU code runs faster as a call than inlined into the
- * loop that calls it (with intersectPrimitive inlined, traceBvh's walk held more state
- * and spilled it: chess took 5% more instructions).
+ * loop that calls it: inlined there, the loop holds more state and spills it
+ * (docs/performance.md, "The walk a ray at a time on CPUs").
  * RAY_INLINED_ON_GPU: a function on the trace path (traceSample, transmitFromInside,
- * traceCameraRay, shadeFrame, traceBvh, the intersectors). Where LLVM keeps one a call,
- * each call level has a frame of its own and saves the registers live across it: LLVM's
- * own build of renderTile for gfx906 (scripts/kernel_resources.py, "calls") kept
- * shadeFrame, intersectCsg and transmitFromInside calls and needed 2,336 B of scratch a
- * work-item; with the path inlined, 1,936 B. */
+ * traceCameraRay, shadeFrame, traceBvh, the intersectors). Where LLVM keeps one a call on a
+ * GPU, each call level has a frame of its own and saves the registers live across it, in
+ * scratch memory (docs/performance.md, "The kernel on GPUs"). */
 #ifdef RAY_DEVICE_CPU
 #define RAY_CALL_ON_CPU __attribute__((noinline))
 #define RAY_INLINED_ON_GPU

@@ -88,7 +88,7 @@ bool sceneCopiedForTests() {
 }
 
 // A test hook: RAY_TEST_BVH_SHORT_STACK=N builds the kernel with an N-entry traversal
-// stack (cl/intersect.cl BvhStack), so that tests can make every walk overflow and show
+// stack (cl/traversal/stack.cl BvhStack), so that tests can make every walk overflow and show
 // that the fallback finds the same hits. Empty unless set to a number from 1 to 64.
 std::string shortStackOption() {
     const char* value = std::getenv("RAY_TEST_BVH_SHORT_STACK");
@@ -111,8 +111,8 @@ std::optional<int> cpuLanesForTests() {
 }
 
 std::string buildOptions(int maxDepth, const KernelVariant& variant) {
-    // One frame per bounce plus the camera ray (cl/render.cl). No -cl-fast-relaxed-math:
-    // the intersection code relies on IEEE infinities.
+    // One frame per bounce plus the camera ray (cl/render/ray_tree.cl). No
+    // -cl-fast-relaxed-math: the intersection code relies on IEEE infinities.
     return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption() +
            variant.buildDefine();
 }

@@ -78,7 +78,7 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
                                       const RenderSettings& settings, const PackedScene& packed);
 
 // How far secondary and shadow rays start off a surface, relative to the magnitude of
-// the hit point's coordinates (see surfaceClearance in cl/shading.cl).
+// the hit point's coordinates (see surfaceClearance in cl/shading/shading.cl).
 constexpr float kKernelRayOffset = 1e-4f;
 
 }  // namespace ray

@@ -145,7 +145,7 @@ static inline float spotFactor(__global const RayLight* light, float3 towardLigh
 
 /* Direct lighting, Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]
  * (SPEC §4), where an area light is the sum over its n² jittered point samples
- * (cl/optics.cl), each with 1/n² of its intensity and a shadow ray of its own: a walk over
+ * (cl/shading/optics.cl), each with 1/n² of its intensity and a shadow ray of its own: a walk over
  * the light samples seen from one shading point that hands out one shadow ray at a time,
  * so that shadeFrame traces them all at its one trace site (see there). The caller starts it
  * (startLights), asks for each sample's shadow ray (nextShadowRay) and hands back the
@@ -226,7 +226,7 @@ static inline float highlightBase(const LightSamples* s) {
 }
 
 /* highlightBase(s)^n (n the shininess): pow(+0, n) is +0 for n > 0, taken without the call,
- * PoCL's costliest (addUnblockedSamples, cl/packet_render.cl, takes the same for a packet). */
+ * PoCL's costliest (addUnblockedSamples, cl/device/cpu/packet_render.cl, takes the same for a packet). */
 static inline float highlightPower(float base, float shininess) {
     return base > 0.0f || shininess <= 0.0f ? pow(base, shininess) : 0.0f;
 }
@@ -240,7 +240,7 @@ static inline float3 litSampleWithPower(const LightSamples* s, float power) {
 }
 
 /* Adds the sample whose shadow ray found no blocker, given its highlight's power (the
- * packet path takes its lanes' powers at once: cl/packet_render.cl). Blocked samples and
+ * packet path takes its lanes' powers at once: cl/device/cpu/packet_render.cl). Blocked samples and
  * those lightFacing turned down add nothing: skipping them is adding +0, as the sum starts
  * at +0 and so is never −0. */
 static inline void addUnblockedSampleWithPower(LightSamples* s, float power) {

@@ -21,18 +21,13 @@ static inline bool csgSliver(float t0, float t1) {
 
 /* The nearest surface point of a unit convex primitive from o along d (t > 0). */
 static inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
-    float best = RAY_INFINITY;
-    *part = 0;
-    *normal = (float3)(0.0f);
-    switch (type) {
-        case RAY_PRIM_CUBE: intersectCube(o, d, &best, part, normal); break;
-        case RAY_PRIM_SPHERE: intersectSphere(o, d, &best, part, normal); break;
-        case RAY_PRIM_CYLINDER: intersectCylinder(o, d, &best, part, normal); break;
-        case RAY_PRIM_CONE: intersectCone(o, d, &best, part, normal); break;
-        default: return false; /* the loader refuses other operands */
-    }
-    *t = best;
-    return best < RAY_INFINITY;
+    if (!convexShape(type)) return false; /* the loader refuses other operands */
+    ShapeHit h = {RAY_INFINITY, 0, (float3)(0.0f)};
+    intersectConvexShape(type, o, d, &h);
+    *t = h.best;
+    *part = h.part;
+    *normal = h.normal;
+    return h.best < RAY_INFINITY;
 }
 
 /* Where the line origin + t·direction crosses an operand's surface on entering it
@@ -178,9 +173,8 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
     }
     if (top != 1) return;
     /* A boundary at exactly hit->t wins when the object is listed after the primitive hit
-     * so far (Hit.order; the program's operand records carry the object's order). */
-    const bool winsTies = hit->primitive >= 0 && prims[first].info.z > hit->order;
-    const float limit = winsTies ? nextafter(hit->t, RAY_INFINITY) : hit->t;
+     * so far (the program's operand records carry the object's order). */
+    const float limit = hitLimit(hit->t, hit->primitive, hit->order, prims[first].info.z);
     for (int k = 0; k < start[1]; ++k) {
         float t = times[k];
         if (!(t < limit)) return;

@@ -1,8 +1,5 @@
-/* The torus and triangle meshes (SPEC §2), in object space like the other primitives;
- * declared in intersect.cl, which dispatches to them.
- *
- * No fast-math here either: the root isolation and the slab tests rely on exact IEEE
- * comparisons. */
+/* The torus and triangle meshes (SPEC §2), in object space like the other primitives,
+ * a ray at a time; declared in cl/geometry/intersect.cl, which dispatches to them. */
 
 #define TORUS_MAJOR RAY_TORUS_MAJOR_RADIUS
 #define TORUS_MINOR RAY_TORUS_MINOR_RADIUS
@@ -148,9 +145,9 @@ static inline void intersectTriangle(__global const RayTriangle* triangle, int i
 /* The mesh's own BVH (two-level: instances above, one tree per mesh below, the triangles
  * stored once however many instances use them), walked as traceBvh walks the scene's; its
  * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
- * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack): it starts
- * empty there and is empty again when the walk ends, an overflow included (afterOverflow),
- * so the scene walk's own entries below are never touched.
+ * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack,
+ * cl/traversal/wide_walk.cl): it starts empty there and is empty again when the walk ends, an
+ * overflow included (afterOverflow), so the scene walk's own entries below are never touched.
  * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
 RAY_INLINED_ON_GPU
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
@@ -176,7 +173,7 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
                 addInnerChild(&inner, first, children.entry[c], true);
             }
         }
-        next = afterOverflow(nextNode(&inner, &stack, limit), &stack); /* cl/intersect.cl BvhStack */
+        next = afterOverflow(nextNode(&inner, &stack, limit), &stack);
     } while (next != -1);
 }
 
