@@ -26,8 +26,8 @@
  * 2 threads, so a fixed share of the blocks left one thread idle at the end of every tile
  * while the other finished a busier share. blockQueue[1] counts the work-items done: the
  * last one empties the queue for the next launch, which the in-order queue runs after this. */
-#define RAY_SCENE_BUFFER_PARAMETER(Type, name, what) __global const Type* name,
-#define RAY_SCENE_BUFFER_NAME(Type, name, what) name,
+#define RAY_SCENE_BUFFER_PARAMETER(Type, name, what, readers) __global const Type* name,
+#define RAY_SCENE_BUFFER_NAME(Type, name, what, readers) name,
 __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_PARAMETER)
                                               __global float4* tileColors, __global uint4* tileRayCounts
 #ifdef RAY_PACKET_WIDTH

@@ -287,8 +287,15 @@ RAY_STRUCT(RayRenderParams) {
 #define RAY_PIXEL_BLOCK_WIDTH(lanes) ((lanes) >= 8 ? 4 : (lanes) >= 4 ? 2 : 1)
 #define RAY_PIXEL_BLOCK_HEIGHT(lanes) ((lanes) / RAY_PIXEL_BLOCK_WIDTH(lanes))
 
-/* The scene's buffers: the one list of them, X(element type, name, what it holds), in the
- * order of renderTile's parameters. Each entry becomes, on the host (C++, types in ray::gpu),
+/* Which devices' kernels read a scene buffer (READERS in RAY_SCENE_BUFFERS): every device's,
+ * or a CPU device's alone (cl/device/variant.h); the host packs and uploads a table that only
+ * CPU devices read for CPU devices alone, and gives the others one unused element. */
+#define RAY_EVERY_DEVICE 0
+#define RAY_CPU_DEVICES 1
+
+/* The scene's buffers: the one list of them, X(element type, name, what it holds, READERS),
+ * in the order of renderTile's parameters. Each entry becomes, on the host (C++, types in
+ * ray::gpu),
  *  - a table of PackedScene (host/opencl/scene_packing.h): std::vector<TYPE> NAME, which
  *    packScene fills; its visit in PackedScene::forEachBuffer, from which totalBytes, the
  *    device limits (WHAT names the buffer in the message), the device's buffers, their
@@ -303,25 +310,25 @@ RAY_STRUCT(RayRenderParams) {
  * buffers): an empty table is uploaded as one unused element. */
 #define RAY_SCENE_BUFFERS(X)                                                                     \
     /* the four-wide BVH (host/accel/wide_bvh.h): the scene's nodes, then each mesh's */       \
-    X(RayWideBvhNode, nodes, "BVH nodes")                                                       \
-    /* the scene's tree again, sixteen-wide, for CPU devices' single-ray walk */                \
-    X(RayCpuBvhNode, cpuNodes, "CPU BVH nodes")                                                 \
+    X(RayWideBvhNode, nodes, "BVH nodes", RAY_EVERY_DEVICE)                                     \
+    /* the scene's tree again, sixteen-wide, for CPU devices' walk a ray at a time */          \
+    X(RayCpuBvhNode, cpuNodes, "CPU BVH nodes", RAY_CPU_DEVICES)                                \
     /* in BVH order, then the csg objects' programs */                                          \
-    X(RayPrimitive, primitives, "primitives")                                                   \
-    X(RayMaterial, materials, "materials")                                                      \
-    X(RayLight, lights, "lights")                                                               \
+    X(RayPrimitive, primitives, "primitives", RAY_EVERY_DEVICE)                                 \
+    X(RayMaterial, materials, "materials", RAY_EVERY_DEVICE)                                    \
+    X(RayLight, lights, "lights", RAY_EVERY_DEVICE)                                             \
     /* one per Scene::images entry */                                                           \
-    X(RayTexture, textures, "texture records")                                                  \
+    X(RayTexture, textures, "texture records", RAY_EVERY_DEVICE)                                \
     /* every texture (and its mipmap levels) back to back */                                    \
-    X(RayTexel, texels, "textures")                                                             \
+    X(RayTexel, texels, "textures", RAY_EVERY_DEVICE)                                           \
     /* every mesh's triangles once, each mesh's in the order of its own BVH */                  \
-    X(RayTriangle, triangles, "mesh triangles")                                                 \
-    X(RayTriangleShading, triangleShading, "mesh normals and texture coordinates")              \
+    X(RayTriangle, triangles, "mesh triangles", RAY_EVERY_DEVICE)                               \
+    X(RayTriangleShading, triangleShading, "mesh normals and texture coordinates", RAY_EVERY_DEVICE) \
     /* each primitive's world-space motion (.xyz), parallel to primitives, or empty when        \
      * nothing moves: a buffer of its own rather than a fifth float4 in RayPrimitive, so that   \
      * static scenes keep their 64-byte (one cache line) primitives, and the kernel reads a     \
      * motion only for a ray whose time is not 0 */                                             \
-    X(float4, motions, "motions")
+    X(float4, motions, "motions", RAY_EVERY_DEVICE)
 
 #ifndef RAY_OPENCL_C
 }  /* namespace ray::gpu */

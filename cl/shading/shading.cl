@@ -2,7 +2,7 @@
 
 /* The scene's buffers, one field each (cl/shared_types.h RAY_SCENE_BUFFERS), as renderTile
  * receives them. */
-#define RAY_SCENE_BUFFER_FIELD(Type, name, what) __global const Type* name;
+#define RAY_SCENE_BUFFER_FIELD(Type, name, what, readers) __global const Type* name;
 typedef struct {
     RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_FIELD)
 } SceneBuffers;

@@ -1,13 +1,14 @@
 // Which variant of the kernel a device runs (cl/device/variant.h): decided here, once, from
 // what the device is, and passed to the kernel's build as its one define. The host's own
 // choices follow from the same answer: the launches (a pixel or a block of pixels a
-// work-item) and the kernel's arguments.
+// work-item), the kernel's arguments and the tables packed and uploaded for the device.
 #pragma once
 
 #include <optional>
 #include <string>
 
 #include "opencl/opencl_device.h"
+#include "opencl/scene_packing.h"
 
 namespace ray {
 
@@ -21,6 +22,9 @@ struct KernelVariant {
 
     // The build option that says so: " -DRAY_CPU_LANES=n" on a CPU device, else nothing.
     std::string buildDefine() const;
+    // Whether the kernel reads the scene buffer `buffer` (cl/shared_types.h RAY_SCENE_BUFFERS):
+    // a table read only by CPU devices is neither packed nor uploaded for the others.
+    bool reads(const SceneBufferName& buffer) const { return !buffer.cpuOnly || cpuThreads; }
 };
 
 // The variant for `device`: a CPU's for a CPU device, a GPU's for every other. On a CPU

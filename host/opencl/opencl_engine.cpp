@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <type_traits>
 
 #include "core/memory_limits.h"
 #include "opencl/kernel_arguments.h"
@@ -39,8 +40,10 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 std::string mebibytes(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
-// Refuses, before any upload, a scene whose buffers exceed what the device allows.
-void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t tileBytes) {
+// Refuses, before any upload, a scene whose buffers (those its kernel reads) exceed what the
+// device allows.
+void checkDeviceLimits(const OpenClDevice& device, const KernelVariant& variant, const PackedScene& packed,
+                       size_t tileBytes) {
     const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
     auto checkAllocation = [&](const char* what, size_t bytes) {
         if (bytes > device.maxAllocation)
@@ -48,12 +51,15 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
                               " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
                               device.description() + " allows in one allocation" + advice);
     };
+    uint64_t sceneBytes = 0;
     packed.forEachBuffer([&](const auto& table, SceneBufferName name) {
+        if (!variant.reads(name)) return;
         checkAllocation(name.what, table.size() * sizeof(table[0]));
+        sceneBytes += table.size() * sizeof(table[0]);
     });
     checkAllocation("tile", tileBytes);
     // Each launch in flight has its colors and ray counts: two buffers of tileBytes.
-    uint64_t total = packed.totalBytes() + 2 * kTilesInFlight * uint64_t(tileBytes);
+    uint64_t total = sceneBytes + 2 * kTilesInFlight * uint64_t(tileBytes);
     if (total > device.globalMemory)
         throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
                           mebibytes(device.globalMemory) + " of " + device.description() + advice);
@@ -164,7 +170,7 @@ struct Frame;
 struct DeviceSlot {
     OpenClDevice device;
     int index = 0;  // position in the engine's selection
-    KernelVariant variant;  // what its kernel runs (kernelVariantFor): the kernel's build and launches
+    KernelVariant variant;  // what its kernel runs (kernelVariantFor): the kernel's build, launches and tables
 
     // The thread's mailbox, under `mutex`.
     std::mutex mutex;
@@ -662,7 +668,7 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
 cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks) {
     const PackedScene& packed = *frame.packed;
     if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels()) {
-        checkDeviceLimits(slot.device, packed, frame.tilePixels() * sizeof(cl_float4));
+        checkDeviceLimits(slot.device, slot.variant, packed, frame.tilePixels() * sizeof(cl_float4));
         slot.checkedTilePixels = frame.tilePixels();
     }
     if (!slot.context()) {
@@ -680,12 +686,13 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame, const TestHooks& hooks
         const bool inPlace = slot.device.isCpu && !sceneCopiedForTests();
         size_t next = 0;
         bool uploadedAny = false;
-        packed.forEachBuffer([&](const auto& table, SceneBufferName) {
+        packed.forEachBuffer([&](const auto& table, SceneBufferName name) {
             const size_t i = next++;
             if (slot.sceneBuffers[i]() && slot.bufferVersions[i] == packed.versions[i]) return;
             slot.sceneBuffers[i] = cl::Buffer();  // before its table's owner may go
             slot.bufferOwners[i].reset();
-            slot.sceneBuffers[i] = uploadBuffer(slot.context, table, inPlace);
+            const std::remove_cvref_t<decltype(table)> unread;  // a table the device's kernel never reads
+            slot.sceneBuffers[i] = uploadBuffer(slot.context, slot.variant.reads(name) ? table : unread, inPlace);
             slot.bufferVersions[i] = packed.versions[i];
             slot.bufferOwners[i] = frame.packed;
             uploadedAny = true;
@@ -902,7 +909,9 @@ void packIfNeeded(OpenClEngine::Impl& e, const RenderSettings& settings, FrameSt
         if (!slot->busy) slot->releaseScene();
     }
     start = Clock::now();
-    auto fresh = std::make_shared<PackedScene>(packScene(*e.scene, settings));
+    const bool cpuTables = std::any_of(e.slots.begin(), e.slots.end(),
+                                       [](const auto& slot) { return slot->variant.cpuThreads; });
+    auto fresh = std::make_shared<PackedScene>(packScene(*e.scene, settings, cpuTables));
     for (uint64_t& version : fresh->versions) version = ++e.tableVersions;
     stats.packSeconds = secondsSince(start);
     stats.bvhBuildSeconds = fresh->bvhBuildSeconds;

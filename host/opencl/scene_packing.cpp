@@ -277,7 +277,7 @@ void refitSceneTree(const Scene& scene, PackedScene& packed) {
         for (size_t i = begin; i < end; ++i) bounds[i] = worldBounds(scene.primitives[i]);
     });
     refitNode(scene, packed, bounds, 0);
-    packed.cpuNodes = widenBvhForCpu(packed.nodes);
+    if (packed.cpuTables) packed.cpuNodes = widenBvhForCpu(packed.nodes);
 }
 
 }  // namespace
@@ -288,8 +288,9 @@ size_t PackedScene::totalBytes() const {
     return bytes;
 }
 
-PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
+PackedScene packScene(const Scene& scene, const RenderSettings& settings, bool cpuTables) {
     PackedScene packed;
+    packed.cpuTables = cpuTables;
 
     auto start = std::chrono::steady_clock::now();
     std::vector<BoundingBox> bounds(scene.primitives.size());
@@ -303,7 +304,7 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
     // grow, it is no part of the process's peak (10⁵ spheres: 12.8 MB).
     std::vector<gpu::RayBvhNode>().swap(bvh.nodes);
     packed.sceneNodes = packed.nodes.size();
-    packed.cpuNodes = widenBvhForCpu(packed.nodes);
+    if (cpuTables) packed.cpuNodes = widenBvhForCpu(packed.nodes);
     for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
     // The build time counts the meshes' trees with the scene's.
     packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
