@@ -53,22 +53,23 @@ static inline float3 safeInverse(float3 d) {
 }
 
 /* The slab test: the distance at which a ray enters the box [minX, maxX] × [minY, maxY] ×
- * [minZ, maxZ] within (0, tMax), +infinity where it misses, given the ray's origin and safe
- * inverse direction (safeInverse). One definition for any float type FloatN, its lanes being
- * the children of a wide node tested at once (a CPU's walk a ray at a time), the rays of a
- * packet (the packet walk) or neither (a GPU's, a box at a time): RAY_DEFINE_SLAB_ENTRY
- * defines the function `name` for one such type, and each of its uses is the same arithmetic,
- * operation for operation, so the same bits.
+ * [minZ, maxZ] within (0, tMax), +infinity where it misses or where the box is not
+ * `present`, given the ray's origin and safe inverse direction (safeInverse). One definition
+ * for any float type FloatN (IntN its int type), whose lanes are the children of a wide node
+ * tested at once (a CPU's walk a ray at a time; present where a child exists), the rays of a
+ * packet (the packet walk), or neither (a GPU's, a box at a time; present 1, true):
+ * RAY_DEFINE_SLAB_ENTRY defines the function `name` for one such type, and each of its uses
+ * is the same arithmetic, operation for operation, so the same bits.
  *
  * Its minimum and maximum are of operands that are never NaN (safeInverse): OpenCL's fmin
  * and fmax must return the operand that is not NaN, which costs a compare-unordered and a
  * blend a call on CPUs, where a select compiles to one vminps/vmaxps. */
-#define RAY_DEFINE_SLAB_ENTRY(name, FloatN)                                                                        \
+#define RAY_DEFINE_SLAB_ENTRY(name, FloatN, IntN)                                                                  \
     static inline FloatN name##Min(FloatN a, FloatN b) { return select(b, a, a < b); }                           \
     static inline FloatN name##Max(FloatN a, FloatN b) { return select(b, a, a > b); }                           \
     static inline FloatN name(FloatN minX, FloatN maxX, FloatN minY, FloatN maxY, FloatN minZ, FloatN maxZ,       \
                               FloatN originX, FloatN originY, FloatN originZ, FloatN inverseX, FloatN inverseY,   \
-                              FloatN inverseZ, FloatN tMax) {                                                     \
+                              FloatN inverseZ, FloatN tMax, IntN present) {                                       \
         FloatN tx0 = (minX - originX) * inverseX, tx1 = (maxX - originX) * inverseX;                              \
         FloatN ty0 = (minY - originY) * inverseY, ty1 = (maxY - originY) * inverseY;                              \
         FloatN tz0 = (minZ - originZ) * inverseZ, tz1 = (maxZ - originZ) * inverseZ;                              \
@@ -76,5 +77,5 @@ static inline float3 safeInverse(float3 d) {
                                  name##Max(name##Min(tz0, tz1), (FloatN)(0.0f)));                                 \
         FloatN tFar = name##Min(name##Min(name##Max(tx0, tx1), name##Max(ty0, ty1)),                              \
                                 name##Min(name##Max(tz0, tz1), tMax));                                            \
-        return select((FloatN)(RAY_INFINITY), tNear, tNear <= tFar);                                              \
+        return select((FloatN)(RAY_INFINITY), tNear, (tNear <= tFar) & present);                                  \
     }

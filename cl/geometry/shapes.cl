@@ -46,6 +46,7 @@ typedef struct {
 static inline void RAY_LANE_FN(considerHit)(LaneInt candidate, LaneFloat t, LaneInt part, LaneVec3 normal,
                                             RAY_LANE_FN(ShapeHit) * h) {
     LaneInt take = candidate & (t > (LaneFloat)(0.0f)) & (t < h->best);
+    if (laneEarlyOut(take)) return;
     h->best = laneSelect(h->best, t, take);
     h->part = laneSelect(h->part, part, take);
     h->normal = laneSelectVec3(h->normal, normal, take);
@@ -130,23 +131,21 @@ static inline void RAY_LANE_FN(intersectCube)(LaneVec3 o, LaneVec3 d, RAY_LANE_F
 
 static inline void RAY_LANE_FN(intersectSphere)(LaneVec3 o, LaneVec3 d, RAY_LANE_FN(ShapeHit) * h) {
     LaneFloat a = laneDot(d, d), halfB = laneDot(o, d);
-    LaneFloat s = halfB / a;
-    LaneVec3 f = laneVec3(o.x - s * d.x, o.y - s * d.y, o.z - s * d.z); /* the ray's closest approach to the centre */
+    LaneVec3 f = laneAlong(o, -(halfB / a), d); /* the ray's closest approach to the centre */
     LaneFloat t0, t1;
     LaneInt found = RAY_LANE_FN(closestApproachRoots)(a, halfB, laneDot(o, o) - 0.25f, a * (0.25f - laneDot(f, f)),
                                                       &t0, &t1);
     if (!laneAny(found)) return;
     LaneFloat t = laneSelect(t1, t0, t0 > (LaneFloat)(0.0f));
-    RAY_LANE_FN(considerHit)(found, t, (LaneInt)(PART_SIDE), laneVec3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z),
-                             h);
+    RAY_LANE_FN(considerHit)(found, t, (LaneInt)(PART_SIDE), laneAlong(o, t, d), h);
 }
 
 /* A cap of radius 0.5 in the plane y = capY. */
 static inline void RAY_LANE_FN(intersectCap)(LaneVec3 o, LaneVec3 d, float capY, int capPart,
                                              RAY_LANE_FN(ShapeHit) * h) {
     LaneFloat t = (capY - o.y) / d.y;
-    LaneFloat px = o.x + t * d.x, pz = o.z + t * d.z;
-    LaneInt inside = (d.y != (LaneFloat)(0.0f)) & (px * px + pz * pz <= (LaneFloat)(0.25f));
+    LaneVec3 p = laneAlong(o, t, d);
+    LaneInt inside = (d.y != (LaneFloat)(0.0f)) & (p.x * p.x + p.z * p.z <= (LaneFloat)(0.25f));
     LaneVec3 normal = laneVec3((LaneFloat)(0.0f), (LaneFloat)(capY > 0.0f ? 1.0f : -1.0f), (LaneFloat)(0.0f));
     RAY_LANE_FN(considerHit)(inside, t, (LaneInt)(capPart), normal, h);
 }
@@ -155,10 +154,10 @@ static inline void RAY_LANE_FN(intersectCap)(LaneVec3 o, LaneVec3 d, float capY,
  * between the caps. */
 static inline void RAY_LANE_FN(considerSideRoot)(LaneInt found, LaneVec3 o, LaneVec3 d, LaneFloat t, bool cone,
                                                  RAY_LANE_FN(ShapeHit) * h) {
-    LaneFloat px = o.x + t * d.x, py = o.y + t * d.y, pz = o.z + t * d.z;
-    LaneInt between = found & (py >= (LaneFloat)(-0.5f)) & (py <= (LaneFloat)(0.5f));
-    LaneFloat ny = cone ? 0.25f * (0.5f - py) : (LaneFloat)(0.0f);
-    RAY_LANE_FN(considerHit)(between, t, (LaneInt)(PART_SIDE), laneVec3(px, ny, pz), h);
+    LaneVec3 p = laneAlong(o, t, d);
+    LaneInt between = found & (p.y >= (LaneFloat)(-0.5f)) & (p.y <= (LaneFloat)(0.5f));
+    LaneFloat ny = cone ? 0.25f * (0.5f - p.y) : (LaneFloat)(0.0f);
+    RAY_LANE_FN(considerHit)(between, t, (LaneInt)(PART_SIDE), laneVec3(p.x, ny, p.z), h);
 }
 
 static inline void RAY_LANE_FN(intersectCylinder)(LaneVec3 o, LaneVec3 d, RAY_LANE_FN(ShapeHit) * h) {
@@ -193,8 +192,11 @@ static inline void RAY_LANE_FN(intersectCone)(LaneVec3 o, LaneVec3 d, RAY_LANE_F
     RAY_LANE_FN(intersectCap)(o, d, -0.5f, PART_BOTTOM, h);
 }
 
-/* Intersects the convex shape of type `type` (convexShape) in object space. */
-static inline void RAY_LANE_FN(intersectConvexShape)(int type, LaneVec3 o, LaneVec3 d, RAY_LANE_FN(ShapeHit) * h) {
+/* Intersects the convex shape of type `type` (convexShape) in object space. Inlined on every
+ * device: one ray's intersectPrimitive has switched on the type already, and as a call of
+ * its own on a CPU it switched again (docs/performance.md, "One source for the shapes"). */
+static inline __attribute__((always_inline)) void RAY_LANE_FN(intersectConvexShape)(int type, LaneVec3 o, LaneVec3 d,
+                                                                                    RAY_LANE_FN(ShapeHit) * h) {
     switch (type) {
         case RAY_PRIM_CUBE: RAY_LANE_FN(intersectCube)(o, d, h); break;
         case RAY_PRIM_SPHERE: RAY_LANE_FN(intersectSphere)(o, d, h); break;

@@ -17,6 +17,10 @@
  *   laneSelectVec3           LaneFloat and LaneInt; the same for LaneVec3)
  *   laneAny(m)             whether some lane of m is true (a branch for every lane at once)
  *   laneNot(m)             the mask m negated
+ *   laneEarlyOut(m)        whether to leave a step where no lane of m is set: one ray leaves
+ *                          (a branch), a packet goes on (its selects cost less than a branch
+ *                          on a mask that is seldom empty)
+ *   laneAlong(o, t, d)     the LaneVec3 o + t·d (a point along a ray)
  *   laneDot(a, b)          the dot product of two LaneVec3s
  *   laneRowDot(row, v)     the dot product of a float4 row's .xyz and a LaneVec3 */
 #define RAY_PASTE(a, b) RAY_PASTE_EXPANDED(a, b)
@@ -33,5 +37,7 @@
 #define laneSelectVec3(a, b, m) ((m) ? (b) : (a))
 #define laneAny(m) (m)
 #define laneNot(m) (!(m))
+#define laneEarlyOut(m) (!(m))
+#define laneAlong(o, t, d) ((o) + (t) * (d))
 #define laneDot(a, b) dot(a, b)
 #define laneRowDot(row, v) dot((row).xyz, v)

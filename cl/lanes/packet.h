@@ -15,6 +15,8 @@
 #undef laneSelectVec3
 #undef laneAny
 #undef laneNot
+#undef laneEarlyOut
+#undef laneAlong
 #undef laneDot
 #undef laneRowDot
 
@@ -51,6 +53,10 @@ static inline PacketVec3 packetSelectVec3(PacketVec3 a, PacketVec3 b, PacketInt 
     return packetVec3(select(a.x, b.x, m), select(a.y, b.y, m), select(a.z, b.z, m));
 }
 
+static inline PacketVec3 packetAlong(PacketVec3 o, PacketFloat t, PacketVec3 d) {
+    return packetVec3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z);
+}
+
 /* dot(a, b) of float3s, a lane a pair: PoCL's dot is ((a.x·b.x + a.y·b.y) + a.z·b.z) with
  * no fused multiply-add, where OpenCL C would fuse this expression written out (a third of
  * the results would differ in the last bit from one ray's dot). */
@@ -69,6 +75,8 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
 #define laneSelectVec3(a, b, m) packetSelectVec3(a, b, m)
 #define laneAny(m) any(m)
 #define laneNot(m) (~(m))
+#define laneEarlyOut(m) 0
+#define laneAlong(o, t, d) packetAlong(o, t, d)
 #define laneDot(a, b) packetDot(a, b)
 #define laneRowDot(row, v) \
     packetDot(packetVec3((PacketFloat)((row).x), (PacketFloat)((row).y), (PacketFloat)((row).z)), v)

@@ -3,16 +3,15 @@
  * code runs as SIMD. A GPU tests them a box at a time (cl/device/gpu/box_test.cl). */
 #ifdef RAY_DEVICE_CPU
 
-RAY_DEFINE_SLAB_ENTRY(boxEntries4, float4)
+RAY_DEFINE_SLAB_ENTRY(boxEntries4, float4, int4)
 
 /* The distance at which the ray enters each child's box within (0, tMax), +infinity for a
  * child it misses and for an absent one. */
 static inline float4 childEntryDistances(__global const RayWideBvhNode* node, float3 origin, float3 inverseDirection,
                                          float tMax) {
-    float4 entry = boxEntries4(node->minX, node->maxX, node->minY, node->maxY, node->minZ, node->maxZ,
-                               (float4)(origin.x), (float4)(origin.y), (float4)(origin.z), (float4)(inverseDirection.x),
-                               (float4)(inverseDirection.y), (float4)(inverseDirection.z), (float4)(tMax));
-    return select((float4)(RAY_INFINITY), entry, node->index >= 0);
+    return boxEntries4(node->minX, node->maxX, node->minY, node->maxY, node->minZ, node->maxZ, (float4)(origin.x),
+                       (float4)(origin.y), (float4)(origin.z), (float4)(inverseDirection.x),
+                       (float4)(inverseDirection.y), (float4)(inverseDirection.z), (float4)(tMax), node->index >= 0);
 }
 
 #endif

@@ -62,7 +62,7 @@ static inline PacketRays packetRays(const Ray* rays) {
     return p;
 }
 
-RAY_DEFINE_SLAB_ENTRY(boxEntryPacket, PacketFloat)
+RAY_DEFINE_SLAB_ENTRY(boxEntryPacket, PacketFloat, PacketInt)
 
 /* Every ray's entry distance into child `c` of a wide node within (0, limit), +infinity
  * for a ray that misses it. A lane whose limit is negative (a finished ray) always misses. */
@@ -71,7 +71,7 @@ static inline PacketFloat packetChildEntry(__global const RayWideBvhNode* node, 
 #define RAY_BOUND(bound) ((PacketFloat)(((__global const float*)&node->bound)[c]))
     return boxEntryPacket(RAY_BOUND(minX), RAY_BOUND(maxX), RAY_BOUND(minY), RAY_BOUND(maxY), RAY_BOUND(minZ),
                           RAY_BOUND(maxZ), r->origin.x, r->origin.y, r->origin.z, r->inverse.x, r->inverse.y,
-                          r->inverse.z, limit);
+                          r->inverse.z, limit, (PacketInt)(-1));
 #undef RAY_BOUND
 }
 

@@ -12,17 +12,16 @@
 
 static inline bool isFourWideRef(int next) { return next <= -3; } /* fourWideRef */
 
-RAY_DEFINE_SLAB_ENTRY(boxEntries16, float16)
+RAY_DEFINE_SLAB_ENTRY(boxEntries16, float16, int16)
 
 /* The distance at which the ray enters each of the sixteen children's boxes within
  * (0, tMax), +infinity for a child it misses and for an absent one. */
 static inline float16 cpuChildEntryDistances(__global const RayCpuBvhNode* node, float3 origin,
                                              float3 inverseDirection, float tMax) {
-    float16 entry = boxEntries16(node->minX, node->maxX, node->minY, node->maxY, node->minZ, node->maxZ,
-                                 (float16)(origin.x), (float16)(origin.y), (float16)(origin.z),
-                                 (float16)(inverseDirection.x), (float16)(inverseDirection.y),
-                                 (float16)(inverseDirection.z), (float16)(tMax));
-    return select((float16)(RAY_INFINITY), entry, node->index >= 0);
+    return boxEntries16(node->minX, node->maxX, node->minY, node->maxY, node->minZ, node->maxZ, (float16)(origin.x),
+                        (float16)(origin.y), (float16)(origin.z), (float16)(inverseDirection.x),
+                        (float16)(inverseDirection.y), (float16)(inverseDirection.z), (float16)(tMax),
+                        node->index >= 0);
 }
 
 /* The lanes of a comparison's result (-1: true) as bits, lane c as bit c. */

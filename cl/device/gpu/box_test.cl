@@ -7,13 +7,13 @@
  * with this form on llvmpipe and compares them with PoCL's. */
 #ifndef RAY_DEVICE_CPU
 
-RAY_DEFINE_SLAB_ENTRY(boxEntry, float)
+RAY_DEFINE_SLAB_ENTRY(boxEntry, float, int)
 
 /* Child `lane` (s0..s3) of the node: its box's entry distance, +infinity when absent. */
 #define RAY_CHILD_ENTRY(lane)                                                                                      \
     (node->index.lane >= 0 ? boxEntry(node->minX.lane, node->maxX.lane, node->minY.lane, node->maxY.lane,           \
                                       node->minZ.lane, node->maxZ.lane, origin.x, origin.y, origin.z,               \
-                                      inverseDirection.x, inverseDirection.y, inverseDirection.z, tMax)             \
+                                      inverseDirection.x, inverseDirection.y, inverseDirection.z, tMax, 1)          \
                            : RAY_INFINITY)
 /* The distance at which the ray enters each child's box within (0, tMax), +infinity for a
  * child it misses and for an absent one. */
