@@ -48,7 +48,7 @@ static inline bool csgCrossing(__global const RayPrimitive* operand, float3 orig
     float margin = 0.25f / length(d);
     float start = leaving ? boxLeave + margin : boxEnter - margin;
     float s;
-    if (!csgNearestSurface(operand->info.x, o + start * d, leaving ? -d : d, &s, part, normal)) return false;
+    if (!csgNearestSurface(operand->type, o + start * d, leaving ? -d : d, &s, part, normal)) return false;
     *t = leaving ? start - s : start + s;
     return true;
 }
@@ -156,9 +156,9 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
     int start[RAY_CSG_MAX_STACK + 1]; /* list k is times[start[k] .. start[k + 1]) */
     int top = 0;
     start[0] = 0;
-    int first = csg->info.z, end = csg->info.z + csg->info.w;
-    for (int step = first; step < end; ++step) {
-        int kind = prims[step].info.x;
+    int first = csg->geometry;
+    for (int step = first; prims[step].type != RAY_CSG_END; ++step) {
+        int kind = prims[step].type;
         if (kind < RAY_CSG_UNION) {
             if (top >= RAY_CSG_MAX_STACK) return; /* the host never packs such a program */
             int at = start[top];
@@ -174,7 +174,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
     if (top != 1) return;
     /* A boundary at exactly hit->t wins when the object is listed after the primitive hit
      * so far (the program's operand records carry the object's order). */
-    const float limit = hitLimit(hit->t, hit->primitive, hit->order, prims[first].info.z);
+    const float limit = hitLimit(hit->t, hit->primitive, hit->order, prims[first].order);
     for (int k = 0; k < start[1]; ++k) {
         float t = times[k];
         if (!(t < limit)) return;
@@ -190,7 +190,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
         if (entersResult == (leaving != 0)) normal = -normal;
         hit->t = t;
         hit->primitive = operand;
-        hit->order = prims[operand].info.z;
+        hit->order = prims[operand].order;
         hit->part = part;
         hit->objectPoint = transformPoint(prims[operand].worldToObject, origin) +
                            t * transformVector(prims[operand].worldToObject, direction);

@@ -37,30 +37,30 @@ static RAY_CALL_ON_CPU void intersectPrimitive(__global const RayWideBvhNode* no
                                                bool courseMeshes, BvhStackEntry* spare, int spareCount, Hit* hit) {
     float3 origin = ray.origin;
     if (ray.time != 0.0f) origin -= ray.time * motions[index].xyz;
-    if (prim->info.x == RAY_PRIM_CSG) { /* its operands have transforms of their own */
+    if (prim->type == RAY_PRIM_CSG) { /* its operands have transforms of their own */
         intersectCsg(prim - index, prim, origin, ray.direction, hit);
         return;
     }
     float3 o = transformPoint(prim->worldToObject, origin);
     float3 d = transformVector(prim->worldToObject, ray.direction);
-    const bool keyed = courseMeshes && prim->info.x == RAY_PRIM_MESH;
+    const bool keyed = courseMeshes && prim->type == RAY_PRIM_MESH;
     const float scale = keyed ? length(d) / length(ray.direction) : 1.0f;
-    const float limit = keyed ? hit->t / scale : hitLimit(hit->t, hit->primitive, hit->order, prim->info.z);
+    const float limit = keyed ? hit->t / scale : hitLimit(hit->t, hit->primitive, hit->order, prim->order);
     ShapeHit h = {limit, 0, (float3)(0.0f)};
     float2 barycentric = (float2)(0.0f);
-    switch (prim->info.x) {
+    switch (prim->type) {
         case RAY_PRIM_TORUS: intersectTorus(o, d, &h.best, &h.part, &h.normal); break;
         case RAY_PRIM_MESH:
-            intersectMesh(nodes, triangles, prim->info.w, o, d, spare, spareCount, &h.best, &h.part, &h.normal,
+            intersectMesh(nodes, triangles, prim->geometry, o, d, spare, spareCount, &h.best, &h.part, &h.normal,
                           &barycentric);
             break;
-        default: intersectConvexShape(prim->info.x, o, d, &h); break;
+        default: intersectConvexShape(prim->type, o, d, &h); break;
     }
     const float key = keyed ? h.best * scale : h.best;
     if (keyed ? (h.best < limit && key < hit->t) : h.best < limit) {
         hit->t = key;
         hit->primitive = index;
-        hit->order = prim->info.z;
+        hit->order = prim->order;
         hit->part = h.part;
         hit->objectPoint = o + h.best * d;
         hit->objectNormal = h.normal;

@@ -181,12 +181,12 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
  * the face normal where it gave none) interpolated at the hit. */
 static inline float3 meshShadingNormal(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
-    float3 n = (1.0f - b.x - b.y) * s->n0.xyz + b.x * s->n1.xyz + b.y * s->n2.xyz;
-    return dot(n, n) > 0.0f ? n : s->n0.xyz;
+    float3 n = (1.0f - b.x - b.y) * s->normal0.xyz + b.x * s->normal1.xyz + b.y * s->normal2.xyz;
+    return dot(n, n) > 0.0f ? n : s->normal0.xyz;
 }
 
 /* The texture coordinates of a mesh hit: the corners' vt interpolated, (0, 0) without. */
 static inline float2 meshUv(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
-    return (1.0f - b.x - b.y) * s->uv01.xy + b.x * s->uv01.zw + b.y * s->uv2.xy;
+    return (1.0f - b.x - b.y) * s->uv0 + b.x * s->uv1 + b.y * s->uv2;
 }

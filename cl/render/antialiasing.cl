@@ -57,14 +57,14 @@ typedef struct {
     int extra;             /* adaptive: whether the k×k grid is being taken */
 } JitteredSampler;
 
-/* A pixel uses one mode (params->mode.x), so the two machines share their memory. */
+/* A pixel uses one mode (params->antialias), so the two machines share their memory. */
 typedef union {
     CourseSampler course;
     JitteredSampler jittered;
 } PixelSampler;
 
 static inline void startSampler(PixelSampler* s, const RayRenderParams* params) {
-    if (params->mode.x == RAY_AA_COURSE) {
+    if (params->antialias == RAY_AA_COURSE) {
         s->course.level = 0;
         s->course.taken[0] = 0;
         return;
@@ -73,13 +73,13 @@ static inline void startSampler(PixelSampler* s, const RayRenderParams* params) 
     j->count = 0;
     /* --aa off counts its one sample and nothing else: the rest is a per-pixel cost there
      * (PoCL: 0.8 M instructions of chess's 132.3 M, most of its pixels missing everything) */
-    if (params->mode.x == RAY_AA_OFF) return;
+    if (params->antialias == RAY_AA_OFF) return;
     j->sum = (float3)(0.0f);
     j->low = (float3)(INFINITY);
     j->high = (float3)(-INFINITY);
     j->extra = 0;
-    int samples = params->mode.w;
-    bool stratified = params->mode.x == RAY_AA_STRATIFIED || samples <= 4;
+    int samples = params->samples;
+    bool stratified = params->antialias == RAY_AA_STRATIFIED || samples <= 4;
     j->side = stratified ? max(1, (int)floor(sqrt((float)samples))) : 2;
 }
 
@@ -145,17 +145,17 @@ static inline bool nextJitteredPosition(JitteredSampler* s, const RayRenderParam
                                         float2* position, float3* color) {
     int cell = s->extra ? s->count - 4 : s->count;
     if (cell >= s->side * s->side) {
-        bool refine = params->mode.x == RAY_AA_ADAPTIVE && params->mode.w > 4 && !s->extra &&
+        bool refine = params->antialias == RAY_AA_ADAPTIVE && params->samples > 4 && !s->extra &&
                       largestChannel(s->high - s->low) > RAY_ADAPTIVE_CONTRAST;
         if (!refine) {
             *color = s->sum / (float)s->count;
             return false;
         }
         s->extra = 1;
-        s->side = max(1, (int)floor(sqrt((float)params->mode.w)));
+        s->side = max(1, (int)floor(sqrt((float)params->samples)));
         cell = 0;
     }
-    uint seed = (uint)params->counts.w, number = (uint)s->count;
+    uint seed = (uint)params->seed, number = (uint)s->count;
     float side = (float)s->side;
     *position = (float2)(rayTentOffset(((float)(cell % s->side) + rayRandom(pixel, number, 0u, seed)) / side),
                          rayTentOffset(((float)(cell / s->side) + rayRandom(pixel, number, 1u, seed)) / side));
@@ -166,7 +166,7 @@ static inline bool nextJitteredPosition(JitteredSampler* s, const RayRenderParam
  * and its color is in *color. */
 static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* params, uint pixel, float2* position,
                                       float3* color) {
-    switch (params->mode.x) {
+    switch (params->antialias) {
         case RAY_AA_COURSE: return nextCoursePosition(&s->course, position, color);
         case RAY_AA_STRATIFIED:
         case RAY_AA_ADAPTIVE: return nextJitteredPosition(&s->jittered, params, pixel, position, color);
@@ -180,13 +180,13 @@ static inline bool nextSamplePosition(PixelSampler* s, const RayRenderParams* pa
 /* Takes the color of the sample at the position nextSamplePosition gave: clamped, except
  * with --aa off, whose one sample is the pixel's unclamped color (*pixelColor). */
 static inline void addSample(PixelSampler* s, const RayRenderParams* params, float3 color, float3* pixelColor) {
-    if (params->mode.x == RAY_AA_OFF) {
+    if (params->antialias == RAY_AA_OFF) {
         *pixelColor = color;
         s->jittered.count++;
         return;
     }
     color = clamp(color, 0.0f, 1.0f);
-    if (params->mode.x == RAY_AA_COURSE) {
+    if (params->antialias == RAY_AA_COURSE) {
         CourseSampler* c = &s->course;
         int l = c->level;
         c->quadrant[l][c->taken[l]++] = packFloat3(color);

@@ -8,17 +8,17 @@
  * focallength along the look axis. --dof disk: a point of the lens disk picked by lens ∈
  * [0, 1)², the ray aimed at the point the pinhole ray reaches at the focal distance. */
 static inline Ray cameraRay(const RayRenderParams* params, float i, float j, float sx, float sy, float2 lens, float time) {
-    float u = 2.0f * (i + sx) / (float)params->image.x - 1.0f;
-    float v = 1.0f - 2.0f * (j + sy) / (float)params->image.y;
+    float u = 2.0f * (i + sx) / (float)params->width - 1.0f;
+    float v = 1.0f - 2.0f * (j + sy) / (float)params->height;
     float3 through = u * params->right.xyz + v * params->up.xyz + params->forward.xyz; /* at depth 1 */
     Ray ray = {params->eye.xyz, normalize(through), time};
-    float lensRadius = params->lens.x;
-    if (lensRadius > 0.0f && !(params->mode.z & RAY_FEATURE_LENS_DISK)) {
-        float3 focus = ray.origin + params->lens.y * through;
+    float lensRadius = params->lensRadius;
+    if (lensRadius > 0.0f && !(params->features & RAY_FEATURE_LENS_DISK)) {
+        float3 focus = ray.origin + params->focalDistance * through;
         ray.origin += lensRadius * lens.x * normalize(params->right.xyz) + lensRadius * lens.y * normalize(params->up.xyz);
         ray.direction = normalize(focus - ray.origin);
     } else if (lensRadius > 0.0f) {
-        float3 focus = ray.origin + params->lens.y * ray.direction;
+        float3 focus = ray.origin + params->focalDistance * ray.direction;
         float r = lensRadius * sqrt(lens.x), phi = 2.0f * M_PI_F * lens.y;
         ray.origin += r * cos(phi) * normalize(params->right.xyz) + r * sin(phi) * normalize(params->up.xyz);
         ray.direction = normalize(focus - ray.origin);
@@ -29,7 +29,7 @@ static inline Ray cameraRay(const RayRenderParams* params, float i, float j, flo
 /* A sample's lens: the course's grid (SPEC §3) or one random point of the disk (--dof
  * disk), and how many lens rays it takes (RAY_LENS_GRID_SIDE² on the grid, else 1). */
 static inline bool courseLensGrid(const RayRenderParams* params) {
-    return params->lens.x > 0.0f && !(params->mode.z & RAY_FEATURE_LENS_DISK);
+    return params->lensRadius > 0.0f && !(params->features & RAY_FEATURE_LENS_DISK);
 }
 
 static inline int lensRaysPerSample(const RayRenderParams* params) {
@@ -37,16 +37,16 @@ static inline int lensRaysPerSample(const RayRenderParams* params) {
 }
 
 /* Starts the pixel's next sample: numbers it, draws its shutter time from random dimension
- * 4 (shutter, params->lens.z, 0 when nothing moves, times that number) and, with --dof
+ * 4 (shutter, params->shutter, 0 when nothing moves, times that number) and, with --dof
  * disk, its lens point from dimensions 2 and 3 (0 and 1 are the stratified jitter). */
 static inline float2 startSample(const RayRenderParams* params, PixelTrace* counter) {
     uint k = counter->nextSample++;
     counter->sample = k;
-    uint seed = (uint)params->counts.w;
+    uint seed = (uint)params->seed;
     float2 lens = (float2)(0.0f);
-    if (params->lens.x > 0.0f && !courseLensGrid(params))
+    if (params->lensRadius > 0.0f && !courseLensGrid(params))
         lens = (float2)(rayRandom(counter->pixel, k, 2u, seed), rayRandom(counter->pixel, k, 3u, seed));
-    float shutter = params->lens.z;
+    float shutter = params->shutter;
     counter->time = shutter > 0.0f ? shutter * rayRandom(counter->pixel, k, 4u, seed) : 0.0f;
     return lens;
 }

@@ -40,7 +40,7 @@ void addReflectedChild(RayTree* tree, int depth, Ray* aboveRay, float3 d, float3
  * cuts it when its path weight is below the threshold in every channel, and a zero weight
  * is no branch. */
 static inline bool branchTraced(const RayRenderParams* params, float3 pathWeight, float3 weight) {
-    return anyAbove(pathWeight * weight, params->limits.x) && anyAbove(weight, 1e-30f);
+    return anyAbove(pathWeight * weight, params->weightThreshold) && anyAbove(weight, 1e-30f);
 }
 
 /* The surfaces refraction applies to (SPEC §4): those of transparent objects (Ot != 0). */
@@ -75,18 +75,18 @@ void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth,
                         float3 p, float3 normal, float3 surfaceNormal, float materialIor) {
     if (atDepthLimit(params, depth)) return; /* no bounce left: I_t is black */
     float3 pathWeight = pathWeightOf(tree->frames, depth);
-    if (!(params->mode.z & RAY_FEATURE_FRESNEL)) {
+    if (!(params->features & RAY_FEATURE_FRESNEL)) {
         addRefractedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
-                          (float3)(1.0f), params->limits.y);
+                          (float3)(1.0f), params->rayOffset);
         return;
     }
     float r = surfaceReflectance(tree->frames, depth, d, normal, false, materialIor);
     float3 reflectWeight = (float3)(r), transmitWeight = (float3)(1.0f - r);
     if (branchTraced(params, pathWeight, reflectWeight))
-        addReflectedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, reflectWeight, params->limits.y);
+        addReflectedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, reflectWeight, params->rayOffset);
     if (branchTraced(params, pathWeight, transmitWeight))
         addRefractedChild(tree, depth, aboveRay, d, p, normal, surfaceNormal, false, materialIor,
-                          transmitWeight, params->limits.y);
+                          transmitWeight, params->rayOffset);
 }
 
 /* Shades the hit of the ray of frame tree->frames[depth]: its color without the lights
@@ -96,71 +96,71 @@ void transmitFromInside(const RayRenderParams* params, RayTree* tree, int depth,
 static inline bool shadeHit(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, int depth,
                             Ray ray, Hit hit, Ray* next, LightSamples* lights) {
     Frame* frame = &tree->frames[depth];
-    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    const bool courseMeshes = (params->features & RAY_FEATURE_COURSE_MESHES) != 0;
     __global const RayPrimitive* prim = &scene->primitives[hit.primitive];
-    /* read where it lies: a private copy of the material (128 B) was loaded whole and held
-     * across the shading, 48 B of gfx906 scratch */
-    __global const RayMaterial* m = &scene->materials[prim->info.y];
+    /* read where it lies: a private copy of the material is loaded whole and held across the
+     * shading, in gfx906 scratch */
+    __global const RayMaterial* m = &scene->materials[prim->material];
     float3 p = ray.origin + hit.t * ray.direction;
     float3 faceNormal = hit.objectNormal; /* a mesh's: the triangle's, before its shading normal */
     /* --course-meshes: a mesh keeps its face normal */
-    if (prim->info.x == RAY_PRIM_MESH && !courseMeshes)
+    if (prim->type == RAY_PRIM_MESH && !courseMeshes)
         hit.objectNormal = meshShadingNormal(scene->triangleShading, hit.part, hit.barycentric);
     /* only a texture or a bump map reads uv: computed for every hit, the sphere's atan2 and
      * asin were 3% of PoCL's instructions on spheres_1e4 (202.9 -> 197.1 M), which has neither */
-    const bool mapped = (params->mode.z & RAY_FEATURE_TEXTURES) && (m->maps.x >= 0 || m->maps.y >= 0);
-    float2 uv = mapped ? hitUv(scene, prim->info.x, &hit) : (float2)(0.0f);
+    const bool mapped = (params->features & RAY_FEATURE_TEXTURES) && (m->textureMap >= 0 || m->bumpMap >= 0);
+    float2 uv = mapped ? hitUv(scene, prim->type, &hit) : (float2)(0.0f);
     float3 normal = normalToWorld(prim->worldToObject, hit.objectNormal);
     /* The object normal points outward. Which side the ray meets is the surface's own: a
      * bump map tilts the shading normal, not the surface (host/reference/reference_renderer.cpp). */
     bool entering = dot(normal, ray.direction) < 0.0f;
     float3 surfaceNormal = entering ? normal : -normal; /* facing the ray, before a bump map tilts it */
-    if ((params->mode.z & RAY_FEATURE_TEXTURES) && m->maps.y >= 0) { /* bump maps follow the textures switch */
+    if ((params->features & RAY_FEATURE_TEXTURES) && m->bumpMap >= 0) { /* bump maps follow the textures switch */
         hit.objectNormal = bumpedObjectNormal(
-            scene, m->maps.y, uv, m->repeats.zw, objectTangent(scene, prim->info.x, hit.part, hit.objectPoint),
-            bitangentSign(scene, prim->info.x, hit.part, faceNormal, hit.objectNormal), hit.objectNormal);
+            scene, m->bumpMap, uv, m->bumpRepeat, objectTangent(scene, prim->type, hit.part, hit.objectPoint),
+            bitangentSign(scene, prim->type, hit.part, faceNormal, hit.objectNormal), hit.objectNormal);
         normal = normalToWorld(prim->worldToObject, hit.objectNormal);
     }
     if (!entering) normal = -normal; /* face the incoming ray */
-    float4 k = params->globals;                               /* ka, kd, ks, kt */
-    int features = params->mode.z;
+    int features = params->features;
     if (leavesTransparentObject(features, entering, m->transparent.xyz)) {
-        transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m->specular.w);
+        transmitFromInside(params, tree, depth, next, ray.direction, p, normal, surfaceNormal, m->ior);
         return false;
     }
 
-    float3 diffuse = k.y * m->diffuse.xyz;
-    if ((features & RAY_FEATURE_TEXTURES) && m->maps.x >= 0) {
+    float3 diffuse = params->kd * m->diffuse.xyz;
+    if ((features & RAY_FEATURE_TEXTURES) && m->textureMap >= 0) {
         float3 t = (features & RAY_FEATURE_TRILINEAR)
-                       ? sampleTrilinear(scene, m->maps.x, uv, m->repeats.xy,
+                       ? sampleTrilinear(scene, m->textureMap, uv, m->textureRepeat,
                                          textureFootprint(scene, params, prim, hit.part, hit.t, ray.direction, normal))
                    : (features & RAY_FEATURE_COURSE_FILTER)
-                       ? sampleCourseBilinear(scene, m->maps.x, uv, m->repeats.xy)
-                       : sampleTexture(scene, m->maps.x, uv, m->repeats.xy, (features & RAY_FEATURE_BILINEAR) != 0);
-        float blend = m->diffuse.w;
+                       ? sampleCourseBilinear(scene, m->textureMap, uv, m->textureRepeat)
+                       : sampleTexture(scene, m->textureMap, uv, m->textureRepeat,
+                                       (features & RAY_FEATURE_BILINEAR) != 0);
+        float blend = m->blend;
         diffuse = blend * t + (1.0f - blend) * diffuse; /* the texture term is not scaled by kd */
     }
-    frame->color = packFloat3(k.x * m->ambient.xyz + m->emissive.xyz); /* shadeFrame adds the lights */
-    startLights(lights, p, normal, -ray.direction, diffuse, k.z * m->specular.xyz, m->ambient.w,
-                params->limits.y);
+    frame->color = packFloat3(params->ka * m->ambient.xyz + m->emissive.xyz); /* shadeFrame adds the lights */
+    startLights(lights, p, normal, -ray.direction, diffuse, params->ks * m->specular.xyz, m->shininess,
+                params->rayOffset);
 
     if (atDepthLimit(params, depth)) return true;
     float3 pathWeight = pathWeightOf(tree->frames, depth);
-    float3 reflectWeight = k.z * m->reflective.xyz;
-    float3 transmitWeight = k.w * m->transparent.xyz;
+    float3 reflectWeight = params->ks * m->reflective.xyz;
+    float3 transmitWeight = params->kt * m->transparent.xyz;
     if ((features & RAY_FEATURE_FRESNEL) && refracts(features, m->transparent.xyz)) {
         /* ks·Or·R·I_r + kt·Ot·(1 − R)·I_t; under total internal reflection (R = 1) the
          * transmitted branch has weight 0 and is not traced. */
-        float r = surfaceReflectance(tree->frames, depth, ray.direction, normal, entering, m->specular.w);
+        float r = surfaceReflectance(tree->frames, depth, ray.direction, normal, entering, m->ior);
         reflectWeight *= r;
         transmitWeight *= 1.0f - r;
     }
     if ((features & RAY_FEATURE_REFLECTIONS) && branchTraced(params, pathWeight, reflectWeight))
         addReflectedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, reflectWeight,
-                          params->limits.y);
+                          params->rayOffset);
     if ((features & RAY_FEATURE_REFRACTION) && branchTraced(params, pathWeight, transmitWeight))
         addRefractedChild(tree, depth, next, ray.direction, p, normal, surfaceNormal, entering,
-                          m->specular.w, transmitWeight, params->limits.y);
+                          m->ior, transmitWeight, params->rayOffset);
     return true;
 }
 

@@ -61,7 +61,7 @@ typedef struct {
 /* Whether a frame at `depth` spawns no child: the bounce limit (--depth), which the host
  * makes RAY_MAX_FRAMES − 1, so that the first child always has a frame above to go to. */
 static inline bool atDepthLimit(const RayRenderParams* params, int depth) {
-    return depth >= params->mode.y || depth + 1 >= RAY_MAX_FRAMES;
+    return depth >= params->maxDepth || depth + 1 >= RAY_MAX_FRAMES;
 }
 
 /* Records a ray spawned by `frame`: the first goes straight into the frame above (`above`)

@@ -19,7 +19,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
                 Ray* next, PixelTrace* counter) {
     Frame* frame = &tree->frames[depth];
     startFrame(frame);
-    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    const bool courseMeshes = (params->features & RAY_FEATURE_COURSE_MESHES) != 0;
     LightSamples lights;
     bool shadowRay = false; /* ray: a light sample's shadow ray, or else the frame's ray */
     float tMax = RAY_INFINITY;

@@ -511,9 +511,7 @@ private:
         const TileRect rect = frame_.scheduler->tile(tile);
         const size_t group = frame_.workGroupSize;
         gpu::RayRenderParams params = frame_.params;
-        params.image.z = rect.x;
-        params.image.w = rect.y;
-        params.tile = {rect.width, rect.height, 0, 0};
+        params.tile = {rect.x, rect.y, rect.width, rect.height};
         // At most kTilesInFlight launches, finished in order: this output's last user is done.
         const size_t output = launches_++ % kTilesInFlight;
         DeviceSlot::TileOutput& out = slot_.outputs[output];

@@ -46,7 +46,7 @@ static inline void addUnblockedSamples(LightSamples* lights, const int* unblocke
 static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
                                                    const Ray* rays, const int* lanes, PixelTrace* counters,
                                                    float3* colors) {
-    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    const bool courseMeshes = (params->features & RAY_FEATURE_COURSE_MESHES) != 0;
     RayTree trees[RAY_PACKET_WIDTH];
     LightSamples lights[RAY_PACKET_WIDTH];
     Ray next[RAY_PACKET_WIDTH], shadow[RAY_PACKET_WIDTH];
@@ -114,10 +114,10 @@ static RAY_CALL_ON_CPU void renderBlock(const SceneBuffers* scene, const RayRend
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         BlockPixel* p = &pixels[l];
         int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
-        p->i = params->image.z + x;
-        p->j = params->image.w + y;
-        p->inside = x < params->tile.x && y < params->tile.y && p->i < params->image.x && p->j < params->image.y;
-        PixelTrace counter = {0u, 0u, 0u, (uint)(p->j * params->image.x + p->i), 0u, 0u, 0.0f};
+        p->i = params->tile.x0 + x;
+        p->j = params->tile.y0 + y;
+        p->inside = x < params->tile.width && y < params->tile.height && p->i < params->width && p->j < params->height;
+        PixelTrace counter = {0u, 0u, 0u, (uint)(p->j * params->width + p->i), 0u, 0u, 0.0f};
         counters[l] = counter;
         startSampler(&p->sampler, params);
         sampling[l] = p->inside && nextSamplePosition(&p->sampler, params, counter.pixel, &p->position, &p->color);
@@ -160,7 +160,7 @@ static RAY_CALL_ON_CPU void renderBlock(const SceneBuffers* scene, const RayRend
         const BlockPixel* p = &pixels[l];
         if (!p->inside) continue;
         int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
-        int pixel = y * params->tile.x + x; /* the colors hold this tile alone, row by row */
+        int pixel = y * params->tile.width + x; /* the colors hold this tile alone, row by row */
         tileColors[pixel] = (float4)(p->color, 1.0f);
         blockRays += (uint4)(counters[l].primary, counters[l].shadow, counters[l].secondary, 0u);
     }

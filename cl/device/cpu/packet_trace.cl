@@ -115,11 +115,11 @@ static inline void packetIntersectPrimitive(__global const RayPrimitive* prim, i
                                             PacketInt entering, PacketHitKeys* keys, Hit* hits) {
     PacketVec3 o = transformPointPacket(prim->worldToObject, r->origin);
     PacketVec3 d = transformVectorPacket(prim->worldToObject, r->direction);
-    const int order = prim->info.z;
+    const int order = prim->order;
     PacketFloat limit = hitLimitPacket(keys->t.vector, keys->primitive.vector, keys->order.vector, order);
     ShapeHitPacket h = {select((PacketFloat)(-1.0f), limit, entering), (PacketInt)(0),
                         packetVec3((PacketFloat)(0.0f), (PacketFloat)(0.0f), (PacketFloat)(0.0f))};
-    intersectConvexShapePacket(prim->info.x, o, d, &h);
+    intersectConvexShapePacket(prim->type, o, d, &h);
     PacketInt better = entering & (h.best < limit);
     if (!any(better)) return;
     int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
@@ -161,7 +161,7 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
     int lanes[RAY_PACKET_WIDTH];
     bool lanesStored = false; /* lanes holds `entering`, for the primitives tested ray by ray */
     for (int i = first; i < first + count; ++i) {
-        if (!moving && convexShape(prims[i].info.x)) {
+        if (!moving && convexShape(prims[i].type)) {
             packetIntersectPrimitive(&prims[i], i, packet, entering, keys, hits);
             continue;
         }
