@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Measures the Open MPI behaviour that host/distributed/mpi_render.cpp's awaitAbort works
+# Measures the Open MPI behaviour that host/distributed/mpi_protocol.cpp's awaitAbort works
 # around: rank 0 calls MPI_Abort while a rank is stopped (SIGSTOP, as a hung rank) and
 # another rank is either in MPI_Finalize ("finalize", what ray's workers did) or waiting to
 # be ended, leaving on SIGTERM ("wait", what they do now). Each run is a fresh 3-rank job of

@@ -6,14 +6,17 @@
 #include <cstdint>
 
 #include "fuzz_support.h"
+#include "image/decode_limits.h"
 #include "image/image.h"
 #include "image/oiio_module.h"
 
 // OpenImageIO is loaded before the first input, so that libFuzzer's per-input timeout
 // (-timeout=10 in scripts/fuzz.sh) times decoding, not the seconds of dlopen under full
 // unwinding (it timed out so on a loaded CI machine). A missing module is not an error here:
-// every input then meets it as a clean ImageError.
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
+// every input then meets it as a clean ImageError. No decode may allocate more than a
+// texture's budget allows.
+extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
+    ray::fuzz::limitMallocTo(ray::kMaxImageDecodeBytes, argc, argv);
     ray::preloadOiioModule();
     return 0;
 }

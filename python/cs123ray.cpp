@@ -21,6 +21,7 @@
 #include "ray/ray.h"
 
 namespace py = pybind11;
+using namespace pybind11::literals;  // "name"_a
 namespace api = ray::api;
 
 namespace {
@@ -135,9 +136,16 @@ bool isBool(const py::handle& value) {
     return PyBool_Check(value.ptr()) || py::isinstance(value, py::module_::import("numpy").attr("bool_"));
 }
 
+// A value as a message quotes it: its repr, cut short (a string of 10^5 characters is named,
+// not echoed).
+std::string shortRepr(const py::handle& value) {
+    const std::string text = py::repr(value);
+    return text.size() <= 80 ? text : text.substr(0, 60) + "... (" + std::to_string(text.size()) + " characters)";
+}
+
 [[noreturn]] void wrongType(const std::string& name, const char* expected, const py::handle& value) {
     throw py::type_error(name + " must be " + expected + ", not " + std::string(py::str(value.get_type().attr("__name__"))) +
-                         " (" + std::string(py::repr(value)) + ")");
+                         " (" + shortRepr(value) + ")");
 }
 
 // An int, a NumPy integer, anything with __index__; not a bool, not a float (3.5 pixels).
@@ -147,7 +155,7 @@ long long integerOption(const std::string& name, const py::handle& value) {
     if (!integer) throw py::error_already_set();
     int overflow = 0;
     const long long result = PyLong_AsLongLongAndOverflow(integer.ptr(), &overflow);
-    if (overflow != 0) throw py::value_error(name + " " + std::string(py::repr(value)) + " is out of range");
+    if (overflow != 0) throw py::value_error(name + " " + shortRepr(value) + " is out of range");
     return result;
 }
 
@@ -156,6 +164,33 @@ double realOption(const std::string& name, const py::handle& value) {
     if (isBool(value) || PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr()) || !number)
         wrongType(name, "a number", value);
     return py::float_(py::reinterpret_borrow<py::object>(value));
+}
+
+// N numbers (a color, a point, a direction, a pair of repeats): a sequence of N real numbers,
+// a NumPy array included. A string, a wrong count or a non-number is a TypeError naming the
+// argument; whether each number is finite and in range is the C++ API's check (InputError).
+template <size_t N>
+std::array<double, N> numbersArg(const std::string& name, const py::handle& value) {
+    static const std::string kExpected = "a sequence of " + std::to_string(N) + " numbers";
+    if (PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr()) || !PySequence_Check(value.ptr()))
+        wrongType(name, kExpected.c_str(), value);
+    const auto items = py::reinterpret_borrow<py::sequence>(value);
+    if (items.size() != N)
+        throw py::type_error(name + " must be " + kExpected + ", not " + std::to_string(items.size()) + ": " +
+                             shortRepr(value));
+    std::array<double, N> numbers{};
+    for (size_t i = 0; i < N; ++i) numbers[i] = realOption(name + "[" + std::to_string(i) + "]", items[i]);
+    return numbers;
+}
+
+api::Vec3 vec3Arg(const std::string& name, const py::handle& value) { return vec3(numbersArg<3>(name, value)); }
+
+// A handle (a texture's, a mesh's): an integer that fits an int.
+int handleArg(const std::string& name, const py::handle& value) {
+    const long long number = integerOption(name, value);
+    if (number < std::numeric_limits<int>::min() || number > std::numeric_limits<int>::max())
+        throw py::value_error(name + " " + std::to_string(number) + " is out of range");
+    return int(number);
 }
 
 bool boolOption(const std::string& name, const py::handle& value) {
@@ -421,11 +456,17 @@ void bindTransform(py::module_& m) {
         .def(py::init<>(), "The identity.")
         .def(py::init(&transformFrom), py::arg("matrix"),
              "From a 3x4 or 4x4 row-major matrix (nested sequences or a NumPy array).")
-        .def_static("translate", [](double x, double y, double z) { return api::Transform::translate({x, y, z}); },
+        .def_static("translate", [](const py::handle& x, const py::handle& y, const py::handle& z) {
+            return api::Transform::translate({realOption("x", x), realOption("y", y), realOption("z", z)});
+        },
                     py::arg("x"), py::arg("y"), py::arg("z"), "A translation by (x, y, z).")
-        .def_static("scale", [](double x, double y, double z) { return api::Transform::scale({x, y, z}); },
+        .def_static("scale", [](const py::handle& x, const py::handle& y, const py::handle& z) {
+            return api::Transform::scale({realOption("x", x), realOption("y", y), realOption("z", z)});
+        },
                     py::arg("x"), py::arg("y"), py::arg("z"), "A scaling by x, y and z along the axes.")
-        .def_static("rotate", [](Triple axis, double degrees) { return api::Transform::rotate(vec3(axis), degrees); },
+        .def_static("rotate", [](const py::handle& axis, const py::handle& degrees) {
+            return api::Transform::rotate(vec3Arg("axis", axis), realOption("degrees", degrees));
+        },
                     py::arg("axis"), py::arg("degrees"),
                     "A rotation by `degrees` about `axis` (x, y, z), counter-clockwise looking down the axis.")
         .def("__matmul__", [](const api::Transform& a, const api::Transform& b) { return a * b; }, py::arg("other"),
@@ -468,22 +509,22 @@ py::dict materialDict(const api::Material& m) {
 }
 
 // `material` with the fields named in `fields` (add_material's names) replaced.
-api::Material updatedMaterial(api::Material m, const py::kwargs& fields) {
+api::Material updatedMaterial(api::Material m, const py::dict& fields) {
     for (const auto& [key, value] : fields) {
         const std::string name = py::str(key);
-        if (name == "diffuse") m.diffuse = vec3(value.cast<Triple>());
-        else if (name == "ambient") m.ambient = vec3(value.cast<Triple>());
-        else if (name == "specular") m.specular = vec3(value.cast<Triple>());
-        else if (name == "reflective") m.reflective = vec3(value.cast<Triple>());
-        else if (name == "transparent") m.transparent = vec3(value.cast<Triple>());
-        else if (name == "emissive") m.emissive = vec3(value.cast<Triple>());
-        else if (name == "shininess") m.shininess = value.cast<double>();
-        else if (name == "ior") m.ior = value.cast<double>();
-        else if (name == "blend") m.blend = value.cast<double>();
-        else if (name == "texture") m.texture.texture = value.cast<int>();
-        else if (name == "bump_map") m.bumpMap.texture = value.cast<int>();
+        if (name == "diffuse") m.diffuse = vec3Arg(name, value);
+        else if (name == "ambient") m.ambient = vec3Arg(name, value);
+        else if (name == "specular") m.specular = vec3Arg(name, value);
+        else if (name == "reflective") m.reflective = vec3Arg(name, value);
+        else if (name == "transparent") m.transparent = vec3Arg(name, value);
+        else if (name == "emissive") m.emissive = vec3Arg(name, value);
+        else if (name == "shininess") m.shininess = realOption(name, value);
+        else if (name == "ior") m.ior = realOption(name, value);
+        else if (name == "blend") m.blend = realOption(name, value);
+        else if (name == "texture") m.texture.texture = handleArg(name, value);
+        else if (name == "bump_map") m.bumpMap.texture = handleArg(name, value);
         else if (name == "repeat") {
-            const auto repeat = value.cast<std::array<double, 2>>();
+            const auto repeat = numbersArg<2>(name, value);
             m.texture.repeatU = m.bumpMap.repeatU = repeat[0];
             m.texture.repeatV = m.bumpMap.repeatV = repeat[1];
         } else
@@ -508,18 +549,18 @@ py::dict lightDict(const api::Light& l) {
 }
 
 // `light` with the fields named in `fields` (add_light's names) replaced.
-api::Light updatedLight(api::Light l, const py::kwargs& fields) {
+api::Light updatedLight(api::Light l, const py::dict& fields) {
     for (const auto& [key, value] : fields) {
         const std::string name = py::str(key);
-        if (name == "type") l.type = lightType(value.cast<std::string>());
-        else if (name == "color") l.color = vec3(value.cast<Triple>());
-        else if (name == "position") l.position = vec3(value.cast<Triple>());
-        else if (name == "direction") l.direction = vec3(value.cast<Triple>());
-        else if (name == "attenuation") l.attenuation = vec3(value.cast<Triple>());
-        else if (name == "angle") l.angleDegrees = value.cast<double>();
-        else if (name == "penumbra") l.penumbraDegrees = value.cast<double>();
-        else if (name == "width") l.width = value.cast<double>();
-        else if (name == "height") l.height = value.cast<double>();
+        if (name == "type") l.type = lightType(textOption(name, value));
+        else if (name == "color") l.color = vec3Arg(name, value);
+        else if (name == "position") l.position = vec3Arg(name, value);
+        else if (name == "direction") l.direction = vec3Arg(name, value);
+        else if (name == "attenuation") l.attenuation = vec3Arg(name, value);
+        else if (name == "angle") l.angleDegrees = realOption(name, value);
+        else if (name == "penumbra") l.penumbraDegrees = realOption(name, value);
+        else if (name == "width") l.width = realOption(name, value);
+        else if (name == "height") l.height = realOption(name, value);
         else
             throw py::value_error("set_light takes type, color, position, direction, attenuation, angle, penumbra, "
                                   "width and height, not '" + name + "'");
@@ -636,9 +677,11 @@ std::string pickRepr(const api::Pick& p, const std::string& path) {
 void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
     scene.def(py::init<>(), "An empty scene: the default camera, no lights, no primitives.")
         .def_readonly("warnings", &PyScene::warnings, "The loader's warnings, complete ('scene.xml:7: warning: ...').")
-        .def("set_camera", [](PyScene& s, Triple position, Triple look, Triple up, double heightAngle, double aperture,
-                              double focalLength) {
-            s.scene.setCamera({vec3(position), vec3(look), vec3(up), heightAngle, aperture, focalLength});
+        .def("set_camera", [](PyScene& s, const py::handle& position, const py::handle& look, const py::handle& up,
+                              const py::handle& heightAngle, const py::handle& aperture, const py::handle& focalLength) {
+            s.scene.setCamera({vec3Arg("position", position), vec3Arg("look", look), vec3Arg("up", up),
+                               realOption("height_angle", heightAngle), realOption("aperture", aperture),
+                               realOption("focal_length", focalLength)});
         }, py::arg("position"), py::arg("look"), py::arg("up") = Triple{0, 1, 0}, py::arg("height_angle") = 45.0,
            py::arg("aperture") = 0.0, py::arg("focal_length") = 0.0,
            "The camera: its position, the direction it looks, its up vector, the full vertical field of view in "
@@ -654,45 +697,34 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
             d["focal_length"] = c.focalLength;
             return d;
         }, "The camera, as a dict of set_camera's arguments.")
-        .def("set_globals", [](PyScene& s, double ka, double kd, double ks, double kt) {
-            s.scene.setGlobals({ka, kd, ks, kt});
+        .def("set_globals", [](PyScene& s, const py::handle& ka, const py::handle& kd, const py::handle& ks,
+                               const py::handle& kt) {
+            s.scene.setGlobals({realOption("ka", ka), realOption("kd", kd), realOption("ks", ks), realOption("kt", kt)});
         }, py::arg("ka") = 0.5, py::arg("kd") = 0.5, py::arg("ks") = 0.5, py::arg("kt") = 0.5,
            "The global coefficients of <globaldata>: ambient, diffuse, specular (and reflection), transparency.")
-        .def("add_light", [](PyScene& s, const std::string& type, Triple color, Triple position, Triple direction,
-                             Triple attenuation, double angle, double penumbra, double width, double height) {
-            api::Light light;
-            light.type = lightType(type);
-            light.color = vec3(color);
-            light.position = vec3(position);
-            light.direction = vec3(direction);
-            light.attenuation = vec3(attenuation);
-            light.angleDegrees = angle;
-            light.penumbraDegrees = penumbra;
-            light.width = width;
-            light.height = height;
-            s.scene.addLight(light);
+        .def("add_light", [](PyScene& s, const py::object& type, const py::object& color, const py::object& position,
+                             const py::object& direction, const py::object& attenuation, const py::object& angle,
+                             const py::object& penumbra, const py::object& width, const py::object& height) {
+            const py::dict fields("type"_a = type, "color"_a = color, "position"_a = position,
+                                  "direction"_a = direction, "attenuation"_a = attenuation, "angle"_a = angle,
+                                  "penumbra"_a = penumbra, "width"_a = width, "height"_a = height);
+            s.scene.addLight(updatedLight(api::Light{}, fields));
         }, py::arg("type") = "point", py::arg("color") = Triple{1, 1, 1}, py::arg("position") = Triple{3, 3, 3},
            py::arg("direction") = Triple{0, 0, -1}, py::arg("attenuation") = Triple{1, 0, 0}, py::arg("angle") = 45.0,
            py::arg("penumbra") = 0.0, py::arg("width") = 1.0, py::arg("height") = 1.0,
            "A light: type 'point', 'directional', 'spot' or 'area'; attenuation (c1, c2, c3) of "
            "1/(c1 + c2 d + c3 d^2); a spot's half-angle and penumbra in degrees; an area light's width and height. "
            "Values the scenefile loader refuses raise InputError (a ValueError).")
-        .def("add_material", [](PyScene& s, Triple diffuse, Triple ambient, Triple specular, Triple reflective,
-                                Triple transparent, Triple emissive, double shininess, double ior, int texture,
-                                double blend, std::array<double, 2> repeat, int bumpMap) {
-            api::Material mat;
-            mat.diffuse = vec3(diffuse);
-            mat.ambient = vec3(ambient);
-            mat.specular = vec3(specular);
-            mat.reflective = vec3(reflective);
-            mat.transparent = vec3(transparent);
-            mat.emissive = vec3(emissive);
-            mat.shininess = shininess;
-            mat.ior = ior;
-            mat.blend = blend;
-            mat.texture = {texture, repeat[0], repeat[1]};
-            mat.bumpMap = {bumpMap, repeat[0], repeat[1]};
-            return s.scene.addMaterial(mat);
+        .def("add_material", [](PyScene& s, const py::object& diffuse, const py::object& ambient,
+                                const py::object& specular, const py::object& reflective, const py::object& transparent,
+                                const py::object& emissive, const py::object& shininess, const py::object& ior,
+                                const py::object& texture, const py::object& blend, const py::object& repeat,
+                                const py::object& bumpMap) {
+            const py::dict fields("diffuse"_a = diffuse, "ambient"_a = ambient, "specular"_a = specular,
+                                  "reflective"_a = reflective, "transparent"_a = transparent, "emissive"_a = emissive,
+                                  "shininess"_a = shininess, "ior"_a = ior, "texture"_a = texture, "blend"_a = blend,
+                                  "repeat"_a = repeat, "bump_map"_a = bumpMap);
+            return s.scene.addMaterial(updatedMaterial(api::Material{}, fields));
         }, py::arg("diffuse") = Triple{1, 1, 1}, py::arg("ambient") = Triple{0, 0, 0},
            py::arg("specular") = Triple{0, 0, 0}, py::arg("reflective") = Triple{0, 0, 0},
            py::arg("transparent") = Triple{0, 0, 0}, py::arg("emissive") = Triple{0, 0, 0}, py::arg("shininess") = 0.0,
@@ -869,13 +901,14 @@ void bindRendering(py::module_& m) {
            "What the camera ray through the centre of pixel (x, y) (of the current width and height; row 0 at the "
            "top) meets first, as a Pick, or None on the background. Found on the host, so every device gives "
            "the same answer. A pixel outside the image raises InputError (a ValueError).")
-        .def("set_camera", [](PyRenderer& pr, Triple position, Triple look, Triple up, double heightAngle) {
+        .def("set_camera", [](PyRenderer& pr, const py::handle& position, const py::handle& look, const py::handle& up,
+                              const py::handle& heightAngle) {
             api::Renderer& r = *pr.renderer;
             api::Camera c = r.camera();
-            c.position = vec3(position);
-            c.look = vec3(look);
-            c.up = vec3(up);
-            c.heightAngleDegrees = heightAngle;
+            c.position = vec3Arg("position", position);
+            c.look = vec3Arg("look", look);
+            c.up = vec3Arg("up", up);
+            c.heightAngleDegrees = realOption("height_angle", heightAngle);
             r.setCamera(c);
         }, py::arg("position"), py::arg("look"), py::arg("up") = Triple{0, 1, 0}, py::arg("height_angle") = 45.0,
            "Moves the camera for the next frames (the lens stays as the scene set it).")

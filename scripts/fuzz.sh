@@ -7,7 +7,8 @@
 # --seconds N     run each target N seconds (default 60)
 # --build-dir DIR where to build (default build-fuzz beside this script's checkout); the
 #                 grown corpora are kept in DIR/corpus/<target>, crashes in DIR/artifacts/
-# --only TARGET   run one target (fuzz_scene_loader, fuzz_image_reader, fuzz_obj_loader)
+# --only TARGET   run one target (fuzz_scene_loader, fuzz_image_reader, fuzz_obj_loader,
+#                 fuzz_scene_round_trip, fuzz_viewer_requests)
 # --seconds-from-env  $RAY_FUZZ_SECONDS, else 5 (the test suite's fuzz_smoke: a few seconds a
 #                 target find what breaks at once; CI's .ci/run sets a longer run)
 # --jobs N        build with N jobs (default: one a core; CTest's fuzz_smoke: 1, since CTest
@@ -68,6 +69,8 @@ seeds_for() {
     fuzz_scene_loader) echo "$shared/scenes $here/scenes $here/tests/data/fuzz/scene_loader" ;;
     fuzz_image_reader) echo "$shared/image $shared/textures $here/scenes/textures $here/tests/data/fuzz/image_reader" ;;
     fuzz_obj_loader) echo "$shared/mesh $here/scenes/meshes $here/tests/data/fuzz/obj_loader" ;;
+    fuzz_scene_round_trip) echo "$shared/scenes $here/scenes $here/tests/data/fuzz/scene_loader" ;;
+    fuzz_viewer_requests) echo "$here/tests/data/fuzz/viewer_requests" ;;
   esac
 }
 options_for() {
@@ -75,6 +78,8 @@ options_for() {
     fuzz_scene_loader) echo "-dict=$here/fuzz/scene.dict -max_len=100000" ;;
     fuzz_image_reader) echo "-max_len=65536" ;;  # big seeds are cut: truncated files are good tests too
     fuzz_obj_loader) echo "-max_len=65536" ;;
+    fuzz_scene_round_trip) echo "-dict=$here/fuzz/scene.dict -max_len=100000" ;;
+    fuzz_viewer_requests) echo "-dict=$here/fuzz/viewer.dict -max_len=4096" ;;
   esac
 }
 

@@ -16,6 +16,7 @@ packages=(cmake make g++ pkg-config
           util-linux mount  # setpriv, mount: tests/fault_injection.sh
           patchelf          # scripts/gpu_bundle.sh: the bundle's $ORIGIN rpaths
           libcpp-httplib-dev chromium chromium-driver python3-selenium
+          nodejs npm   # the viewer's page is bundled at build time from locked npm packages
           libopenmpi-dev openmpi-bin   # mpirun -n N ray: tests/mpi.sh
           # the kernel as GPU drivers build it: scripts/kernel_resources.py (clang-15 and
           # libclc for AMD and NVIDIA), tests/rusticl.sh (Mesa's OpenCL), tests/oclgrind.sh
@@ -30,8 +31,14 @@ elif [ $# -gt 0 ]; then
     exit 2
 fi
 
+# Node.js and npm may come from elsewhere than Debian (NodeSource's nodejs holds npm, and
+# Debian's npm would not install beside it): their commands are enough.
+declare -A satisfied_by_command=([nodejs]=node [npm]=npm)
+
 missing=()
 for p in "${packages[@]}"; do
+    command="${satisfied_by_command[$p]:-}"
+    if [ -n "$command" ] && command -v "$command" >/dev/null; then continue; fi
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ "$list_only" = 1 ]; then

@@ -17,7 +17,7 @@
 #         kernel void k(global const int* in, global int* out) { out[0] = in[0]; }
 #       reports an uninitialized store; with CL_MEM_COPY_HOST_PTR, nothing. Oclgrind says it
 #       is a CPU, and ray gives a CPU device the scene in place, so the run sets the test
-#       hook RAY_TEST_COPY_SCENE=1 (host/opencl/opencl_engine.cpp): a copy of the same bytes.
+#       hook RAY_TEST_COPY_SCENE=1 (host/core/test_hooks.h): a copy of the same bytes.
 #    b. Its ShuffleVector handler compares a mask element with llvm::Value::UndefValueVal
 #       instead of -1 (an undef lane), so it copies shadow from before the operand's: garbage,
 #       or a SIGSEGV. Its default -Oz makes such shuffles; at -Oz

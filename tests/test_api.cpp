@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
+#include <limits>
 
 #include "image/image.h"
 #include "ray/ray.h"
@@ -321,4 +322,51 @@ TEST_CASE("API: 8-bit pixels are saved as they are", "[api]") {
     CHECK(ray::readImage(fromBytes).rgb == ray::readImage(fromFloats).rgb);
     CHECK_THROWS_AS(api::saveImage(bytes, 64, 47, fromBytes), api::InputError);
     CHECK(std::string(api::version()) == RAY_VERSION);
+}
+
+TEST_CASE("API: numbers a scenefile cannot hold are refused everywhere, transforms included", "[api]") {
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    api::Scene scene = sphereSceneInCode();
+    api::Light light;
+    light.position = {nan, 0, 0};
+    CHECK_THROWS_WITH(scene.addLight(light), Contains("position must be a finite number in each component, not (nan"));
+    light = {};
+    light.direction = {0, inf, 0};
+    CHECK_THROWS_AS(scene.addLight(light), api::InputError);
+    CHECK_THROWS_AS(scene.setLight(0, light), api::InputError);
+    api::Camera camera = scene.camera();
+    camera.position = {0, 0, nan};
+    CHECK_THROWS_WITH(scene.setCamera(camera), Contains("position must be a finite number"));
+    camera = scene.camera();
+    camera.aperture = inf;
+    CHECK_THROWS_AS(scene.setCamera(camera), api::InputError);
+    CHECK_THROWS_WITH(scene.setGlobals({nan, 0.5, 0.5, 0.5}), Contains("ka must be a finite number"));
+    CHECK_THROWS_WITH(api::Transform::rotate({0, 0, 0}, 30), Contains("the axis (0, 0, 0) has no direction"));
+    CHECK_THROWS_AS(api::Transform::rotate({0, 1, 0}, nan), api::InputError);
+    CHECK_THROWS_AS(api::Transform::translate({inf, 0, 0}), api::InputError);
+    CHECK_THROWS_AS(api::Transform::scale({1, nan, 1}), api::InputError);
+    api::Transform bad;
+    bad.m[1][3] = nan;
+    CHECK_THROWS_WITH(scene.setObjectToWorld(scene.objects().front().id, bad), Contains("not finite"));
+    CHECK(scene.lightCount() == 1);
+    CHECK(std::isfinite(scene.camera().position.z));
+}
+
+TEST_CASE("API: a file name of any length gets a short message, not a crash", "[api]") {
+    for (size_t length : {size_t(5000), size_t(50000), size_t(100000)}) {
+        try {
+            api::Scene::load(std::string(length, 'x') + ".xml");
+            FAIL("loaded");
+        } catch (const api::InputError& e) {
+            CHECK(std::string(e.what()).size() < 400);
+            CHECK_THAT(e.what(), Contains("cannot open the scene file"));
+        }
+        try {
+            api::Scene::fromString("<bad", std::string(length, 'n'));
+            FAIL("parsed");
+        } catch (const api::InputError& e) {
+            CHECK(std::string(e.what()).size() < 500);
+            CHECK(e.line() == 1);
+        }
+    }
 }

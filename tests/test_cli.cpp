@@ -261,9 +261,10 @@ std::vector<std::pair<std::string, bool>> optionsInHelp(const std::string& help)
 }  // namespace
 
 TEST_CASE("every parse error of every subcommand is a plain sentence naming the option", "[cli][sweep]") {
-    // A scene that does not exist: a value that is (wrongly or rightly) accepted then stops
-    // at the load, so nothing renders or listens.
-    const std::string missing = (ray::test::outputDir() / "sweep_no_such_scene.xml").string();
+    // A scene that does not exist, in a folder that does not exist either (ray view opens a
+    // missing .xml file in an existing folder as a new scene): a value that is (wrongly or
+    // rightly) accepted then stops at the load, so nothing renders or listens.
+    const std::string missing = (ray::test::outputDir() / "sweep_no_such_folder" / "sweep_no_such_scene.xml").string();
     const std::vector<std::pair<std::vector<std::string>, std::string>> commands = {
         {{missing}, "ray"}, {{"view", missing, "--port", "0"}, "ray view"}, {{"explain", missing, "1", "1"}, "ray explain"}};
     const std::vector<std::string> badValues = {"", "bogus", "-1", "1e999", "99999999999", "0.5x", "nan"};

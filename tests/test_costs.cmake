@@ -27,6 +27,8 @@ set(RAY_TEST_COSTS
   [=[multi_device]=] 40
   [=[kernel_resources]=] 30
   [=[every course scene renders on the reference renderer or fails clearly]=] 29
+  [=[every course scene that loads saves unedited to its own bytes, and edited to its lines alone]=] 21
+  [=[every course scene saves and loads back to a byte-identical 64x48 render]=] 15
   [=[kernel matches host on the course's refraction and area-light scenes]=] 26
   [=[gpu_bundle]=] 18
   [=[concurrency]=] 16

@@ -39,16 +39,17 @@ TEST_CASE("The engine packs and uploads once, and renders each frame as a fresh 
 
     std::mutex mutex;
     size_t tilePixels = 0;
-    ray::FrameOptions options;
-    options.tileSize = 16;
-    options.onTile = [&](const ray::FinishedTile& t) {
+    ray::FrameRequest request;
+    request.tileSize = 16;
+    request.onTile = [&](const ray::FinishedTile& t) {
         std::lock_guard lock(mutex);
         tilePixels += size_t(t.rect.width) * size_t(t.rect.height);
     };
-    ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+    ray::RenderedFrame first = engine.renderFrame(scene.camera, settings, request);
     CHECK(first.stats.uploadSeconds > 0);
     CHECK(tilePixels == 48u * 40u);  // every pixel reported once, through 3 x 3 tiles
-    CHECK(first.stats.tiles == 9);
+    CHECK(first.stats.devices.at(0).tiles == 9);
+    CHECK(first.stats.device == device->description());
     CHECK(first.image.rgb == renderFresh(*device, scene, scene.camera, settings).rgb);
 
     // Another camera and image size: nothing packed or uploaded again.
@@ -56,7 +57,7 @@ TEST_CASE("The engine packs and uploads once, and renders each frame as a fresh 
     moved.position = moved.position + ray::Vec3{0.5, 0.25, 0};
     ray::RenderSettings wider = settings;
     wider.width = 56;
-    ray::FrameResult second = engine.renderFrame(moved, wider, options);
+    ray::RenderedFrame second = engine.renderFrame(moved, wider, request);
     CHECK(second.stats.packSeconds == 0);
     CHECK(second.stats.uploadSeconds == 0);
     CHECK(second.image.rgb == renderFresh(*device, scene, moved, wider).rgb);
@@ -98,10 +99,10 @@ TEST_CASE("The engine drops a failing device and fails only when none is left", 
     if (!device) return ray::test::skip("no OpenCL CPU device");
     ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 32, 32, 2);
-    setenv("RAY_TEST_FAIL_DEVICE", "0:0", 1);
-    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
+    ray::TestHooks hooks;
+    hooks.failDevice = {0, 0};  // device 0 fails before its first tile
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device}, hooks);
     CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
-    unsetenv("RAY_TEST_FAIL_DEVICE");
     CHECK(engine.devicesLeft() == 0);
     CHECK_THROWS_AS(engine.renderFrame(scene.camera, settings), ray::DeviceError);
 }
@@ -113,11 +114,11 @@ TEST_CASE("An 8-bit frame holds the bytes an 8-bit file of the float frame holds
     ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa course", 45, 37, 3);
     ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
-    ray::FrameOptions options;
-    options.tileSize = 16;  // tiles cut at the right and bottom edges too
-    const ray::FrameResult floats = engine.renderFrame(scene.camera, settings, options);
-    options.eightBit = true;
-    const ray::FrameResult bytes = engine.renderFrame(scene.camera, settings, options);
+    ray::FrameRequest request;
+    request.tileSize = 16;  // tiles cut at the right and bottom edges too
+    const ray::RenderedFrame floats = engine.renderFrame(scene.camera, settings, request);
+    request.eightBit = true;
+    const ray::RenderedFrame bytes = engine.renderFrame(scene.camera, settings, request);
     CHECK(bytes.image.empty());
     REQUIRE(bytes.bytes.width == 45);
     REQUIRE(bytes.bytes.height == 37);
@@ -140,26 +141,26 @@ TEST_CASE("A device still building takes no part in a frame and keeps building f
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 40, 32, 2);
     const ray::Image alone = renderFresh(*device, scene, scene.camera, settings);
     // The same device twice: two slots, each with its own context, queue and program.
-    setenv("RAY_TEST_SLOW_BUILD", "1:3", 1);
-    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device});
-    ray::FrameOptions options;
-    options.tileSize = 8;
-    ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
+    ray::TestHooks hooks;
+    hooks.slowBuild = {1, 3};  // device 1's build takes 3 s longer
+    ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device}, hooks);
+    ray::FrameRequest request;
+    request.tileSize = 8;
+    ray::RenderedFrame first = engine.renderFrame(scene.camera, settings, request);
     CHECK(first.image.rgb == alone.rgb);
     REQUIRE(first.stats.devices.size() == 2);
     CHECK(first.stats.devices[1].building);
     CHECK(first.stats.devices[1].tiles == 0);
-    CHECK(first.stats.devices[0].tiles == first.stats.tiles);
+    CHECK(first.stats.devices[0].tiles == 20);  // every tile of the 5 x 4
     // The build goes on between frames (were it restarted for each short frame, with its
     // 3 s delay, device 1 would never be ready).
     bool ready = false;
     for (int frame = 0; frame < 600 && !ready; ++frame) {
-        ray::FrameResult next = engine.renderFrame(scene.camera, settings, options);
+        ray::RenderedFrame next = engine.renderFrame(scene.camera, settings, request);
         CHECK(next.image.rgb == alone.rgb);
         ready = !next.stats.devices[1].building;
         if (!ready) usleep(100000);
     }
-    unsetenv("RAY_TEST_SLOW_BUILD");
     CHECK(ready);
     CHECK(engine.devicesLeft() == 2);
 }
@@ -171,16 +172,15 @@ TEST_CASE("A hung device is dropped, the frames stay whole, and the engine goes 
     ray::Scene scene = ray::loadScene(ray::test::scenesDir() / "shadows.xml");
     ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 40, 32, 2);
     const ray::Image alone = renderFresh(*device, scene, scene.camera, settings);
-    // Device 1 stops answering after 2 tiles; device 0 starts 3 s late, so that it has them.
-    setenv("RAY_TEST_SLOW_BUILD", "0:3", 1);
-    setenv("RAY_TEST_HANG_DEVICE", "1:2", 1);
+    // Device 1 stops answering after 2 launches; device 0 starts 3 s late, so that it has them.
+    ray::TestHooks hooks;
+    hooks.slowBuild = {0, 3};
+    hooks.hangDevice = {1, 2};
     {
-        ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device});
-        ray::FrameOptions options;
-        options.tileSize = 8;
-        ray::FrameResult first = engine.renderFrame(scene.camera, settings, options);
-        unsetenv("RAY_TEST_SLOW_BUILD");
-        unsetenv("RAY_TEST_HANG_DEVICE");
+        ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device, *device}, hooks);
+        ray::FrameRequest request;
+        request.tileSize = 8;
+        ray::RenderedFrame first = engine.renderFrame(scene.camera, settings, request);
         CHECK(first.image.rgb == alone.rgb);
         REQUIRE(first.stats.devices.size() == 2);
         CHECK(first.stats.devices[1].failed);
@@ -188,9 +188,9 @@ TEST_CASE("A hung device is dropped, the frames stay whole, and the engine goes 
         CHECK(first.stats.warnings.size() == 1);
         CHECK(engine.devicesLeft() == 1);
         // The engine lives on with the device that answers.
-        ray::FrameResult second = engine.renderFrame(scene.camera, settings, options);
+        ray::RenderedFrame second = engine.renderFrame(scene.camera, settings, request);
         CHECK(second.image.rgb == alone.rgb);
-        CHECK(second.stats.devices[0].tiles == second.stats.tiles);
+        CHECK(second.stats.devices[0].tiles == 20);  // every tile of the 5 x 4
         CHECK(second.stats.warnings.empty());  // said once
     }  // the destructor leaves the hung device's thread: were it joined, this test would hang
 }

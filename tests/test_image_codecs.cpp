@@ -91,3 +91,38 @@ TEST_CASE("Broken PNG and JPEG files are refused with the file's name", "[image]
         }
     }
 }
+
+TEST_CASE("An image claiming more pixels than a texture's budget is refused before it is decoded", "[image]") {
+    // 2,078 bytes: a run-length TGA header claiming 13,000 × 13,000 pixels (4.6 GB decoded),
+    // then a few runs. Sniffed by content whatever its name, as a texture is.
+    const fs::path claim = ray::test::testDataDir() / "fuzz" / "image_reader" / "tga_claims_13000x13000.tga";
+    const fs::path dir = ray::test::outputDir() / "texture_budget";
+    fs::create_directories(dir);
+    for (const char* name : {"claim.tga", "claim.jpg", "claim"}) {
+        fs::copy_file(claim, dir / name, fs::copy_options::overwrite_existing);
+        CHECK_THROWS_WITH(ray::readImage(dir / name), Catch::Contains("13000 × 13000") &&
+                                                          Catch::Contains("more than a texture's budget"));
+    }
+}
+
+TEST_CASE("A 2 KB image that claims 13,000 × 13,000 pixels costs ray no more than a small scene", "[image][cli]") {
+    const fs::path claim = ray::test::testDataDir() / "fuzz" / "image_reader" / "tga_claims_13000x13000.tga";
+    const fs::path dir = ray::test::outputDir() / "texture_budget_render";
+    fs::create_directories(dir);
+    for (const char* name : {"claim.tga", "claim.jpg"}) {
+        fs::copy_file(claim, dir / name, fs::copy_options::overwrite_existing);
+        std::ofstream(dir / "scene.xml") << R"(<scenefile>
+<cameradata><pos x="0" y="0" z="5"/><focus x="0" y="0" z="0"/><up x="0" y="1" z="0"/><heightangle v="45"/></cameradata>
+<lightdata><id v="0"/><color r="1" g="1" b="1"/><position x="3" y="3" z="3"/></lightdata>
+<object type="tree" name="root"><transblock><object type="primitive" name="sphere">
+<diffuse r="1" g="1" b="1"/><texture file=")" << name << R"(" u="1" v="1"/><blend v="0.5"/>
+</object></transblock></object></scenefile>
+)";
+        const ray::test::CommandResult run =
+            ray::test::runRay({(dir / "scene.xml").string(), "32", "24", "--device", "ref", "-o", (dir / "out.png").string()});
+        INFO(run.output);
+        CHECK(run.exitCode == 0);
+        CHECK_THAT(run.output, Catch::Contains("warning") && Catch::Contains("more than a texture's budget"));
+        CHECK(run.peakMemoryKiB < 512 * 1024);
+    }
+}

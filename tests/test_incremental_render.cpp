@@ -69,13 +69,13 @@ TEST_CASE("After a material or light edit the engine uploads that table only and
     auto scene = std::make_shared<ray::Scene>(ray::loadScene(ray::test::scenesDir() / "shadows.xml"));
     const ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 48, 40, 2);
     ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
-    ray::FrameResult first = engine.renderFrame(scene->camera, settings);
+    ray::RenderedFrame first = engine.renderFrame(scene->camera, settings);
     CHECK(first.stats.bvhBuildSeconds > 0);
 
     auto recolored = std::make_shared<ray::Scene>(*scene);
     recolored->materials[recolored->primitives[2].material].diffuse = {1, 0, 0};
     engine.setScene(recolored);
-    ray::FrameResult second = engine.renderFrame(recolored->camera, settings);
+    ray::RenderedFrame second = engine.renderFrame(recolored->camera, settings);
     CHECK(second.stats.bvhBuildSeconds == 0);
     CHECK(second.stats.packSeconds > 0);
     CHECK(second.stats.uploadSeconds > 0);
@@ -85,13 +85,13 @@ TEST_CASE("After a material or light edit the engine uploads that table only and
     auto lit = std::make_shared<ray::Scene>(*recolored);
     lit->lights[0].position = {2, 5, 3};
     engine.setScene(lit);
-    ray::FrameResult third = engine.renderFrame(lit->camera, settings);
+    ray::RenderedFrame third = engine.renderFrame(lit->camera, settings);
     CHECK(third.stats.bvhBuildSeconds == 0);
     CHECK(third.image.rgb == renderFresh(*device, *lit, settings).rgb);
 
     // The same scene again (an edit undone to an equal copy): nothing packed or uploaded.
     engine.setScene(std::make_shared<ray::Scene>(*lit));
-    ray::FrameResult fourth = engine.renderFrame(lit->camera, settings);
+    ray::RenderedFrame fourth = engine.renderFrame(lit->camera, settings);
     CHECK(fourth.stats.packSeconds == 0);
     CHECK(fourth.stats.uploadSeconds == 0);
     CHECK(fourth.image.rgb == third.image.rgb);
@@ -123,7 +123,7 @@ TEST_CASE("Moved primitives get a refitted tree, not a new one, and render as a 
     auto scene = std::make_shared<ray::Scene>(ray::loadScene(ray::test::scenesDir() / "shadows.xml"));
     const ray::RenderSettings settings = ray::test::settingsFromOptions("--aa off", 48, 40, 2);
     ray::OpenClEngine engine(scene, std::vector<ray::OpenClDevice>{*device});
-    ray::FrameResult first = engine.renderFrame(scene->camera, settings);
+    ray::RenderedFrame first = engine.renderFrame(scene->camera, settings);
 
     auto moved = std::make_shared<ray::Scene>(*scene);
     for (size_t i : {size_t(1), size_t(2)}) {
@@ -132,7 +132,7 @@ TEST_CASE("Moved primitives get a refitted tree, not a new one, and render as a 
         p.worldToObject = p.objectToWorld.inverse();
     }
     engine.setScene(moved);
-    ray::FrameResult second = engine.renderFrame(moved->camera, settings);
+    ray::RenderedFrame second = engine.renderFrame(moved->camera, settings);
     CHECK(second.stats.bvhBuildSeconds == 0);
     CHECK(second.image.rgb != first.image.rgb);
     CHECK(second.image.rgb == renderFresh(*device, *moved, settings).rgb);

@@ -290,7 +290,7 @@ TEST_CASE("Limits: huge, truncated and bogus textures leave the surface its colo
     writeText(folder / "empty.png", "");
     writeText(folder / "text.png", "not an image at all");
     writeText(folder / "huge.ppm", "P6\n100000 100000\n255\n\x01\x02\x03");
-    const std::pair<const char*, const char*> cases[] = {{"huge.png", "2^28-pixel limit"},
+    const std::pair<const char*, const char*> cases[] = {{"huge.png", "more than a texture's budget"},
                                                          {"truncated.png", "cannot"},
                                                          {"empty.png", "cannot read image"},
                                                          {"text.png", "cannot read image"},

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "scene/scene_loader.h"
+#include "viewer/folder_files.h"
 #include "viewer/scene_editor.h"
 #include "test_support.h"
 
@@ -133,10 +134,13 @@ TEST_CASE("SceneEditor: quick edits of one thing are one step; transforms and li
     CHECK(loaded.lights[0].color == ray::Vec3{0.5, 0.25, 1});
     CHECK(original->lights[0].color != loaded.lights[0].color);
 
-    const fs::path copy = editor.save(fs::path("copy.xml"));
-    CHECK(copy == file.parent_path() / "copy.xml");
+    const fs::path copy = editor.save("copy.xml");
+    CHECK(copy == fs::canonical(file.parent_path()) / "copy.xml");
     CHECK(fs::exists(copy));
-    CHECK_THROWS_AS(editor.save(fs::path("copy.txt")), ray::EditError);
+    CHECK_THROWS_AS(editor.save("copy.txt"), ray::BadFileName);
+    CHECK_THROWS_AS(editor.save("copy.xml"), ray::FileExists);  // written above: replaced only when asked
+    CHECK(editor.save("copy.xml", true) == copy);
+    CHECK_THROWS_AS(editor.save("../copy.xml"), ray::BadFileName);
 
     // A change on disk: loaded again, the history starts again.
     std::ofstream(file) << std::ifstream(ray::test::scenesDir() / "shadows.xml").rdbuf();

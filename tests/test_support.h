@@ -14,6 +14,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -111,6 +112,7 @@ struct CommandResult {
     bool timedOut = false;
     double seconds = 0;
     std::string output;   // stdout and stderr together
+    long peakMemoryKiB = 0;  // the process's maximum resident set size
 };
 
 // Runs the `ray` binary with the arguments, killing it after timeoutSeconds.
@@ -142,8 +144,9 @@ inline CommandResult runRay(const std::vector<std::string>& args, double timeout
     posix_spawn_file_actions_destroy(&actions);
     if (rc != 0) return result;
     int status = 0;
+    rusage usage{};
     while (true) {
-        pid_t done = waitpid(pid, &status, WNOHANG);
+        pid_t done = wait4(pid, &status, WNOHANG, &usage);
         result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (done == pid) break;
         if (result.seconds > timeoutSeconds) {
@@ -155,6 +158,7 @@ inline CommandResult runRay(const std::vector<std::string>& args, double timeout
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
     if (!result.timedOut && WIFEXITED(status)) result.exitCode = WEXITSTATUS(status);
+    result.peakMemoryKiB = usage.ru_maxrss;
     std::ifstream in(log);
     result.output.assign(std::istreambuf_iterator<char>(in), {});
     std::filesystem::remove(log);

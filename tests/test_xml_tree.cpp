@@ -183,3 +183,35 @@ TEST_CASE("XML tree: a read error passes through", "[loader][xml]") {
     auto failing = [](char*, size_t) -> size_t { throw std::runtime_error("disk gone"); };
     CHECK_THROWS_WITH(XmlTree::parse(failing, kDepth), "disk gone");
 }
+
+TEST_CASE("with spans, each element knows where its start tag and the whole element lie", "[xml]") {
+    // A comment with "--" (rewritten for expat, same length), an entity, a CDATA section,
+    // a self-closing element and blanks inside tags.
+    const std::string xml =
+        "<?xml version=\"1.0\"?>\n<!-- a -- b -->\n<a x = '1' >\n  <b y=\"&amp;\"/>\n"
+        "  <c><![CDATA[<d/>]]><d z=\"2\" /></c >\n</a>\n";
+    auto spanText = [&](const ray::XmlSpan& s) { return xml.substr(s.begin, s.end - s.begin); };
+    auto startTag = [&](const ray::XmlSpan& s) { return xml.substr(s.begin, s.startTagEnd - s.begin); };
+    for (size_t piece : {size_t(1), size_t(3), xml.size()}) {
+        INFO("pieces of " << piece);
+        size_t at = 0;
+        XmlTree tree = XmlTree::parse(
+            [&](char* buffer, size_t capacity) {
+                const size_t n = std::min({capacity, piece, xml.size() - at});
+                std::memcpy(buffer, xml.data() + at, n);
+                at += n;
+                return n;
+            },
+            kDepth, 0, true);
+        REQUIRE(tree.hasSpans());
+        REQUIRE(tree.elementCount() == 4);
+        CHECK(startTag(tree.element(0).span()) == "<a x = '1' >");
+        CHECK(spanText(tree.element(0).span()).size() == xml.size() - xml.find("<a") - 1);
+        CHECK(spanText(tree.element(1).span()) == "<b y=\"&amp;\"/>");
+        CHECK(tree.element(1).span().startTagEnd == tree.element(1).span().end);  // self-closing
+        CHECK(spanText(tree.element(2).span()) == "<c><![CDATA[<d/>]]><d z=\"2\" /></c >");
+        CHECK(spanText(tree.element(3).span()) == "<d z=\"2\" />");
+        CHECK(tree.element(3).index() == 3);
+    }
+    CHECK_FALSE(XmlTree::parse(xml, kDepth).hasSpans());
+}

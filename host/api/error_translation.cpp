@@ -1,7 +1,8 @@
 #include "api/error_translation.h"
 
+#include <algorithm>
 #include <new>
-#include <regex>
+#include <string>
 
 #include "image/image.h"
 #include "ray/errors.h"
@@ -13,14 +14,20 @@ namespace ray::api::detail {
 namespace {
 
 // Internal input messages start "<file>:<line>: error: " or, without a line (a file that
-// cannot be opened), "<file>: error: ".
+// cannot be opened), "<file>: error: " (or warning). Read by hand, in one pass: the message
+// holds a file name from outside, of any length (std::regex recursed once a character and
+// overflowed the stack on a name of 50,000).
 InputError inputErrorFrom(const std::string& message) {
-    static const std::regex withLine(R"(^(.*?):(\d+): (error|warning))");
-    static const std::regex withoutLine(R"(^(.*?): (error|warning))");
-    std::smatch match;
-    if (std::regex_search(message, match, withLine)) return InputError(message, match[1], std::stoi(match[2]));
-    if (std::regex_search(message, match, withoutLine)) return InputError(message, match[1], 0);
-    return InputError(message, "", 0);
+    size_t severity = std::string::npos;
+    for (const char* marker : {": error", ": warning"}) severity = std::min(severity, message.find(marker));
+    if (severity == std::string::npos) return InputError(message, "", 0);
+    const std::string place = message.substr(0, severity);
+    const size_t colon = place.rfind(':');
+    const std::string digits = colon == std::string::npos ? "" : place.substr(colon + 1);
+    const bool hasLine = !digits.empty() && digits.size() <= 9 &&
+                         std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (hasLine) return InputError(message, place.substr(0, colon), std::stoi(digits));
+    return InputError(message, place, 0);
 }
 
 }  // namespace

@@ -34,6 +34,8 @@ void checkMaterial(const Material& m) {
 }
 
 void checkLight(const Light& light) {
+    checkRule("position", toInternal(light.position), rules::kFinite);
+    checkRule("direction", toInternal(light.direction), rules::kFinite);
     checkRule("color", toInternal(light.color), rules::kColorChannel);
     checkRule("attenuation", toInternal(light.attenuation), rules::kAttenuation);
     checkRule("angle", light.angleDegrees, rules::kSpotAngle);
@@ -43,10 +45,24 @@ void checkLight(const Light& light) {
 }
 
 void checkCamera(const ray::Camera& camera) {
+    checkRule("position", camera.position, rules::kFinite);
+    checkRule("look direction", camera.look, rules::kFinite);
+    checkRule("up vector", camera.up, rules::kFinite);
     checkRule("height angle", camera.heightAngleDegrees, rules::kHeightAngle);
+    checkRule("aperture", camera.aperture, rules::kFinite);
+    checkRule("focal length", camera.focalLength, rules::kFinite);
     if (std::optional<RuleBroken> broken = brokenCameraAxes(camera, "look direction", "up vector"))
         badInput(broken->sentence());
 }
+
+void checkGlobals(const Globals& globals) {
+    for (const auto& [name, value] : {std::pair{"ka", globals.ka}, {"kd", globals.kd}, {"ks", globals.ks},
+                                      {"kt", globals.kt}})
+        checkRule(name, value, rules::kFinite);
+}
+
+void checkFinite(const char* name, const Vec3& values) { checkRule(name, toInternal(values), rules::kFinite); }
+void checkFinite(const char* name, double value) { checkRule(name, value, rules::kFinite); }
 
 // The conversion checks each value against the table as it goes.
 void checkSettings(const Settings& s) { toInternal(s); }

@@ -15,6 +15,10 @@ namespace ray::api::detail {
 void checkMaterial(const Material& material);
 void checkLight(const Light& light);
 void checkCamera(const ray::Camera& camera);
+void checkGlobals(const Globals& globals);
+// Numbers a scenefile could hold: finite (a translation, a scaling, a rotation's axis).
+void checkFinite(const char* name, const Vec3& values);
+void checkFinite(const char* name, double value);
 // The settings table's ranges and choices (render/settings_table.h), as the command line's.
 void checkSettings(const Settings& settings);
 

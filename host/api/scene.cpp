@@ -212,9 +212,19 @@ void Scene::Impl::edit(const std::function<void(ray::SceneDocument&)>& change) {
     });
 }
 
-Transform Transform::translate(Vec3 t) { return external(ray::Affine::translation(internal(t))); }
-Transform Transform::scale(Vec3 s) { return external(ray::Affine::scaling(internal(s))); }
+Transform Transform::translate(Vec3 t) {
+    detail::checkFinite("translate", t);
+    return external(ray::Affine::translation(internal(t)));
+}
+Transform Transform::scale(Vec3 s) {
+    detail::checkFinite("scale", s);
+    return external(ray::Affine::scaling(internal(s)));
+}
 Transform Transform::rotate(Vec3 axis, double angleDegrees) {
+    detail::checkFinite("rotate's axis", axis);
+    detail::checkFinite("rotate's angle", angleDegrees);
+    if (axis.x == 0 && axis.y == 0 && axis.z == 0)
+        badInput("rotate: the axis (0, 0, 0) has no direction; give a non-zero axis, such as (0, 1, 0)");
     return external(ray::Affine::rotation(internal(axis), angleDegrees));
 }
 Transform operator*(const Transform& a, const Transform& b) { return external(internal(a) * internal(b)); }
@@ -275,6 +285,7 @@ Globals Scene::globals() const {
 }
 
 void Scene::setGlobals(const Globals& globals) {
+    detail::checkGlobals(globals);
     impl_->scene.globals = {globals.ka, globals.kd, globals.ks, globals.kt};
     impl_->document.globals = impl_->scene.globals;
     impl_->changed();
@@ -554,7 +565,7 @@ void Scene::setLight(size_t index, const Light& light) {
 
 void Scene::removeLight(size_t index) {
     checkIndex(int(std::min<size_t>(index, size_t(INT32_MAX))), impl_->document.lights.size(), "light");
-    impl_->document.lights.erase(impl_->document.lights.begin() + std::ptrdiff_t(index));
+    ray::removeLight(impl_->document, index);  // and the element it was read from, with it
     impl_->scene.lights.erase(impl_->scene.lights.begin() + std::ptrdiff_t(index));
     impl_->changed();
 }

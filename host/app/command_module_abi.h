@@ -1,5 +1,5 @@
 // The C interface of ray's command modules: libray_viewer.so (`ray view`, host/viewer/) and
-// libray_mpi.so (`mpirun -n N ray`, host/distributed/mpi_render.cpp). ray opens one only for
+// libray_mpi.so (`mpirun -n N ray`, host/distributed/mpi_render.h). ray opens one only for
 // its command (app/command_modules.h), so that cpp-httplib with OpenSSL and Open MPI are
 // loaded by no other run. Each module exports one entry point with a plain C signature;
 // it reports its own failures and returns the command's exit status, never throws.

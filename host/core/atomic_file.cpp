@@ -7,10 +7,11 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <thread>
+
+#include "core/test_hooks.h"
 
 namespace ray {
 namespace fs = std::filesystem;
@@ -51,11 +52,10 @@ int createTemporary(const fs::path& target, fs::path& tmp) {
     fail(target, "cannot create a temporary file beside it", EEXIST);
 }
 
-// Test hook (tests/fault_injection.sh): RAY_TEST_WRITE_PAUSE_MS pauses halfway through the
-// write, so a test can kill -9 the process while the temporary file is half written.
+// Test hook (tests/fault_injection.sh): a pause halfway through the write, so that a test can
+// kill -9 the process while the temporary file is half written (core/test_hooks.h).
 void pauseForTestHook() {
-    const char* ms = std::getenv("RAY_TEST_WRITE_PAUSE_MS");
-    if (ms && *ms) std::this_thread::sleep_for(std::chrono::milliseconds(std::atoi(ms)));
+    if (const int ms = testHooks().writePauseMs; ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(ms));
 }
 
 // write() until every byte is out: it may write less than asked, or be interrupted.

@@ -18,7 +18,7 @@ constexpr uint64_t kHostBytesPerInstance = 640;
 // Host memory per image pixel: the float image (12) and the 8-bit copy written out (3).
 // An 8-bit output rendered on OpenCL devices needs less (RenderJob::eightBit: its 3 bytes
 // and the encoded file); the reference renderer and MPI's rank 0 keep floats. OpenCL
-// devices add a few tiles' buffers, whatever the image's size (opencl_engine.cpp).
+// devices add a few tiles' buffers, whatever the image's size (opencl/scene_upload.cpp).
 constexpr uint64_t kHostBytesPerPixel = 15;
 
 // The memory ray may plan to use: MemAvailable from /proc/meminfo, capped by the cgroup's

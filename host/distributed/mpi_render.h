@@ -29,6 +29,12 @@
 // All of it is the module libray_mpi.so, the only code of ray linked with Open MPI: main()
 // opens it only when launchedByMpirun() (app/mpi_launch.h) and calls its entry point,
 // ray_mpi_main (app/command_module_abi.h), which runs runDistributedCommand.
+//
+// The parts, each a file of host/distributed/: this entry point; mpi_startup (the start-up
+// without a collective, and what it leaves each rank holding), mpi_worker (a worker rank's
+// message loop), mpi_coordinator (rank 0: the tiles handed out, its own share, the image,
+// the ranks that stop answering), mpi_protocol (the messages and their encoding, and how the
+// job ends: MPI_Abort, a worker waiting to be ended, an interrupt).
 #pragma once
 
 #include <string>

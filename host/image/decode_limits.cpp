@@ -9,10 +9,13 @@ namespace ray {
 
 void checkDecodedImageSize(const std::filesystem::path& file, uint64_t width, uint64_t height,
                            uint64_t bytesPerPixel) {
-    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    const std::string size = std::to_string(width) + " × " + std::to_string(height);
     if (width == 0 || height == 0) throw ImageError(file.string() + ": image has no pixels");
-    if (width * height > kMaxImagePixels)
-        throw ImageError(file.string() + ": image is " + size + ", larger than the 2^28-pixel limit");
+    // Each side is below 2^32 (the formats' own fields), so the product cannot overflow.
+    if (width * height > kMaxTexturePixels)
+        throw ImageError(file.string() + ": the image claims " + size +
+                         " pixels, more than a texture's budget of 2^25 (8192 × 4096); scale it down to at "
+                         "most 8192 × 4096");
     if (auto shortfall = hostMemoryShortfall(width * height * bytesPerPixel))
         throw ImageError(file.string() + ": a " + size + " image " + *shortfall);
 }

@@ -77,8 +77,8 @@ Image readImageWithOiio(const fs::path& file) {
     } closer{module, handle};
     if (info.width < 0 || info.height < 0 || info.channels <= 0)  // zero sizes: checkDecodedImageSize
         throw ImageError(file.string() + ": image has no pixels");
-    // The module's decoded floats, then the RGB image.
-    checkDecodedImageSize(file, uint64_t(info.width), uint64_t(info.height), uint64_t(info.channels + 3) * sizeof(float));
+    // The module decodes straight into the RGB floats.
+    checkDecodedImageSize(file, uint64_t(info.width), uint64_t(info.height), 3 * sizeof(float));
     Image image(info.width, info.height);
     if (!module.readRgb(handle, image.rgb.data(), error, sizeof error)) throw ImageError(file.string() + ": " + error);
     return image;

@@ -35,15 +35,18 @@ __attribute__((visibility("default"))) int ray_oiio_read_rgb(void* handle, float
                                                              size_t errorSize) {
     auto* input = static_cast<OIIO::ImageInput*>(handle);
     const OIIO::ImageSpec& spec = input->spec();
-    const int channels = spec.nchannels;
-    std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(channels));
-    // Integer formats convert to [0, 1] as v / max, i.e. v/255 for 8-bit files.
-    if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
+    // Straight into the RGB floats, three apart, so that no decoded copy of the whole image
+    // exists beside them (OpenImageIO converts a bounded number of scanlines at a time).
+    // Integer formats convert to [0, 1] as v / max, i.e. v/255 for 8-bit files. Grey (and
+    // grey with alpha) is read into red and copied to green and blue; alpha is dropped.
+    const int channels = spec.nchannels >= 3 ? 3 : 1;
+    constexpr OIIO::stride_t kPixelStride = 3 * sizeof(float);
+    if (!input->read_scanlines(0, 0, spec.y, spec.y + spec.height, spec.z, 0, channels, OIIO::TypeDesc::FLOAT, rgb,
+                               kPixelStride))
         return fail(error, errorSize, "cannot decode image: " + input->geterror());
-    for (size_t p = 0, n = size_t(spec.width) * size_t(spec.height); p < n; ++p) {
-        const float* src = &pixels[p * size_t(channels)];
-        for (int c = 0; c < 3; ++c) rgb[p * 3 + size_t(c)] = channels >= 3 ? src[c] : src[0];
-    }
+    if (channels == 1)
+        for (size_t p = 0, n = size_t(spec.width) * size_t(spec.height); p < n; ++p)
+            rgb[p * 3 + 1] = rgb[p * 3 + 2] = rgb[p * 3];
     return 1;
 }
 

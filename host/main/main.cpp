@@ -89,7 +89,8 @@ void printHelp() {
 // `ray vie chess.xml`: a first argument that is no file but nearly a subcommand's name is
 // taken for a misspelled subcommand rather than a scene.
 void refuseMisspelledSubcommand(const std::string& first) {
-    if (first.empty() || first[0] == '-' || std::filesystem::exists(first)) return;
+    std::error_code unreadable;  // a name too long for the system is no subcommand either
+    if (first.empty() || first[0] == '-' || std::filesystem::exists(first, unreadable) || unreadable) return;
     std::vector<std::string> names;
     for (const Subcommand& subcommand : kSubcommands) names.push_back(subcommand.name);
     const std::string guess = closestMatch(first, names);

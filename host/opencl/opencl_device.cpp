@@ -187,10 +187,9 @@ bool mayRunOnEveryCpu() {
 // one CPU at the start of a frame (both had last run there) and left there for 25 ms
 // while the other CPU idled: a cache-hot thread is not moved to an idle CPU at once. So
 // ray asks PoCL to pin worker i to CPU i (POCL_AFFINITY=1) where that is safe (above) and
-// the variable is unset: recursiveCones4 at 1024x768 rendered in 0.153 s against 0.169 s,
-// chess in 0.095 s against 0.106 s (docs/performance.md). POCL_AFFINITY=0 leaves the
-// threads to the scheduler; so does a POCL_MAX_PTHREAD_COUNT, which may ask for more
-// threads than CPUs.
+// the variable is unset (docs/performance.md, "Keeping both cores busy", has the times).
+// POCL_AFFINITY=0 leaves the threads to the scheduler; so does a POCL_MAX_PTHREAD_COUNT,
+// which may ask for more threads than CPUs.
 void preparePoclThreads() {
     if (std::getenv("POCL_AFFINITY") || std::getenv("POCL_MAX_PTHREAD_COUNT") || !mayRunOnEveryCpu()) return;
     ::setenv("POCL_AFFINITY", "1", 0);

@@ -35,90 +35,51 @@
 // for one still building): the thread is left, with its context and queue, and the process
 // exits without it.
 //
-// Test hooks (for tests only; each "k:n" names device k of the selection, 0-based):
-//   RAY_TEST_FAIL_DEVICE="k:n"  device k fails after it has kept n tiles of a frame, as a lost
-//                               device would;
-//   RAY_TEST_HANG_DEVICE="k:n"  device k stops answering after n tiles of a frame: its later
-//                               launches wait for an OpenCL user event that is never set, so
-//                               its thread blocks in the driver as on a hung GPU;
-//   RAY_TEST_SLOW_BUILD="k:s"   device k's kernel build takes s seconds longer.
+// Test hooks (core/test_hooks.h) make a device fail, hang (its launches after the first n
+// wait for an OpenCL user event that is never set, so that its thread blocks in the driver as
+// on a hung GPU) or build slowly, and choose its kernel's packet width and stack.
+//
+// The parts, each a file of host/opencl/: this class posts each frame to the devices, waits
+// for it and reports it; packed_scene_cache (packing and re-packing after edits),
+// engine_frame (one frame as the threads share it), frame_deadlines (when a device is hung),
+// device_slot (what a device keeps between frames), device_thread (a device's thread: each
+// frame prepared for), scene_upload (device limits and uploads), kernel_build (build options,
+// packet width, the program built and run once), device_worker (a device's tiles in flight).
 #pragma once
 
-#include <atomic>
-#include <cstdint>
-#include <functional>
 #include <memory>
-#include <string>
 #include <vector>
 
-#include "image/image.h"
+#include "core/test_hooks.h"
 #include "opencl/opencl_device.h"
 #include "render/frame_source.h"
 #include "render/render_settings.h"
-#include "render/render_stats.h"
-#include "render/tiles.h"
 #include "scene/scene.h"
 
 namespace ray {
-
-// TileSource (tiles admitted from elsewhere) and FinishedTile: render/frame_source.h.
-
-struct FrameOptions {
-    // Side of the square tiles; 0: render/tile_side.h frameTileSide picks it (smaller when the
-    // frame can be cancelled). With `tiles`, the side of the tiles it gives (for the
-    // device limits: a launch grows its buffers to the tile it gets).
-    int tileSize = 0;
-    // Work-group side: PoCL left alone picks groups of one work-item; 8x8 suits CPUs and GPUs.
-    int workGroupSize = 8;
-    // Called with the fraction of the frame done, from device threads, one call at a time.
-    std::function<void(double)> progress;
-    // Called for each tile as it is kept (duplicates are dropped before), one call at a
-    // time, from device threads: for progressive display and distributed renders.
-    std::function<void(const FinishedTile&)> onTile;
-    // Set to true to stop early: no more tiles are launched, the ones queued finish, and
-    // the image comes back with the tiles never rendered black.
-    const std::atomic<bool>* cancel = nullptr;
-    // Where the tiles come from; null: every tile of the image, cut by tileSize.
-    TileSource* tiles = nullptr;
-    // Keep the frame as the 8-bit values an 8-bit file holds (FrameResult::bytes), each
-    // tile quantized as it arrives, instead of floats: a quarter of the memory.
-    bool eightBit = false;
-};
-
-struct FrameStats {
-    uint64_t primaryRays = 0, shadowRays = 0, secondaryRays = 0;
-    double packSeconds = 0;    // packing and BVH build: 0 unless the frame (re)packed
-    double bvhBuildSeconds = 0;
-    double uploadSeconds = 0;  // slowest device's upload: 0 unless the frame uploaded
-    double kernelBuildSeconds = 0;  // slowest device's build: 0 when every program was kept
-    double renderSeconds = 0;
-    int tiles = 0, duplicatesDropped = 0;
-    std::vector<DeviceStats> devices;
-    std::vector<std::string> warnings;  // one per device dropped (once), and llvmpipe on the first frame
-};
-
-struct FrameResult {
-    Image image;      // the frame, unless FrameOptions::eightBit (then empty)
-    ByteImage bytes;  // the frame with FrameOptions::eightBit (else empty)
-    FrameStats stats;
-    bool cancelled = false;
-};
 
 class OpenClEngine {
 public:
     // Keeps a reference to the scene, which must outlive the engine. Nothing is packed,
     // built or uploaded until the first frame. Throws DeviceError for an empty selection.
-    OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices);
+    OpenClEngine(const Scene& scene, std::vector<OpenClDevice> devices, const TestHooks& hooks = testHooks());
     // The same, owning a share of the scene.
-    OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices);
+    OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenClDevice> devices,
+                 const TestHooks& hooks = testHooks());
     ~OpenClEngine();
     OpenClEngine(const OpenClEngine&) = delete;
     OpenClEngine& operator=(const OpenClEngine&) = delete;
 
-    // Renders one frame from the camera with the settings. Devices dropped in a frame
-    // stay dropped. Throws DeviceError when no device is left (or the scene does not fit
-    // any), InputError for bad settings.
-    FrameResult renderFrame(const Camera& camera, const RenderSettings& settings, const FrameOptions& options = {});
+    // Renders one frame from the camera with the settings, as the request asks
+    // (render/frame_source.h; the callbacks are called from device threads, one call at a
+    // time; a cancelled frame launches no more tiles and lets those queued finish). The
+    // statistics hold the rays, each device's share, and the seconds of what this frame did:
+    // packing and BVH build (0 unless it packed), the slowest device's upload (0 unless it
+    // uploaded) and kernel build (0 when every program was kept), and the render; the
+    // warnings, each device dropped (once) and llvmpipe on the first frame. Devices dropped
+    // in a frame stay dropped. Throws DeviceError when no device is left (or the scene does
+    // not fit any), InputError for bad settings.
+    RenderedFrame renderFrame(const Camera& camera, const RenderSettings& settings, const FrameRequest& request = {});
 
     // The scene of the next frames: an edited copy of the one before (an editor's). The
     // next frame packs and uploads only what differs from the scene it packed (a material

@@ -1,6 +1,6 @@
 // The one tile scheduler: which worker renders which tile of a frame. The OpenCL engine's
-// device threads are its workers within a process (opencl/opencl_engine.cpp); the ranks of
-// a distributed render are its workers on rank 0 (distributed/mpi_render.cpp). It knows
+// device threads are its workers within a process (opencl/device_worker.cpp); the ranks of
+// a distributed render are its workers on rank 0 (distributed/mpi_coordinator.cpp). It knows
 // nothing of either transport, so that it is tested alone (tests/test_tile_scheduler.cpp).
 //
 // A tile is queued, handed out (to one or more workers), or done. The tiles are the cells

@@ -1,7 +1,7 @@
 #include "scene/mesh.h"
 
+#include <cctype>
 #include <optional>
-#include <regex>
 #include <sstream>
 
 #include <tiny_obj_loader.h>
@@ -12,17 +12,30 @@ namespace ray {
 
 namespace {
 
+// The n of a line ending "line n", "line n." or "line n.)" (tinyobjloader's way of saying
+// where), read by hand: no std::regex on text from outside (a long line overflowed its
+// recursion).
+std::optional<std::string> trailingLineNumber(const std::string& line) {
+    size_t end = line.find_last_not_of(" \t\r");
+    if (end == std::string::npos) return std::nullopt;
+    if (line[end] == ')') --end;
+    if (end != std::string::npos && line[end] == '.') --end;
+    size_t begin = end + 1;
+    while (begin > 0 && std::isdigit(static_cast<unsigned char>(line[begin - 1]))) --begin;
+    if (begin > end || begin < 5 || line.compare(begin - 5, 5, "line ") != 0) return std::nullopt;
+    return line.substr(begin, end + 1 - begin);
+}
+
 // tinyobjloader's error text: one or more lines such as "Failed parse `f' line(e.g. zero
 // value for face index. line 2.)". Each becomes "file:line: error: ...", the form of the
 // scene loader's messages, so no line of it is left without its file.
 std::string describeObjErrors(const std::string& errors, const std::string& name) {
-    static const std::regex lineNumber(R"(line (\d+)\.?\)?\s*$)");
     std::istringstream lines(errors);
     std::string out, line;
     while (std::getline(lines, line)) {
         if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-        std::smatch m;
-        const std::string where = std::regex_search(line, m, lineNumber) ? name + ":" + m[1].str() : name;
+        const std::optional<std::string> number = trailingLineNumber(line);
+        const std::string where = number ? name + ":" + *number : name;
         out += (out.empty() ? "" : "\n") + where + ": error: cannot read the OBJ file: " + line;
     }
     if (out.empty()) out = name + ": error: cannot read the OBJ file";

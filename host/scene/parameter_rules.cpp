@@ -18,7 +18,9 @@ bool keeps(double value, const NumberRule& rule) {
 // (Streams rather than "literal" + std::string, on which GCC 12 warns falsely, -Wrestrict.)
 std::string interval(const NumberRule& rule) {
     std::ostringstream out;
-    if (std::isinf(rule.high)) {
+    if (std::isinf(rule.low) && std::isinf(rule.high)) {
+        out << "a finite number";
+    } else if (std::isinf(rule.high)) {
         if (rule.lowIncluded) out << rule.low << " or more";
         else out << "more than " << rule.low;
     } else if (rule.lowIncluded && rule.highIncluded) {

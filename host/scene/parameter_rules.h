@@ -42,6 +42,9 @@ inline constexpr NumberRule kPenumbra{0, true, kUnbounded, true,
                                       "it is the width in degrees of the soft band inside the spot light's cone"};
 inline constexpr NumberRule kSpotRadius{0, true, kUnbounded, true, "it is the spot light's radius"};
 inline constexpr NumberRule kAreaSide{0, false, kUnbounded, true, "it is a side of the area light's rectangle"};
+// A point, a direction or a global coefficient: any finite number (the loader reads no other).
+inline constexpr NumberRule kFinite{-kUnbounded, true, kUnbounded, true,
+                                    "a scenefile holds finite decimal numbers only"};
 inline constexpr NumberRule kHeightAngle{0, false, 180, false,
                                          "it is the camera's full vertical field of view, in degrees"};
 }  // namespace rules

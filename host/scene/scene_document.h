@@ -22,6 +22,14 @@
 //
 // Transforms are kept as written (translate, rotate, scale, matrix, in order) next to their
 // composition, so that a saved file composes, on loading, to the very same bits.
+//
+// Text. A document read from a file keeps the file's text (SceneDocument::source), and
+// each of its nodes the element it was read from (a SourceId; kNoSource for what was made
+// in code). Saving writes that text with splices for what the document now says
+// differently (document_splices.h): a document saved unedited is its file, byte for byte,
+// and an edit changes the lines of what it touched alone. Edits need not say what they
+// changed in the text: they change the document, and the save compares it with the text.
+// A document with no text (made in code) is written afresh (canonical_writer.h).
 #pragma once
 
 #include <array>
@@ -39,6 +47,7 @@
 #include "core/math.h"
 #include "scene/csg.h"
 #include "scene/scene.h"
+#include "scene/source_text.h"
 
 namespace ray {
 
@@ -90,6 +99,7 @@ struct TransformOp {
 struct ImageReference {
     std::filesystem::path file;
     int line = 0;
+    std::string written;  // the reference as the file writes it; empty when set in code
 };
 
 // What few primitives name, kept apart so that the common primitive stays small (a large
@@ -100,6 +110,7 @@ struct PrimitiveFiles {
     // so that saving does not lose it.
     std::string missingTexture, missingBumpMap;
     std::filesystem::path meshFile;  // resolved; meshes only
+    std::string meshWritten;         // meshFile as the file writes it; empty when set in code
 };
 
 // <object type="primitive">.
@@ -107,6 +118,7 @@ struct PrimitiveNode {
     PrimitiveType type = PrimitiveType::Cube;
     int line = 0;  // in the file it was read from; 0 when made in code
     int id = -1;   // stable (see above)
+    SourceId source = kNoSource;  // its element in the document's text
     // Its texture and bump map images are the files' (files) when it names any; otherwise
     // material.texture.image / bumpMap.image index Resources::images (objects made in
     // code), or are -1.
@@ -129,6 +141,7 @@ struct MasterReference {
     std::string name;
     int line = 0;
     NamedTree* target = nullptr;  // set by the count pass (and after a document is copied)
+    SourceId source = kNoSource;
 };
 
 using SceneItem = std::variant<PrimitiveNode, Box<TreeNode>, MasterReference, Box<CsgNode>>;
@@ -136,6 +149,10 @@ using SceneItem = std::variant<PrimitiveNode, Box<TreeNode>, MasterReference, Bo
 // <transblock>.
 struct Block {
     int id = -1;                          // stable (see above)
+    // Its <transblock>; kNoSource for one made in code, or for a bare <object> in a tree
+    // or a csg (bare: the block the loader puts it in, which the file does not write).
+    SourceId source = kNoSource;
+    bool bare = false;
     std::vector<TransformOp> transforms;  // as written, in order (empty in a document only flattened)
     Affine toParent;    // T1 · T2 · … · Tn (composeBlock)
     Affine fromParent;  // its inverse, composed from the exact inverses of each Ti
@@ -149,6 +166,9 @@ void composeBlock(Block& block);
 
 struct TreeNode {
     std::vector<Block> blocks;
+    // Its <object type="tree"> (a top-level tree's or an inline one's); kNoSource for a
+    // csg operand (its block is its element) and what was made in code.
+    SourceId source = kNoSource;
 };
 
 // <object type="csg" operation="..."> (scene/csg.h): each operand is written as a tree's
@@ -156,6 +176,7 @@ struct TreeNode {
 struct CsgNode {
     CsgStepKind operation = CsgStepKind::Union;
     int line = 0;
+    SourceId source = kNoSource;
     std::vector<TreeNode> operands;
 };
 
@@ -181,6 +202,16 @@ struct SceneDocument {
     int scenefileLine = 0;
     size_t primitiveElements = 0;  // <object type="primitive"> elements read
     int nextObjectId = 0, nextBlockId = 0;
+
+    // The file's text (null for a document made in code) and, in the order of `lights`,
+    // the <lightdata> each light was read from (lights past its end were added in code;
+    // removeLight, below, keeps the two in step).
+    std::shared_ptr<const SourceText> source;
+    std::vector<SourceId> lightSources;
+    // Numbers as the user typed them, by field (numberKey, below; setTypedNumber sets
+    // one): a save writes a changed number with this text when the text reads as the
+    // number the field holds, in the shortest form that reads back as it otherwise.
+    std::map<std::string, std::string> typedNumbers;
 
     SceneDocument() = default;
     SceneDocument(const SceneDocument& other);  // deep, masters resolved in the copy
@@ -214,6 +245,9 @@ struct DocumentPlace {
     std::string path;                    // "root/transblock[1]/object[0]" ("gear/..." in a master)
 };
 
+// The top-level trees in the file's order, then those made in code.
+std::vector<NamedTree*> treesInOrder(SceneDocument& document);
+
 // The place of object `id`, of transblock `id`; nullopt when there is none (removed).
 std::optional<DocumentPlace> findObject(SceneDocument& document, int id);
 std::optional<DocumentPlace> findBlock(SceneDocument& document, int id);
@@ -226,9 +260,33 @@ void forEachBlock(SceneDocument& document, const std::function<void(Block&, cons
 // as flattening composes it: {to the tree's frame, from it}.
 std::pair<Affine, Affine> composedPlacement(const std::vector<Block*>& blocks);
 
-// The scenefile text of the document (SPEC §1), which loads back to the same scene.
-// Texture and mesh paths are written relative to `target`'s folder. Throws InputError
-// for what a file cannot hold (a texture or mesh made in memory).
+// The key of a number in SceneDocument::typedNumbers: `owner` is "object ID", "light
+// INDEX", "camera", "globals" or "block ID"; `field` the element that writes it
+// ("diffuse", "pos", "ambientcoeff", "transform I" for a block's I-th transform, "motion",
+// "texture" and "bumpmap" for their repeats), `index` the number's place in the element.
+std::string numberKey(const std::string& owner, const std::string& field, size_t index);
+// The text a save writes for a number: the typed text under `key` when it reads as
+// `value`, bit for bit; the shortest text that reads back as `value` otherwise.
+std::string typedNumberText(const SceneDocument& document, const std::string& key, double value);
+
+// A light added after the others (one made in code: a save writes it afresh); returns its
+// index. removeLight takes the light and the element it was read from (a save removes
+// that element): lights are removed through it, never from SceneDocument::lights alone.
+// Throws InputError for an index out of range.
+size_t addLight(SceneDocument& document, const Light& light);
+void removeLight(SceneDocument& document, size_t index);
+
+// The number under `key` (numberKey) is written as `text` by saves while the field holds
+// the value `text` reads as. Throws InputError when `text` is not a plain finite number.
+void setTypedNumber(SceneDocument& document, const std::string& key, const std::string& text);
+
+// The scenefile text of the document (SPEC §1), which loads back to the same scene. A
+// document that keeps its file's text is that text with splices for what it now says
+// differently (document_splices.h): unedited, the file byte for byte. One made in code is
+// written whole (canonical_writer.h). Texture and mesh paths the document changed, and all
+// of them when `target` is in another folder than the file, are written relative to
+// `target`'s folder. Throws InputError for what a file cannot hold (a texture or mesh made
+// in memory).
 std::string documentToText(const SceneDocument& document, const Resources& resources,
                            const std::filesystem::path& target);
 

@@ -88,13 +88,13 @@ XmlTree parseXml(const Diagnostics& diagnostics, Parse parse) {
     }
 }
 
-// Pass 1 over the parsed XML: the document (the XML tree goes once it is read).
-SceneDocument documentFromTree(XmlTree tree, const fs::path& file, const LoadOptions& options,
+// Pass 1 over the parsed XML: the document.
+SceneDocument documentFromRoot(XmlElement root, const fs::path& file, const LoadOptions& options,
                                const Diagnostics& diagnostics, bool keepTransforms = true) {
     SceneDocument document;
     document.file = file;
     FileSearch search{options.searchPaths, file.parent_path()};
-    loader::parseSceneDocument(tree.root(), diagnostics, search, document, keepTransforms);  // a parsed tree always has a root
+    loader::parseSceneDocument(root, diagnostics, search, document, keepTransforms);
     if (document.trees.empty())
         diagnostics.warning(document.scenefileLine,
                             "the scene has no <object type=\"tree\" name=\"root\">; it is empty");
@@ -108,8 +108,10 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
     Resources resources;
     Scene scene;
     {
-        // Flattened and dropped: the transforms as written, for saving, are not kept.
-        SceneDocument document = documentFromTree(std::move(tree), file, options, diagnostics, false);
+        // Flattened and dropped: neither the text nor the transforms as written, for saving,
+        // are kept.
+        SceneDocument document = documentFromRoot(tree.root(), file, options, diagnostics, false);
+        tree.clear();
         scene = loader::flattenWithDiagnostics(document, resources, diagnostics, options);
     }
     scene.images = std::move(resources.images);
@@ -119,28 +121,39 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
     return scene;
 }
 
-// The file, read a piece at a time, as XML.
-XmlTree readXmlFile(const fs::path& file, const Diagnostics& diagnostics) {
+// A document that keeps its text (scene_document.h): pass 1 over `bytes`, parsed with the
+// place of every element.
+SceneDocument documentWithText(std::string bytes, XmlTree tree, const fs::path& file, const LoadOptions& options,
+                               const Diagnostics& diagnostics) {
+    auto source = std::make_shared<const SourceText>(std::move(bytes), std::move(tree));
+    SceneDocument document = documentFromRoot(source->tree().root(), file, options, diagnostics);
+    document.source = std::move(source);
+    return document;
+}
+
+// The file, read a piece at a time, as XML. With `keep`, its bytes are kept there and its
+// elements' places recorded (for a document's text).
+XmlTree readXmlFile(const fs::path& file, const Diagnostics& diagnostics, std::string* keep = nullptr) {
     std::error_code ec;
     if (fs::is_directory(file, ec))  // an ifstream opens a folder and reads nothing: "empty"
-        throw InputError(file.string() + ": error: this is a folder, not a scene file; give the path of a .xml "
-                                         "scene file (e.g. " + (file / "scene.xml").string() + ")");
+        diagnostics.fileError("this is a folder, not a scene file",
+                              "give the path of a .xml scene file (e.g. " + quotedForMessage((file / "scene.xml").string()) + ")");
     std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw InputError(file.string() + ": error: cannot open the scene file (" + std::strerror(errno) +
-                         "); check the path");
+    if (!in) diagnostics.fileError(std::string("cannot open the scene file (") + std::strerror(errno) + ")", "check the path");
     // Read and parsed a piece at a time (xml_tree.h): the text of a large flat scene, tens
     // of megabytes, is never held whole. A FIFO or a device is read like a file, to its end.
     const XmlSource read = [&](char* buffer, size_t capacity) {
         in.read(buffer, std::streamsize(capacity));
         if (in.bad())
-            throw InputError(file.string() + ": error: the scene file could not be read to its end; check the disk");
+            diagnostics.fileError("the scene file could not be read to its end", "check the disk");
+        if (keep) keep->append(buffer, size_t(in.gcount()));
         return size_t(in.gcount());
     };
     // The file's size sizes the tree's arrays up front (unknown for a FIFO or a device).
     std::uintmax_t size = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
     if (ec) size = 0;
-    return parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, size_t(size)); });
+    if (keep) keep->reserve(size_t(size));
+    return parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, size_t(size), keep != nullptr); });
 }
 
 }  // namespace
@@ -158,13 +171,15 @@ Scene loadScene(const fs::path& file, const LoadOptions& options) {
 
 SceneDocument loadSceneDocument(const fs::path& file, const LoadOptions& options) {
     Diagnostics diagnostics(file.string(), options);
-    return documentFromTree(readXmlFile(file, diagnostics), file, options, diagnostics);
+    std::string bytes;
+    XmlTree tree = readXmlFile(file, diagnostics, &bytes);
+    return documentWithText(std::move(bytes), std::move(tree), file, options, diagnostics);
 }
 
 SceneDocument loadSceneDocumentFromText(const std::string& xml, const fs::path& file, const LoadOptions& options) {
     Diagnostics diagnostics(file.string(), options);
-    XmlTree tree = parseXml(diagnostics, [&] { return XmlTree::parse(xml, kMaxElementDepth); });
-    return documentFromTree(std::move(tree), file, options, diagnostics);
+    XmlTree tree = parseXml(diagnostics, [&] { return XmlTree::parse(xml, kMaxElementDepth, true); });
+    return documentWithText(xml, std::move(tree), file, options, diagnostics);
 }
 
 Scene flattenDocument(SceneDocument& document, Resources& resources, const LoadOptions& options) {
@@ -189,7 +204,7 @@ Scene flattenWithDiagnostics(SceneDocument& document, Resources& resources, cons
     countInstances(document.trees, diagnostics);
     auto root = document.trees.find("root");
     if (root == document.trees.end()) {
-        if (document.trees.empty()) return scene;  // an empty scene (documentFromTree warned)
+        if (document.trees.empty()) return scene;  // an empty scene (documentFromRoot warned)
         diagnostics.error(document.scenefileLine, "no tree named 'root' (the scene)",
                           "name the scene's top-level tree <object type=\"tree\" name=\"root\">");
     }

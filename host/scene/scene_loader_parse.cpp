@@ -9,26 +9,13 @@
 #include <sstream>
 
 #include "scene/parameter_rules.h"
+#include "scene/value_text.h"
 
 namespace ray::loader {
 namespace {
 
 // ---------------------------------------------------------------------------------------
 // Small helpers for names and text
-
-constexpr char asciiLower(char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; }
-
-// Names and keywords match ignoring case, ASCII only as strcasecmp in the C locale does.
-// Inline: a large flat scene compares millions of names, and the calls to strcasecmp were a
-// sixth of its parse.
-bool sameName(const char* a, const char* b) {
-    if (!a || !b) return false;
-    for (;; ++a, ++b) {
-        const char x = asciiLower(*a);
-        if (x != asciiLower(*b)) return false;
-        if (x == '\0') return true;
-    }
-}
 
 std::string tag(XmlElement element) { return std::string("<") + element.name() + ">"; }
 
@@ -41,49 +28,6 @@ bool isBlank(const char* text) {
 // "C:\\Users\\...": FileSearch only tries the trailing parts of these.
 bool isWindowsDrivePath(const std::string& path) {
     return path.size() >= 2 && std::isalpha(static_cast<unsigned char>(path[0])) && path[1] == ':';
-}
-
-
-// A plain decimal ("-3.65636", "0.1", "20": an optional '-', digits with an optional
-// point, nothing else) of at most 19 digits, at most 22 of them after the point, whose
-// digits make an integer w <= 2^53, is w / 10^k with both w and 10^k exact doubles: the one
-// division, rounded correctly, gives exactly strtod's value (Clinger's fast path). Nullopt
-// for anything else. A large flat scene has millions of numbers, and strtod was a tenth of
-// its load.
-std::optional<double> plainDecimal(const char* text) {
-    static constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                              1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                              1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-    const char* p = text;
-    const bool negative = *p == '-';
-    if (negative) ++p;
-    uint64_t digits = 0;
-    int count = 0, afterPoint = -1;  // -1: no point yet
-    for (;; ++p) {
-        if (*p >= '0' && *p <= '9') {
-            if (++count > 19) return std::nullopt;
-            digits = digits * 10 + uint64_t(*p - '0');
-            if (afterPoint >= 0) ++afterPoint;
-        } else if (*p == '.' && afterPoint < 0) {
-            afterPoint = 0;
-        } else {
-            break;
-        }
-    }
-    if (*p != '\0' || count == 0 || digits > (uint64_t(1) << 53) || afterPoint > 22) return std::nullopt;
-    const double value = double(digits) / kPowersOfTen[std::max(afterPoint, 0)];
-    return negative ? -value : value;
-}
-
-// The value `text` holds when it is a whole decimal number (surrounding blanks allowed).
-std::optional<double> parseNumber(const char* text) {
-    if (std::optional<double> value = plainDecimal(text)) return value;
-    char* end = nullptr;
-    double value = std::strtod(text, &end);
-    if (end == text) return std::nullopt;
-    while (std::isspace(static_cast<unsigned char>(*end))) ++end;
-    if (*end != '\0') return std::nullopt;
-    return value;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -115,26 +59,26 @@ public:
 
     double number(size_t i) const {
         const char* text = element_.attributeValue(i);
+        const NumberReading read = readNumber(text);
         // The common case first, without building any message.
-        if (std::optional<double> value = parseNumber(text); value && std::isfinite(*value)) return *value;
+        if (read.kind == NumberReading::Kind::Number) return read.value;
         std::string what = "attribute '" + std::string(element_.attributeName(i)) + "' of " + tag(element_);
-        if (isBlank(text)) {
-            diagnostics_.warning(line(), "empty " + what + " reads as 0");
-            return 0;
+        switch (read.kind) {
+            case NumberReading::Kind::Number: break;
+            case NumberReading::Kind::Blank: diagnostics_.warning(line(), "empty " + what + " reads as 0"); break;
+            case NumberReading::Kind::StrayEquals:
+                // A typo whose intent is plain; the number after it is read, and we say so.
+                diagnostics_.warning(line(), "'" + std::string(text) + "' has a stray '=' (" + what +
+                                                 "); it reads as " + std::string(text + 1));
+                break;
+            case NumberReading::Kind::NotANumber:
+                diagnostics_.error(line(), "'" + std::string(text) + "' is not a number (" + what + ")",
+                                   "write a decimal number such as 1.5");
+            case NumberReading::Kind::NotFinite:
+                diagnostics_.error(line(), "'" + std::string(text) + "' is not a finite number (" + what + ")",
+                                   "write a finite decimal number");
         }
-        std::optional<double> value = parseNumber(text);
-        if (!value && text[0] == '=' && (value = parseNumber(text + 1)))
-            // A stray '=' ("r="=0.1"", as in the course's pikachu_head.xml) is a typo whose
-            // intent is plain; read the number after it, and say so.
-            diagnostics_.warning(line(), "'" + std::string(text) + "' has a stray '=' (" + what +
-                                             "); it reads as " + std::string(text + 1));
-        if (!value)
-            diagnostics_.error(line(), "'" + std::string(text) + "' is not a number (" + what + ")",
-                               "write a decimal number such as 1.5");
-        if (!std::isfinite(*value))
-            diagnostics_.error(line(), "'" + std::string(text) + "' is not a finite number (" + what + ")",
-                               "write a finite decimal number");
-        return *value;
+        return read.value;
     }
 
     double numberOr(size_t i, double fallback) const { return i < count() ? number(i) : fallback; }
@@ -288,6 +232,7 @@ private:
             }
         }
         document_.lights.push_back(light);
+        document_.lightSources.push_back(element.index());
     }
 
     LightType lightType(XmlElement element) const {
@@ -323,6 +268,7 @@ private:
         it->second.name = name;
         it->second.line = element.line();
         it->second.tree = parseTree(element);
+        it->second.tree.source = element.index();
     }
 
     // The transblocks of a tree, top-level or inline.
@@ -340,6 +286,7 @@ private:
                                      "without transforms");
                 Block block;
                 block.id = document_.nextBlockId++;
+                block.bare = true;
                 block.items.push_back(parseObject(child));
                 tree.blocks.push_back(std::move(block));
             } else {
@@ -354,6 +301,7 @@ private:
         expectNoAttributes(element);
         Block block;
         block.id = document_.nextBlockId++;
+        block.source = element.index();
         for (XmlElement child = element.firstChild(); child; child = child.nextSibling()) {
             if (sameName(child.name(), "object")) {
                 block.items.push_back(parseObject(child));
@@ -460,7 +408,9 @@ private:
         if (sameName(type, "primitive")) return parsePrimitive(element, values);
         if (sameName(type, "tree")) {
             values.expect(1, 1, "type [name]");
-            return Box<TreeNode>(parseTree(element));
+            TreeNode tree = parseTree(element);
+            tree.source = element.index();
+            return Box<TreeNode>(std::move(tree));
         }
         if (sameName(type, "csg")) return parseCsg(element, values);
         if (sameName(type, "master")) {
@@ -468,7 +418,7 @@ private:
                 diagnostics_.error(element.line(), "a master object needs the name of the tree it places",
                                    "write <object type=\"master\" name=\"...\"/>");
             values.expect(2, 0, "type name");
-            return MasterReference{values.text(1), element.line(), nullptr};
+            return MasterReference{values.text(1), element.line(), nullptr, element.index()};
         }
         diagnostics_.error(element.line(), "unknown object type '" + std::string(values.text(0)) + "'",
                            "use primitive, tree, master or csg");
@@ -483,6 +433,7 @@ private:
         values.expect(2, 0, "type operation");
         auto node = std::make_unique<CsgNode>();
         node->line = element.line();
+        node->source = element.index();
         const char* operation = values.text(1);
         if (sameName(operation, "union")) node->operation = CsgStepKind::Union;
         else if (sameName(operation, "intersection")) node->operation = CsgStepKind::Intersection;
@@ -495,6 +446,7 @@ private:
             } else if (sameName(child.name(), "object")) {
                 Block& block = operand.blocks.emplace_back();
                 block.id = document_.nextBlockId++;
+                block.bare = true;
                 block.items.push_back(parseObject(child));
             } else {
                 warnUnknown(child, element);
@@ -518,6 +470,7 @@ private:
         PrimitiveNode node;
         node.line = element.line();
         node.id = document_.nextObjectId++;
+        node.source = element.index();
         node.type = primitiveType(element, values.text(1));
         if (node.type == PrimitiveType::Mesh) {
             if (values.count() < 3)
@@ -525,6 +478,7 @@ private:
                                    "add meshfile=\"path/to/file.obj\" after the name");
             values.expect(3, 0, "type name meshfile");
             node.filesToSet().meshFile = resolveMesh(element, values.text(2));
+            node.files->meshWritten = values.text(2);
         } else {
             values.expect(2, 0, "type name");
         }
@@ -597,11 +551,11 @@ private:
         auto [known, isNew] = resolvedImages_.try_emplace(reference);
         if (!isNew) {
             if (!known->second) return std::nullopt;
-            return ImageReference{*known->second, element.line()};
+            return ImageReference{*known->second, element.line(), reference};
         }
         std::vector<fs::path> tried;
         known->second = search_.resolve(reference, &tried);
-        if (known->second) return ImageReference{*known->second, element.line()};
+        if (known->second) return ImageReference{*known->second, element.line(), reference};
         if (auto special = firstNonRegular(tried)) {
             diagnostics_.warning(element.line(), std::string(what) + " file " + special->string() +
                                                            " is not a regular file (a FIFO, device or folder: reading "

@@ -9,9 +9,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
+#include "core/message_text.h"
 #include "scene/csg.h"
 #include "scene/scene_document.h"
 #include "scene/file_search.h"
@@ -29,7 +31,13 @@ namespace fs = std::filesystem;
 // caller (or stderr); with the strict option a warning is thrown as an error instead.
 class Diagnostics {
 public:
-    Diagnostics(std::string file, const LoadOptions& options) : file_(std::move(file)), options_(options) {}
+    // `file` as messages name it: long names cut, control characters escaped.
+    Diagnostics(std::string_view file, const LoadOptions& options) : file_(quotedForMessage(file)), options_(options) {}
+
+    // "file: error: problem; remedy", for a problem with no line (the file cannot be read).
+    [[noreturn]] void fileError(const std::string& problem, const std::string& remedy) const {
+        error(0, problem, remedy);
+    }
 
     // `problem` says what is wrong, `remedy` what to do about it.
     [[noreturn]] void error(int line, const std::string& problem, const std::string& remedy) const {

@@ -149,7 +149,8 @@ bool isNameByte(unsigned char c) {
 // Builds an XmlTree from expat's start and end events.
 class XmlTreeBuilder {
 public:
-    XmlTreeBuilder(int maxDepth, size_t expectedBytes) : maxDepth_(maxDepth), parser_(XML_ParserCreate(nullptr)) {
+    XmlTreeBuilder(int maxDepth, size_t expectedBytes, bool recordSpans)
+        : maxDepth_(maxDepth), recordSpans_(recordSpans), parser_(XML_ParserCreate(nullptr)) {
         if (!parser_) throw std::bad_alloc();
         reserveFor(expectedBytes);
         XML_SetUserData(parser_, this);
@@ -235,6 +236,12 @@ private:
         for (const char** a = attributes; a[0]; a += 2)
             tree_.attributes_.push_back({intern(a[0], line), store(a[1], std::strlen(a[1]), line)});
         element.attributeCount = uint32_t(tree_.attributes_.size()) - element.firstAttribute;
+        if (recordSpans_) {
+            // The start tag is the event being reported: its first byte and its length.
+            const auto begin = uint64_t(XML_GetCurrentByteIndex(parser_));
+            const auto startTagEnd = begin + uint64_t(XML_GetCurrentByteCount(parser_));
+            tree_.spans_.push_back({begin, startTagEnd, startTagEnd});
+        }
         if (!open_.empty()) {
             Open& parent = open_.back();
             XmlTree::ElementRecord& before = tree_.elements_[parent.lastChild ? parent.lastChild : parent.element];
@@ -245,6 +252,13 @@ private:
     }
 
     void end() {
+        if (recordSpans_) {
+            // An end tag's event is the tag; a self-closing element's has no bytes of its
+            // own (count 0), and ends where its start tag does.
+            const int count = XML_GetCurrentByteCount(parser_);
+            if (count > 0)
+                tree_.spans_[open_.back().element].end = uint64_t(XML_GetCurrentByteIndex(parser_)) + uint64_t(count);
+        }
         open_.pop_back();
         if (open_.empty()) {
             rootClosed_ = true;
@@ -378,6 +392,7 @@ private:
     }
 
     int maxDepth_;
+    bool recordSpans_;
     XML_Parser parser_;
     XmlTree tree_;
     std::vector<Open> open_;
@@ -395,11 +410,11 @@ private:
     std::exception_ptr stopped_;
 };
 
-XmlTree XmlTree::parse(const XmlSource& source, int maxDepth, size_t expectedBytes) {
-    return XmlTreeBuilder(maxDepth, expectedBytes).build(source);
+XmlTree XmlTree::parse(const XmlSource& source, int maxDepth, size_t expectedBytes, bool recordSpans) {
+    return XmlTreeBuilder(maxDepth, expectedBytes, recordSpans).build(source);
 }
 
-XmlTree XmlTree::parse(std::string_view text, int maxDepth) {
+XmlTree XmlTree::parse(std::string_view text, int maxDepth, bool recordSpans) {
     size_t at = 0;
     return parse(
         [&](char* buffer, size_t capacity) {
@@ -408,12 +423,12 @@ XmlTree XmlTree::parse(std::string_view text, int maxDepth) {
             at += n;
             return n;
         },
-        maxDepth, text.size());
+        maxDepth, text.size(), recordSpans);
 }
 
 size_t XmlTree::bytes() const {
     return elements_.capacity() * sizeof(ElementRecord) + attributes_.capacity() * sizeof(AttributeRecord) +
-           text_.capacity();
+           text_.capacity() + spans_.capacity() * sizeof(XmlSpan);
 }
 
 void XmlTree::clear() { *this = XmlTree(); }

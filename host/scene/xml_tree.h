@@ -5,6 +5,10 @@
 // the tree keeps: character data, comments and processing instructions are skipped. A large
 // flat scene has millions of elements; the tree holds them in three arrays (see XmlTree),
 // with no allocation per element, and the text it parses is never held in one piece.
+//
+// On request the tree also records where each element lies in the text (XmlSpan, from
+// expat's byte offsets): what lets a saved scene keep the text of what was not edited
+// (scene/source_text.h).
 #pragma once
 
 #include <cstddef>
@@ -39,6 +43,13 @@ using XmlSource = std::function<size_t(char* buffer, size_t capacity)>;
 
 class XmlTree;
 
+// Where an element lies in the bytes parsed: [begin, end) is the whole element, start tag
+// to end tag; [begin, startTagEnd) its start tag. A self-closing element (<a/>) has
+// startTagEnd == end.
+struct XmlSpan {
+    uint64_t begin = 0, startTagEnd = 0, end = 0;
+};
+
 // An element of an XmlTree: a handle (the tree and an index), cheap to copy, valid while
 // the tree lives. A default-constructed one names no element and converts to false.
 class XmlElement {
@@ -55,6 +66,10 @@ public:
     // The first child element and the next sibling element; false when there is none.
     XmlElement firstChild() const;
     XmlElement nextSibling() const;
+    // Its place in document order (the root is 0): XmlTree::element(index()) is this one.
+    uint32_t index() const { return index_; }
+    // Where it lies in the text; only for a tree parsed with spans (XmlTree::hasSpans).
+    const XmlSpan& span() const;
 
 private:
     friend class XmlTree;
@@ -69,8 +84,9 @@ public:
     // (XmlError::Kind::TooDeep): the tree itself needs no recursion, but whoever walks it does.
     // `expectedBytes`, the document's size when known (0: unknown), sizes the arrays up
     // front, so that they are not copied as they grow. Throws XmlError, or what `source` throws.
-    static XmlTree parse(const XmlSource& source, int maxDepth, size_t expectedBytes = 0);
-    static XmlTree parse(std::string_view text, int maxDepth);
+    // With `recordSpans`, each element's place in the bytes read is kept too (XmlSpan).
+    static XmlTree parse(const XmlSource& source, int maxDepth, size_t expectedBytes = 0, bool recordSpans = false);
+    static XmlTree parse(std::string_view text, int maxDepth, bool recordSpans = false);
 
     XmlTree() = default;
     XmlTree(XmlTree&&) = default;
@@ -81,6 +97,9 @@ public:
     // The root element; false for an empty tree (a default-constructed or cleared one).
     XmlElement root() const { return elements_.empty() ? XmlElement() : XmlElement(this, 0); }
     size_t elementCount() const { return elements_.size(); }
+    // The element at `index` (< elementCount()), in document order.
+    XmlElement element(uint32_t index) const { return XmlElement(this, index); }
+    bool hasSpans() const { return !spans_.empty() || elements_.empty(); }
     size_t attributeCount() const { return attributes_.size(); }
     // The memory the tree holds, for measurements.
     size_t bytes() const;
@@ -114,6 +133,7 @@ private:
     std::vector<ElementRecord> elements_;
     std::vector<AttributeRecord> attributes_;
     std::vector<char> text_;
+    std::vector<XmlSpan> spans_;  // one per element, when parsed with spans; empty otherwise
 };
 
 inline const char* XmlElement::name() const { return &tree_->text_[tree_->elements_[index_].name]; }
@@ -125,6 +145,7 @@ inline const char* XmlElement::attributeName(size_t i) const {
 inline const char* XmlElement::attributeValue(size_t i) const {
     return &tree_->text_[tree_->attributes_[tree_->elements_[index_].firstAttribute + i].value];
 }
+inline const XmlSpan& XmlElement::span() const { return tree_->spans_[index_]; }
 inline XmlElement XmlElement::firstChild() const {
     const uint32_t child = tree_->elements_[index_].firstChild;
     return child ? XmlElement(tree_, child) : XmlElement();

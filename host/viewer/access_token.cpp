@@ -37,7 +37,8 @@ std::string trimmed(const std::string& text) {
     return text.substr(first, text.find_last_not_of(" \t") - first + 1);
 }
 
-// The value of `name` in a Cookie header ("a=1; b=2"), or empty.
+}  // namespace
+
 std::string cookieValue(const std::string& header, const std::string& name) {
     size_t start = 0;
     while (start <= header.size()) {
@@ -51,15 +52,11 @@ std::string cookieValue(const std::string& header, const std::string& name) {
     return "";
 }
 
-}  // namespace
-
-std::string presentedToken(const PresentedCredentials& request, const std::string& cookieName) {
-    if (!request.query.empty()) return request.query;
+std::string authorizationToken(const std::string& header) {
     const std::string scheme = "token ";
-    if (request.authorization.size() > scheme.size() &&
-        strncasecmp(request.authorization.c_str(), scheme.c_str(), scheme.size()) == 0)
-        return trimmed(request.authorization.substr(scheme.size()));
-    return cookieValue(request.cookieHeader, cookieName);
+    if (header.size() > scheme.size() && strncasecmp(header.c_str(), scheme.c_str(), scheme.size()) == 0)
+        return trimmed(header.substr(scheme.size()));
+    return "";
 }
 
 bool tokensMatch(const std::string& presented, const std::string& expected) {

@@ -6,6 +6,7 @@
 #include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
 #include "scene/parameter_rules.h"
+#include "viewer/folder_files.h"
 
 namespace ray {
 
@@ -153,6 +154,13 @@ SceneEditor::SceneEditor(const std::filesystem::path& file, const LoadOptions& o
     scene_ = flatten(document_);
 }
 
+SceneEditor::SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options)
+    : file_(file), options_(options) {
+    document_ = loadSceneDocumentFromText(text, file_, options_);
+    scene_ = flatten(document_);
+    modified_ = true;  // the file is written by the first save
+}
+
 std::shared_ptr<const Scene> SceneEditor::flatten(SceneDocument& document) {
     return std::make_shared<const Scene>(flattenDocument(document, resources_, options_));
 }
@@ -281,20 +289,35 @@ bool SceneEditor::redo() {
     return true;
 }
 
-std::filesystem::path SceneEditor::save(const std::optional<std::filesystem::path>& as) {
-    std::filesystem::path target = file_;
-    if (as) {
-        if (as->empty()) throw EditError("save as: give a file name");
-        target = as->is_absolute() ? *as : file_.parent_path() / *as;
-        if (target.extension() != ".xml") throw EditError("save as: a scenefile's name ends in .xml");
+SaveRequest saveRequestFrom(const nlohmann::json& request) {
+    SaveRequest save;
+    if (!request.is_object()) throw EditError("save: the request is a JSON object, {} or {\"as\": \"other.xml\"}");
+    if (request.contains("as")) {
+        if (!request["as"].is_string()) throw EditError("save as: the name must be a string");
+        save.as = request["as"].get<std::string>();
     }
-    target = std::filesystem::absolute(target).lexically_normal();
+    if (request.contains("replace")) {
+        if (!request["replace"].is_boolean()) throw EditError("save: replace is true or false");
+        save.replace = request["replace"].get<bool>();
+    }
+    return save;
+}
+
+std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bool replace) {
+    const std::filesystem::path own = std::filesystem::absolute(file_).lexically_normal();
+    std::filesystem::path target = own;
+    if (as) {
+        target = fileInFolder(own.parent_path(), *as, "save as", {".xml"});
+        std::error_code ec;
+        if (!std::filesystem::equivalent(target, own, ec)) checkMayWrite(target, replace, "save as");
+    }
     try {
         saveDocument(document_, resources_, target);
     } catch (const InputError& e) {
         throw EditError(std::string("not saved: ") + e.what());
     }
-    if (std::filesystem::equivalent(target, std::filesystem::absolute(file_))) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(target, own, ec)) {
         modified_ = false;
         for (State& s : undo_) s.modified = true;  // each differs from the file now written
         for (State& s : redo_) s.modified = true;

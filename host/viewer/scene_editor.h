@@ -31,10 +31,22 @@ struct EditError : std::invalid_argument {
     using std::invalid_argument::invalid_argument;
 };
 
+// What POST /save asks: {"as": name} (absent: the file the editor opened) and
+// {"replace": true} to replace an existing file.
+struct SaveRequest {
+    std::optional<std::string> as;
+    bool replace = false;
+};
+// Throws EditError when a field has the wrong type.
+SaveRequest saveRequestFrom(const nlohmann::json& request);
+
 class SceneEditor {
 public:
     // Loads the file. Throws InputError.
     SceneEditor(const std::filesystem::path& file, const LoadOptions& options);
+    // A new scene from `text`, to be saved as `file` (which need not exist): modified until
+    // saved. Throws InputError.
+    SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options);
 
     // The flattened scene of the document as it is now: a new object after each edit, undo,
     // redo or reload (the frame source then prepares only what changed).
@@ -63,10 +75,11 @@ public:
     // False when there is nothing to undo (redo).
     bool undo();
     bool redo();
-    // Writes the document atomically to the file it was opened from, or to `as` (made
-    // absolute from the opened file's folder; a .xml name). Returns where it wrote. Throws
-    // EditError (a bad name) or std::runtime_error (the write failed; nothing replaced).
-    std::filesystem::path save(const std::optional<std::filesystem::path>& as = std::nullopt);
+    // Writes the document atomically to the file it was opened from, or to `as`, a .xml file
+    // in the opened file's folder (viewer/folder_files.h: no other folder, no link), which
+    // must not exist unless `replace`. Returns where it wrote. Throws BadFileName,
+    // FileExists, EditError or std::runtime_error (the write failed; nothing replaced).
+    std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false);
     // The file changed on disk (not by save): loads it again; the history is cleared, as
     // the edits were made to another version. Throws InputError (the editor is unchanged).
     void reload();

@@ -7,10 +7,13 @@
 #include "app/cli.h"
 #include "app/command_module_abi.h"
 #include "app/render_command.h"
+#include "core/message_text.h"
 #include "devices/renderer.h"
 #include "opencl/opencl_device.h"
 #include "scene/file_search.h"
 #include "viewer/access_token.h"
+#include "viewer/new_scene.h"
+#include "viewer/request_guard.h"
 #include "viewer/viewer_server.h"
 
 namespace ray {
@@ -19,8 +22,9 @@ namespace {
 
 const char* const kViewIntro = R"(usage: ray view <scene.xml> [options]
 
-A live viewer in the browser: drag to orbit, shift-drag to pan, wheel to zoom, click a pixel
-to explain it. Saving the scene reloads it. Each change is drawn at once with one sample a
+A live viewer and modeler in the browser: drag to orbit, shift-drag to pan, wheel to zoom,
+click to select and explain a pixel. A scene file that does not exist opens as a new scene
+(a camera and a light), written there when saved. Saving the scene reloads it. Each change is drawn at once with one sample a
 pixel, then, once the view rests, with the antialiasing of --aa (by default the course's, as
 `ray`), the image `ray <scene.xml> <width> <height>` makes of that view. The render
 settings below set the view's first state; the page changes them.
@@ -34,7 +38,8 @@ options:
                            URL holds a random access token (kept in a cookie after the
                            first visit) and every request without it gets 403, so that
                            other users of the machine cannot use the viewer
-  --width N, --height N    image size (8..2048; default 640 480)
+  --width N, --height N    image size (8..2048); by default the view fills the page's
+                           window and follows its size
   --depth N                recursion depth (0..16; default 4)
   --device D               auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene
                            packed once; ref: the reference renderer
@@ -66,9 +71,14 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
         c.options.address = v;
     });
     addSwitch(app, "--no-token", [&] { c.noToken = true; });
-    addValueOption(app, "--width", [&](const std::string& v) { s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide); });
-    addValueOption(app, "--height",
-                   [&](const std::string& v) { s.height = parseInt(v, "--height", kMinViewSide, kMaxViewSide); });
+    addValueOption(app, "--width", [&](const std::string& v) {
+        s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide);
+        c.options.fitWindow = false;
+    });
+    addValueOption(app, "--height", [&](const std::string& v) {
+        s.height = parseInt(v, "--height", kMinViewSide, kMaxViewSide);
+        c.options.fitWindow = false;
+    });
     addValueOption(app, "--depth", [&](const std::string& v) { s.maxDepth = parseInt(v, "--depth", 0, kMaxViewDepth); });
     addValueOption(app, "--device", [&](const std::string& v) {
         if (!isDeviceSelection(v))
@@ -92,6 +102,7 @@ void finishOptions(ViewCommand& c) {
     if (c.positionals.size() > 1) throw UsageError("too many arguments: '" + c.positionals[1] + "'");
     ViewerOptions& options = c.options;
     options.scene = c.positionals[0];
+    options.newScene = opensAsNewScene(options.scene);
     options.load.searchPaths = c.searchPaths;
     for (auto& p : searchPathsFromEnvironment()) options.load.searchPaths.push_back(p);
     options.load.warn = [](const std::string& message) { std::cerr << message << "\n"; };
@@ -100,6 +111,9 @@ void finishOptions(ViewCommand& c) {
     options.onListening = [&options](int port) {
         std::cout << "ray view: http://" << options.address << ":" << port << "/"
                   << (options.token.empty() ? "" : "?token=" + options.token) << std::endl;
+        if (options.newScene)
+            std::cout << "ray view: " << quotedForMessage(options.scene.string())
+                      << " does not exist: a new scene (a camera and a light), written there when saved" << std::endl;
     };
     options.log = [](const std::string& message) { std::cerr << "ray view " << timeOfDay() << ": " << message << std::endl; };
 }
@@ -126,7 +140,7 @@ int runViewCommand(const std::vector<std::string>& args) {
         return 2;
     }
     const ViewerOptions& options = command.options;
-    if (options.address != "127.0.0.1" && options.address != "localhost")
+    if (!isLoopbackAddress(options.address))
         std::cerr << "ray view: warning: listening on " << options.address
                   << ", not only this machine: anyone who can reach it can use the viewer"
                   << (options.token.empty() ? "" : " if they learn its URL") << "\n";

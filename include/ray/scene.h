@@ -83,9 +83,14 @@ enum class Shape { Cube, Sphere, Cylinder, Cone, Torus, Mesh };
 /// is 0 0 0 1). Compose with *: (a * b) applies b first, as nested transblocks do.
 struct Transform {
     double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  ///< the matrix's first three rows
-    static Transform translate(Vec3 t);  ///< a translation by t
-    static Transform scale(Vec3 s);      ///< a scale by s.x, s.y, s.z along the axes
-    static Transform rotate(Vec3 axis, double angleDegrees);  ///< a rotation about axis (through the origin)
+    /// A translation by t. Throws InputError when a number is not finite.
+    static Transform translate(Vec3 t);
+    /// A scale by s.x, s.y, s.z along the axes. Throws InputError when a number is not finite
+    /// (a zero scale is refused where the transform is used: it is singular).
+    static Transform scale(Vec3 s);
+    /// A rotation about axis (through the origin). Throws InputError for a zero axis or a
+    /// number that is not finite.
+    static Transform rotate(Vec3 axis, double angleDegrees);
 };
 /// The composition of two transforms: a * b applies b first, then a.
 Transform operator*(const Transform& a, const Transform& b);
@@ -231,12 +236,15 @@ public:
     void removeLight(size_t index);
 
     /// The scene as CS123 scenefile text, which loads back to the same scene (masters as
-    /// masters, transforms as written); texture and mesh paths are relative to the folder of
-    /// the file it was loaded from (the current folder for a scene built in code). Throws
-    /// InputError for what a scenefile cannot hold: a texture or mesh made in memory.
+    /// masters, transforms as written). A scene loaded from a file is that file's text with
+    /// what was edited changed (unedited, the file byte for byte); one built in code is
+    /// written afresh. Paths the scene changed are relative to the folder of the file it
+    /// was loaded from (the current folder for a scene built in code). Throws InputError
+    /// for what a scenefile cannot hold: a texture or mesh made in memory.
     std::string toText() const;
     /// Writes toText() to `file` atomically (all of it, or the old file is left as it was),
-    /// with texture and mesh paths relative to `file`'s folder. Loading it renders the same
+    /// with texture and mesh paths as the scene's file writes them when `file` is in its
+    /// folder, relative to `file`'s folder otherwise. Loading it renders the same
     /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
     /// cannot be written.
     void save(const std::filesystem::path& file) const;

@@ -12,21 +12,11 @@ import sys
 import tempfile
 import time
 
-from viewer_harness import Viewer, headless_chromium_or_skip
+from viewer_harness import Viewer, headless_chromium_or_skip, read_ppm, wait_for
 
 ray, scene = sys.argv[1], sys.argv[2]
 WIDTH, HEIGHT = 640, 480  # the viewer's default size
 CX, CY = WIDTH // 2, HEIGHT // 2
-
-
-def wait(driver, condition, timeout=120):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        value = driver.execute_script("return " + condition)
-        if value:
-            return value
-        time.sleep(0.05)
-    raise TimeoutError(condition)
 
 
 def pixel(driver, x, y, canvas_id="view"):
@@ -39,13 +29,6 @@ def red(rgb):
     return rgb[0] >= 80 and rgb[0] >= 4 * max(rgb[1], rgb[2])
 
 
-def read_ppm(path):
-    data = open(path, "rb").read()
-    parts = data.split(maxsplit=4)
-    assert parts[0] == b"P6" and int(parts[3]) == 255
-    return int(parts[1]), int(parts[2]), parts[4]
-
-
 def rendered_centre(path):
     """The centre pixel of `ray FILE 640 480 --device cpu`."""
     ppm = os.path.join(tempfile.mkdtemp(), "saved.ppm")
@@ -55,20 +38,28 @@ def rendered_centre(path):
     return list(data[i:i + 3])
 
 
-def set_input(driver, element_id, value):
-    """What the browser does when the user picks a value: the input's value, then its input event."""
+def set_input(driver, selector, value):
+    """What the browser does when the user enters a value: the input's value, then its input
+    and change events. `selector`: an id, or a CSS selector such as [data-field=diffuse]."""
     driver.execute_script(
-        "const e = document.getElementById(arguments[0]); e.value = arguments[1];"
-        "e.dispatchEvent(new Event('input', { bubbles: true }));", element_id, value)
+        "const e = document.getElementById(arguments[0]) || document.querySelector(arguments[0]);"
+        "e.value = arguments[1];"
+        "e.dispatchEvent(new Event('input', { bubbles: true })); e.dispatchEvent(new Event('change', { bubbles: true }));",
+        selector, value)
+
+
+def field_value(driver, selector):
+    return driver.execute_script("return document.querySelector(arguments[0]).value", selector)
 
 
 driver = headless_chromium_or_skip(1280, 900)
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402 (Selenium is known present)
 from selenium.webdriver.common.by import By  # noqa: E402
-viewer = Viewer(ray, scene, "--device", "cpu")
+# A size given on the command line: the view keeps it (it would otherwise fill the window).
+viewer = Viewer(ray, scene, "--device", "cpu", "--width", str(WIDTH), "--height", str(HEIGHT))
 try:
     driver.get(viewer.url)
-    wait(driver, "window.rayViewer.restFrame")
+    wait_for(driver, "window.rayViewer.restFrame")
     before = pixel(driver, CX, CY)
     assert not red(before), before
     file_shown = driver.find_element(By.ID, "file").text
@@ -80,21 +71,21 @@ try:
     rect = driver.execute_script("return document.getElementById('view').getBoundingClientRect().toJSON()")
     ActionChains(driver).move_to_element_with_offset(canvas, int(CX + 0.5 - rect["width"] / 2),
                                                      int(CY + 0.5 - rect["height"] / 2)).click().perform()
-    selected = wait(driver, "window.rayViewer.selected")
+    selected = wait_for(driver, "window.rayViewer.selected")
     assert selected["pixel"] == [CX, CY], selected
     assert "selected:" in driver.find_element(By.ID, "selection").text
     marker = driver.execute_script(
         "return Array.from(document.getElementById('marker').getContext('2d').getImageData(0, 0, 640, 480).data)")
     near = [marker[4 * (j * WIDTH + i) + 3] for j in range(CY - 9, CY + 10) for i in range(CX - 9, CX + 10)]
     assert sum(1 for a in near if a > 0) >= 20, "the selected object is not marked"
-    assert driver.find_element(By.ID, "material-diffuse").get_attribute("type") == "color"
+    assert driver.find_element(By.CSS_SELECTOR, "[data-field=diffuse]").get_attribute("type") == "color"
     print(f"click: selected {selected['type']} {selected['path']} (object {selected['object']}), marked")
 
     # Its color set to red: the view's centre turns red within seconds.
     version = driver.execute_script("return window.rayViewer.sceneVersion")
     start = time.time()
-    set_input(driver, "material-diffuse", "#ff0000")
-    wait(driver, f"window.rayViewer.sceneVersion > {version}", timeout=30)
+    set_input(driver, "[data-field=diffuse]", "#ff0000")
+    wait_for(driver, f"window.rayViewer.sceneVersion > {version}", timeout=30)
     deadline = start + 20
     while not red(pixel(driver, CX, CY)):
         assert time.time() < deadline, f"the centre is not red after 20 s: {pixel(driver, CX, CY)}"
@@ -104,15 +95,32 @@ try:
 
     # A bad value: the server's message in the page, nothing changed.
     errors = driver.execute_script("return window.rayViewer.editErrors.length")
-    set_input(driver, "material-shininess", "-5")
-    wait(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=30)
+    shininess = field_value(driver, "[data-field=shininess]")
+    set_input(driver, "[data-field=shininess]", "-5")
+    wait_for(driver, f"window.rayViewer.editErrors.length > {errors}", timeout=30)
     error = driver.execute_script("return window.rayViewer.editErrors.at(-1)")
     assert error["status"] == 400 and "shininess" in error["error"], error
-    assert "shininess" in driver.find_element(By.ID, "edit-error").text
+    # Its error beside the field, and the field back to the value the scene holds.
+    beside = driver.execute_script(
+        "return document.querySelector('[data-field=shininess]').closest('.field').querySelector('.field-error').textContent")
+    assert "shininess" in beside, beside
+    assert field_value(driver, "[data-field=shininess]") == shininess, field_value(driver, "[data-field=shininess]")
     status, current = viewer.json("GET", f"/object?id={selected['object']}")
     assert status == 200 and current["material"]["shininess"] == selected["material"]["shininess"], current
     assert current["material"]["diffuse"] == [1, 0, 0], current
-    print(f"bad value: HTTP 400 '{error['error']}', shown in the page; the object unchanged")
+    print(f"bad value: HTTP 400 '{error['error']}', shown beside the field, which went back to {shininess}; "
+          "the object unchanged")
+
+    # The refused value blocks nothing: the next edit of another field is made.
+    edits = driver.execute_script("return window.rayViewer.edits")
+    set_input(driver, "[data-field=ior]", "1.25")
+    wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=30)
+    status, current = viewer.json("GET", f"/object?id={selected['object']}")
+    assert current["material"]["ior"] == 1.25, current["material"]
+    driver.find_element(By.ID, "undo").click()
+    wait_for(driver, "document.querySelector('[data-field=ior]') && "
+                     f"Number(document.querySelector('[data-field=ior]').value) === {selected['material']['ior']}", timeout=30)
+    print("after the refusal: ior 1.25 accepted (nothing blocked), then undone")
 
     # Undo brings the color back, redo makes it red again.
     driver.find_element(By.ID, "undo").click()
@@ -130,7 +138,7 @@ try:
     # Save scene: the file it opened, which `ray` then renders red at the centre.
     original = open(viewer.scene).read()
     driver.find_element(By.ID, "save-scene").click()
-    saved = wait(driver, "window.rayViewer.saved", timeout=30)
+    saved = wait_for(driver, "window.rayViewer.saved", timeout=30)
     assert os.path.samefile(saved, viewer.scene), (saved, viewer.scene)
     assert "saved to" in driver.find_element(By.ID, "saved").text
     written = open(viewer.scene).read()
@@ -145,28 +153,33 @@ try:
     # Save as: another file beside it.
     set_input(driver, "save-as-name", "copy.xml")
     driver.find_element(By.ID, "save-as").click()
-    wait(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('copy.xml')", timeout=30)
+    wait_for(driver, "window.rayViewer.saved && window.rayViewer.saved.endsWith('copy.xml')", timeout=30)
     copy = os.path.join(os.path.dirname(viewer.scene), "copy.xml")
     assert open(copy).read() == written
     print("save as: copy.xml written beside it")
 
     # A light and a transform edited in the panel change the view; undone, the view is back.
     saved_centre = pixel(driver, CX, CY)
-    set_input(driver, "light-0-color", "#000000")  # the only light off: ambient alone
+    driver.find_element(By.CSS_SELECTOR, "#outline [data-node=light-0]").click()
+    wait_for(driver, "document.querySelector('#fields [data-field=color]')")
+    set_input(driver, "#fields [data-field=color]", "#000000")  # the only light off: ambient alone
     deadline = time.time() + 20
     while pixel(driver, CX, CY)[0] >= saved_centre[0] - 20:
         assert time.time() < deadline, f"the light edit did not darken the centre: {pixel(driver, CX, CY)}"
         time.sleep(0.05)
     driver.find_element(By.ID, "undo").click()
-    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+    wait_for(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
                  f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
     status, state = viewer.json("GET", "/state")
     assert state["lights"][0]["color"] == [1.0, 1.0, 1.0], state["lights"]
     # The floor (the selected cube) lowered by 0.5 along its transblock's translate's y.
-    translate_y = driver.execute_script("return Number(document.getElementById('transform-0-1').value)")
+    driver.find_element(By.CSS_SELECTOR, f"#outline [data-node=object-{selected['object']}]").click()
+    translate = "[data-field=translate][data-component='1']"
+    wait_for(driver, f"document.querySelector(\"{translate}\")")
+    translate_y = float(field_value(driver, translate))
     edits = driver.execute_script("return window.rayViewer.edits")
-    set_input(driver, "transform-0-1", str(translate_y - 0.5))
-    wait(driver, f"window.rayViewer.edits > {edits}", timeout=20)
+    set_input(driver, translate, str(translate_y - 0.5))
+    wait_for(driver, f"window.rayViewer.edits > {edits}", timeout=20)
     status, current = viewer.json("GET", f"/object?id={selected['object']}")
     assert current["transform"][0]["v"][1] == translate_y - 0.5, current["transform"]
     deadline = time.time() + 20
@@ -174,7 +187,7 @@ try:
         assert time.time() < deadline, "the transform edit did not change the view"
         time.sleep(0.05)
     driver.find_element(By.ID, "undo").click()
-    wait(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
+    wait_for(driver, f"(() => {{ const p = document.getElementById('view').getContext('2d').getImageData({CX}, {CY}, 1, 1).data;"
                  f" return p[0] === {saved_centre[0]} && p[1] === {saved_centre[1]}; }})()", timeout=20)
     print("panel: the light switched off darkened the view, the floor lowered changed it; each undone")
 

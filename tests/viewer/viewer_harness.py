@@ -15,10 +15,13 @@ import time
 
 
 class Viewer:
-    def __init__(self, ray, scene, *extra):
+    def __init__(self, ray, scene, *extra, new_file=False):
+        """new_file: `scene` is only a name: the viewer opens it in an empty folder, where it
+        does not exist yet (a new scene)."""
         self.folder = tempfile.mkdtemp(prefix="ray_view_")
         self.scene = os.path.join(self.folder, os.path.basename(scene))
-        shutil.copy(scene, self.scene)  # a copy the tests may edit (the watcher)
+        if not new_file:
+            shutil.copy(scene, self.scene)  # a copy the tests may edit (the watcher)
         self.process = subprocess.Popen([ray, "view", self.scene, "--port", "0", *extra],
                                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         line = self.process.stdout.readline()
@@ -41,9 +44,14 @@ class Viewer:
         return {"Authorization": f"token {self.token}"} if self.token else {}
 
     def request(self, method, path, body=None, timeout=30, headers=None):
-        """headers: None sends the token (if any); a dict sends exactly those headers."""
+        """headers: None sends the token (if any) and, with a body, Content-Type: application/json,
+        as the page does; a dict sends exactly those headers."""
+        if headers is None:
+            headers = self.auth_headers()
+            if body is not None:
+                headers["Content-Type"] = "application/json"
         connection = http.client.HTTPConnection("127.0.0.1", self.port, timeout=timeout)
-        connection.request(method, path, body=body, headers=self.auth_headers() if headers is None else headers)
+        connection.request(method, path, body=body, headers=headers)
         response = connection.getresponse()
         data = response.read()
         connection.close()
@@ -113,7 +121,27 @@ def headless_chromium_or_skip(width, height):
         print("SKIPPED: chromium or chromium-driver is not installed")
         sys.exit(0)
     options = webdriver.ChromeOptions()
+    # WebGL (the studio's gizmo) in software: Chromium no longer falls back to it unasked.
     for flag in ["--headless=new", "--no-sandbox", "--disable-gpu", f"--window-size={width},{height}",
-                 "--disable-dev-shm-usage"]:
+                 "--disable-dev-shm-usage", "--enable-unsafe-swiftshader"]:
         options.add_argument(flag)
     return webdriver.Chrome(options=options)
+
+
+def wait_for(driver, condition, timeout=120):
+    """Polls the page's JavaScript expression `condition` until it is truthy; returns its value."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        value = driver.execute_script("return " + condition)
+        if value:
+            return value
+        time.sleep(0.05)
+    raise TimeoutError(condition)
+
+
+def read_ppm(path):
+    """A binary PPM's width, height and RGB bytes (what `ray ... -o x.ppm` writes)."""
+    data = open(path, "rb").read()
+    parts = data.split(maxsplit=4)
+    assert parts[0] == b"P6" and int(parts[3]) == 255
+    return int(parts[1]), int(parts[2]), parts[4]

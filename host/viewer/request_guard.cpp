@@ -1,0 +1,85 @@
+#include "viewer/request_guard.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "core/message_text.h"
+#include "viewer/access_token.h"
+
+namespace ray {
+
+namespace {
+
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+GuardVerdict refused(int status, std::string message) { return {status, std::move(message), ""}; }
+
+// The names a browser on this machine reaches a loopback viewer by.
+bool namesThisViewer(const std::string& host, int port) {
+    const std::string name = lowercase(host);
+    for (const char* loopback : {"127.0.0.1", "localhost", "[::1]"})
+        if (name == std::string(loopback).append(":").append(std::to_string(port))) return true;
+    return false;
+}
+
+bool isPage(const RequestFacts& request) { return request.method == "GET" && request.path == kPagePath; }
+
+// A request another page made: cross-origin by its Origin, or by Fetch Metadata (which
+// browsers send with every request, fetch and form alike). A top-level navigation to the
+// page (a link followed, the URL typed) is the user's own and is let through.
+std::optional<std::string> crossOriginReason(const RequestFacts& request) {
+    if (!request.origin.empty() && request.origin != "http://" + request.host)
+        return "it comes from another page (Origin " + quotedForMessage(request.origin) + ")";
+    const std::string site = lowercase(request.fetchSite);
+    const bool navigation = isPage(request) && request.fetchMode == "navigate";
+    if (!site.empty() && site != "same-origin" && site != "none" && !navigation)
+        return "it comes from another page (Sec-Fetch-Site: " + quotedForMessage(site) + ")";
+    const std::string dest = lowercase(request.fetchDest);
+    if (dest == "iframe" || dest == "frame" || dest == "embed" || dest == "object")
+        return "the viewer's page is never shown inside another page";
+    return std::nullopt;
+}
+
+// The token the request presents where its route takes one: the query's (the page's first
+// visit, the event stream), the Authorization header's, and for the page alone the cookie.
+std::string presentedToken(const RequestFacts& request, const GuardPolicy& policy) {
+    if (!request.queryToken.empty()) return request.queryToken;
+    if (std::string token = authorizationToken(request.authorization); !token.empty()) return token;
+    return isPage(request) ? cookieValue(request.cookie, accessCookieName(policy.port)) : "";
+}
+
+bool saysJson(const std::string& contentType) {
+    const std::string type = lowercase(contentType.substr(0, contentType.find(';')));
+    return type == "application/json";
+}
+
+}  // namespace
+
+GuardVerdict checkRequest(const RequestFacts& request, const GuardPolicy& policy) {
+    if (request.method == "OPTIONS")
+        return refused(403, "ray view answers no cross-origin requests (no CORS preflight is accepted)");
+    if (policy.loopbackOnly && !namesThisViewer(request.host, policy.port))
+        return refused(403, "ray view answers only at 127.0.0.1:" + std::to_string(policy.port) + " or localhost:" +
+                                std::to_string(policy.port) + ", not at Host " + quotedForMessage(request.host));
+    if (std::optional<std::string> reason = crossOriginReason(request))
+        return refused(403, "ray view refused the request: " + *reason + "; only its own page may use it");
+    if (!policy.token.empty()) {
+        if (!tokensMatch(presentedToken(request, policy), policy.token))
+            return refused(403, "ray view: this viewer needs its access token: open the URL that `ray view` printed "
+                                "(with ?token=...), or start it with --no-token");
+        if (isPage(request) && !request.queryToken.empty())
+            return {0, "", accessCookieName(policy.port) + "=" + policy.token + "; Path=/; HttpOnly; SameSite=Strict"};
+    }
+    if (request.hasBody && !saysJson(request.contentType))
+        return refused(415, "ray view takes JSON bodies only: send Content-Type: application/json");
+    return {};
+}
+
+bool isLoopbackAddress(const std::string& address) {
+    return address.rfind("127.", 0) == 0 || address == "::1" || address == "[::1]" || lowercase(address) == "localhost";
+}
+
+}  // namespace ray

@@ -1,0 +1,60 @@
+// Who the viewer answers: its own page, and scripts that hold its token; never another web
+// page open in the same browser.
+//
+// Browsers send a site's cookies with requests that any page of the same *site* makes, and
+// every port of 127.0.0.1 is one site: a page served on another local port (a dev server, a
+// notebook, anything the user browses to that listens on loopback) could post to the viewer
+// with the user's cookie attached. So the cookie is only the page's way back in (a reload of
+// the bare URL); it opens the page and nothing else. Every other route needs the token
+// presented explicitly: in `Authorization: token <TOKEN>` (which a cross-origin page cannot
+// send without a CORS preflight, which the viewer refuses) or, for the event stream that
+// EventSource opens, in the query. The page gets the token inside itself: served only to
+// the token's holder, unreadable by another origin (no CORS headers are ever sent).
+//
+// Before the token, every request passes the origin checks, with or without --no-token:
+//  - Host must name this viewer (127.0.0.1, localhost or [::1] with its port) when it
+//    listens on loopback: a DNS-rebound name is refused;
+//  - Origin, when sent, must be the viewer's own (http://<Host>);
+//  - Sec-Fetch-Site, when sent, must be same-origin or none (the user typed the URL), but
+//    for a top-level navigation to the page; the page is never framed (Sec-Fetch-Dest);
+//  - a body (POST) must say it is JSON, which a form cannot;
+//  - OPTIONS (a CORS preflight) is refused.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace ray {
+
+// What a request shows the guard: its method, path and the headers that matter (empty when
+// absent), and the token in its query.
+struct RequestFacts {
+    std::string method, path;
+    std::string host, origin, fetchSite, fetchMode, fetchDest, contentType;
+    std::string queryToken, authorization, cookie;
+    bool hasBody = false;
+};
+
+// What the viewer is: its token (empty with --no-token), its port, and whether it listens on
+// loopback only (the Host check).
+struct GuardPolicy {
+    std::string token;
+    int port = 0;
+    bool loopbackOnly = true;
+};
+
+struct GuardVerdict {
+    int status = 0;             // 0: let it through; else the HTTP status to answer
+    std::string message;        // why it was refused, for the answer's body
+    std::string setCookie;      // the page's first visit: the cookie to set (then a 303 to /)
+};
+
+// The route that serves the page (the one a cookie may open).
+constexpr const char* kPagePath = "/";
+
+GuardVerdict checkRequest(const RequestFacts& request, const GuardPolicy& policy);
+
+// Whether listening on `address` (--bind) reaches this machine only: 127.x.x.x, ::1, localhost.
+bool isLoopbackAddress(const std::string& address);
+
+}  // namespace ray

@@ -1,0 +1,135 @@
+#include "viewer/viewer_session.h"
+
+#include <stdexcept>
+
+#include "core/message_text.h"
+#include "explain/explanation_report.h"
+#include "viewer/new_scene.h"
+
+namespace ray {
+
+using nlohmann::json;
+
+namespace {
+
+// The editor of the scene file, or of a new scene to be written there.
+SceneEditor editorFor(const ViewerOptions& options) {
+    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load);
+    return SceneEditor(options.scene, options.load);
+}
+
+}  // namespace
+
+Session::Session(const ViewerOptions& options, std::unique_ptr<FrameSource> source)
+    : options_(options), source_(std::move(source)), editor_(editorFor(options)) {
+    scene_ = editor_.scene();
+    sceneTime_ = lastWrite();
+    view_ = {scene_->camera, options.settings};
+}
+
+void Session::start() {
+    renderThread_ = std::thread([this] { renderLoop(); });
+    watchThread_ = std::thread([this] { watchLoop(); });
+}
+
+void Session::stop() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+        cancel_ = true;
+        changed_.notify_all();
+    }
+    renderThread_.join();
+    watchThread_.join();
+}
+
+json Session::state() {
+    std::lock_guard lock(mutex_);
+    json state = viewJson(view_);
+    state.update(json{{"scene", options_.scene.filename().string()}, {"device", source_->deviceName()},
+                      {"error", sceneError_}, {"view", requested_}, {"scene_version", sceneVersion_},
+                      {"fit_window", options_.fitWindow}});
+    state.update(editorStateLocked());
+    return state;
+}
+
+uint64_t Session::request(const std::string& body) {
+    std::lock_guard lock(mutex_);
+    view_ = parseView(body, view_);
+    newRequest();
+    return requested_;
+}
+
+// Where "save scene" writes, whether there is something to undo or redo, the lights.
+json Session::editorStateLocked() const {
+    return {{"file", std::filesystem::absolute(editor_.file()).lexically_normal().string()},
+            {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
+            {"can_redo", editor_.canRedo()}, {"lights", editor_.lightsJson()},
+            {"editable", !options_.token.empty()}};
+}
+
+json Session::pick(int x, int y) {
+    std::lock_guard lock(mutex_);
+    return editor_.pick(view_.camera, view_.settings, x, y);
+}
+
+json Session::object(int id) {
+    std::lock_guard lock(mutex_);
+    return editor_.objectJson(id);
+}
+
+json Session::edit(const std::string& action, const std::string& body) {
+    std::lock_guard lock(mutex_);
+    json request = body.empty() ? json::object() : json::parse(body);
+    json out = json::object();
+    if (action == "edit") {
+        editor_.edit(request);
+        if (request.contains("object")) out["object"] = editor_.objectJson(request["object"].get<int>());
+    } else if (action == "undo") {
+        out["done"] = editor_.undo();
+    } else if (action == "redo") {
+        out["done"] = editor_.redo();
+    } else if (action == "save") {
+        const SaveRequest save = saveRequestFrom(request);
+        const std::filesystem::path saved = editor_.save(save.as, save.replace);
+        // Its own save is not a change on disk to reload (which would clear the history).
+        sceneTime_ = lastWrite();
+        log("saved " + quotedForMessage(saved.string()));
+        out["saved"] = saved.string();
+    }
+    if (editor_.scene() != scene_) {
+        scene_ = editor_.scene();
+        ++sceneVersion_;
+        newRequest();
+    }
+    out.update(editorStateLocked());
+    out["scene_version"] = sceneVersion_;
+    return out;
+}
+
+json Session::explain(int x, int y) {
+    std::shared_ptr<const Scene> scene;
+    View view;
+    uint64_t viewId = 0, sceneVersion = 0;
+    {
+        std::lock_guard lock(mutex_);
+        scene = scene_;
+        view = view_;
+        viewId = requested_;
+        sceneVersion = sceneVersion_;
+    }
+    if (x < 0 || y < 0 || x >= view.settings.width || y >= view.settings.height)
+        throw std::invalid_argument("pixel outside the image");
+    Scene viewed = *scene;
+    viewed.camera = view.camera;
+    json tree = explanationJson(explainPixel(viewed, view.settings, x, y), viewed);
+    tree["view"] = viewId;
+    tree["scene_version"] = sceneVersion;
+    return tree;
+}
+
+void Session::log(const std::string& message) const {
+    if (options_.log) options_.log(message);
+}
+
+}  // namespace ray

@@ -1,0 +1,201 @@
+// Who ray view answers (viewer/request_guard.h), the files a request may name
+// (viewer/folder_files.h) and text from outside quoted in messages (core/message_text.h).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "core/message_text.h"
+#include "viewer/folder_files.h"
+#include "viewer/request_guard.h"
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using ray::GuardPolicy;
+using ray::RequestFacts;
+
+const std::string kToken = "0123456789abcdef0123456789abcdef";
+const GuardPolicy kPolicy{kToken, 8123, true};
+
+// A request as the viewer's own page sends it (Chromium's headers).
+RequestFacts fromThePage(const std::string& method, const std::string& path) {
+    RequestFacts request;
+    request.method = method;
+    request.path = path;
+    request.host = "127.0.0.1:8123";
+    request.fetchSite = "same-origin";
+    request.fetchMode = "cors";
+    request.fetchDest = "empty";
+    request.authorization = "token " + kToken;
+    if (method == "POST") {
+        request.origin = "http://127.0.0.1:8123";
+        request.contentType = "application/json";
+        request.hasBody = true;
+    }
+    return request;
+}
+
+int statusOf(const RequestFacts& request, const GuardPolicy& policy = kPolicy) {
+    return ray::checkRequest(request, policy).status;
+}
+
+}  // namespace
+
+TEST_CASE("The viewer answers its own page and scripts with the token", "[viewer][security]") {
+    CHECK(statusOf(fromThePage("POST", "/edit")) == 0);
+    CHECK(statusOf(fromThePage("GET", "/state")) == 0);
+    RequestFacts script;  // a script: no browser headers, the token in Authorization
+    script.method = "POST";
+    script.path = "/save";
+    script.host = "localhost:8123";
+    script.authorization = "Token " + kToken;
+    script.contentType = "application/json; charset=utf-8";
+    script.hasBody = true;
+    CHECK(statusOf(script) == 0);
+    RequestFacts events = fromThePage("GET", "/events");  // EventSource takes no headers
+    events.authorization.clear();
+    events.queryToken = kToken;
+    CHECK(statusOf(events) == 0);
+}
+
+TEST_CASE("The token's cookie opens the page and nothing else", "[viewer][security]") {
+    RequestFacts page = fromThePage("GET", "/");
+    page.authorization.clear();
+    page.fetchMode = "navigate";
+    page.fetchDest = "document";
+    page.fetchSite = "none";
+    page.cookie = "other=1; ray_view_token_8123=" + kToken;
+    CHECK(statusOf(page) == 0);
+    for (const char* path : {"/state", "/events", "/explain"}) {
+        RequestFacts request = page;
+        request.path = path;
+        CHECK(statusOf(request) == 403);
+    }
+    RequestFacts edit = fromThePage("POST", "/edit");
+    edit.authorization.clear();
+    edit.cookie = page.cookie;
+    CHECK(statusOf(edit) == 403);
+    page.cookie = "ray_view_token_8124=" + kToken;  // another viewer's cookie
+    CHECK(statusOf(page) == 403);
+    RequestFacts first = page;  // the printed URL: the cookie is set, then a 303 to /
+    first.cookie.clear();
+    first.queryToken = kToken;
+    const ray::GuardVerdict verdict = ray::checkRequest(first, kPolicy);
+    CHECK(verdict.status == 0);
+    CHECK_THAT(verdict.setCookie, Catch::StartsWith("ray_view_token_8123=" + kToken + ";") &&
+                                      Catch::Contains("HttpOnly") && Catch::Contains("SameSite=Strict"));
+}
+
+TEST_CASE("Requests of another page are refused, even with the token", "[viewer][security]") {
+    RequestFacts otherPort = fromThePage("POST", "/edit");
+    otherPort.origin = "http://127.0.0.1:8000";
+    otherPort.fetchSite = "same-site";
+    CHECK(statusOf(otherPort) == 403);
+    otherPort.origin.clear();  // no-cors requests may omit Origin; Fetch Metadata still tells
+    CHECK(statusOf(otherPort) == 403);
+    RequestFacts nullOrigin = fromThePage("POST", "/save");
+    nullOrigin.origin = "null";
+    CHECK(statusOf(nullOrigin) == 403);
+    RequestFacts rebound = fromThePage("POST", "/edit");
+    rebound.host = "evil.example:8123";
+    rebound.origin = "http://evil.example:8123";
+    CHECK(statusOf(rebound) == 403);
+    CHECK(statusOf(rebound, GuardPolicy{kToken, 8123, false}) == 0);  // --bind 0.0.0.0: any name
+    RequestFacts preflight = fromThePage("OPTIONS", "/edit");
+    CHECK(statusOf(preflight) == 403);
+    RequestFacts framed = fromThePage("GET", "/");
+    framed.fetchDest = "iframe";
+    CHECK(statusOf(framed) == 403);
+    RequestFacts readByAnother = fromThePage("GET", "/");
+    readByAnother.fetchSite = "cross-site";
+    readByAnother.fetchMode = "no-cors";
+    CHECK(statusOf(readByAnother) == 403);
+    RequestFacts linkFollowed = readByAnother;
+    linkFollowed.fetchMode = "navigate";
+    linkFollowed.fetchDest = "document";
+    CHECK(statusOf(linkFollowed) == 0);
+    // --no-token: open, but still to the viewer's own page only.
+    const GuardPolicy open{"", 8123, true};
+    RequestFacts anonymous = fromThePage("POST", "/view");
+    anonymous.authorization.clear();
+    CHECK(statusOf(anonymous, open) == 0);
+    anonymous.origin = "http://127.0.0.1:8000";
+    CHECK(statusOf(anonymous, open) == 403);
+}
+
+TEST_CASE("A body must say it is JSON, which a form cannot", "[viewer][security]") {
+    for (const char* type : {"text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", ""}) {
+        RequestFacts form = fromThePage("POST", "/save");
+        form.contentType = type;
+        CHECK(statusOf(form) == 415);
+    }
+    RequestFacts bodiless = fromThePage("POST", "/undo");
+    bodiless.contentType.clear();
+    bodiless.hasBody = false;
+    CHECK(statusOf(bodiless) == 0);
+}
+
+TEST_CASE("Loopback addresses are known as such", "[viewer][security]") {
+    for (const char* address : {"127.0.0.1", "127.1.2.3", "::1", "localhost", "LocalHost"})
+        CHECK(ray::isLoopbackAddress(address));
+    for (const char* address : {"0.0.0.0", "192.168.1.2", "::", "example.com"}) CHECK_FALSE(ray::isLoopbackAddress(address));
+}
+
+TEST_CASE("A request names files of the scene's folder only", "[viewer][security]") {
+    const fs::path folder = ray::test::outputDir() / ("folder_files_" + std::to_string(::getpid()));
+    const fs::path outside = ray::test::outputDir() / ("folder_files_outside_" + std::to_string(::getpid()));
+    fs::remove_all(folder);
+    fs::remove_all(outside);
+    fs::create_directories(folder / "sub");
+    fs::create_directories(outside);
+    const fs::path real = fs::canonical(folder);
+    CHECK(ray::fileInFolder(folder, "other.xml", "save as", {".xml"}) == real / "other.xml");
+    CHECK(ray::fileInFolder(folder, "Other.XML", "save as", {".xml"}) == real / "Other.XML");
+    CHECK(ray::fileInFolder(folder, (real / "abs.xml").string(), "save as", {".xml"}) == real / "abs.xml");
+    const std::vector<std::string> leaving{"../x.xml", "../../x.xml", "sub/x.xml", "/tmp/x.xml", "..", ".", "", "x.txt",
+                                   "x.xml/", std::string("a\0b.xml", 7), "a\nb.xml", "a\x7f.xml",
+                                   (outside / "x.xml").string(), std::string(300, 'n') + ".xml",
+                                   std::string(5000, 'n') + ".xml"};
+    for (const std::string& name : leaving)
+        CHECK_THROWS_AS(ray::fileInFolder(folder, name, "save as", {".xml"}), ray::BadFileName);
+    try {
+        ray::fileInFolder(folder, std::string(5000, 'n') + ".xml", "save as", {".xml"});
+    } catch (const ray::BadFileName& e) {
+        CHECK(std::string(e.what()).size() < 400);
+    }
+    try {
+        ray::fileInFolder(folder, std::string("precious.txt\0.xml", 17), "save as", {".xml"});
+    } catch (const ray::BadFileName& e) {
+        CHECK_THAT(e.what(), Catch::Contains("precious.txt\\x00.xml") && Catch::Contains("control character"));
+    }
+
+    std::ofstream(folder / "exists.xml") << "mine";
+    fs::create_symlink(outside / "target.xml", folder / "link.xml");
+    CHECK_NOTHROW(ray::checkMayWrite(real / "new.xml", false, "save as"));
+    CHECK_THROWS_AS(ray::checkMayWrite(real / "exists.xml", false, "save as"), ray::FileExists);
+    CHECK_NOTHROW(ray::checkMayWrite(real / "exists.xml", true, "save as"));
+    CHECK_THROWS_AS(ray::checkMayWrite(real / "link.xml", true, "save as"), ray::BadFileName);
+    CHECK_THROWS_AS(ray::checkMayWrite(real / "sub", true, "save as"), ray::BadFileName);
+    fs::remove_all(folder);
+    fs::remove_all(outside);
+}
+
+TEST_CASE("Text from outside is quoted short and without control characters", "[security]") {
+    CHECK(ray::quotedForMessage("scene.xml") == "scene.xml");
+    CHECK(ray::quotedForMessage(std::string("a\0b\nc\td\x1b", 8)) == "a\\x00b\\nc\\td\\x1b");
+    const std::string quoted = ray::quotedForMessage(std::string(100000, 'x') + "/name.xml");
+    CHECK(quoted.size() <= ray::kMaxQuotedLength);
+    CHECK_THAT(quoted, Catch::StartsWith("xxx") && Catch::EndsWith("/name.xml") && Catch::Contains("…"));
+    std::string accents;  // two-byte characters: a cut never splits one
+    for (int i = 0; i < 300; ++i) accents += "é";
+    const std::string cut = ray::quotedForMessage(accents, 101);
+    const size_t marker = cut.find("…");
+    REQUIRE(marker != std::string::npos);
+    CHECK(marker % 2 == 0);                                     // whole "é"s before it
+    CHECK((cut.size() - marker - std::string("…").size()) % 2 == 0);  // and after it
+    CHECK(static_cast<unsigned char>(cut[marker + 3]) == 0xC3);
+}
