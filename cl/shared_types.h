@@ -297,7 +297,8 @@ RAY_STRUCT(RayRenderParams) {
 /* The block of pixels one work-item renders (width × height): one pixel, or in a packet
  * build (RAY_PACKET_WIDTH lanes, CPU devices: cl/device/variant.h,
  * cl/device/cpu/packet_render.cl) a block of that many pixels, 4 × 4 for 16 lanes, 4 × 2
- * for 8, 2 × 2 for 4. The host sizes its launches by it (host/opencl/opencl_engine.cpp). */
+ * for 8, 2 × 2 for 4. The host sizes its launches and tile outputs by it
+ * (host/opencl/device_slot.cpp tileEntries, device_worker.cpp). */
 #define RAY_PIXEL_BLOCK_WIDTH(lanes) ((lanes) >= 8 ? 4 : (lanes) >= 4 ? 2 : 1)
 #define RAY_PIXEL_BLOCK_HEIGHT(lanes) ((lanes) / RAY_PIXEL_BLOCK_WIDTH(lanes))
 

@@ -45,7 +45,7 @@ struct PackedScene {
     bool cpuTables = true;
     double bvhBuildSeconds = 0;
     // Each table's version: equal in two packings when the table is the same, so that a
-    // device holding one packing uploads only the tables another changed (opencl_engine.cpp).
+    // device holding one packing uploads only the tables another changed (scene_upload.h uploadScene).
     std::array<uint64_t, kSceneBufferCount> versions{};
 
     // Calls visit(table, SceneBufferName) for each table, in the list's order: the order of
@@ -84,7 +84,7 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
                                       const RenderSettings& settings, const PackedScene& packed);
 
 // How far secondary and shadow rays start off a surface, relative to the magnitude of
-// the hit point's coordinates (see surfaceClearance in cl/shading.cl).
+// the hit point's coordinates (see surfaceClearance in cl/shading/shading.cl).
 constexpr float kKernelRayOffset = 1e-4f;
 
 }  // namespace ray

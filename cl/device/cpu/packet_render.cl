@@ -1,9 +1,10 @@
 /* The packet path of CPU devices: a work-item renders a block of RAY_PACKET_WIDTH pixels
  * (RAY_PIXEL_BLOCK_WIDTH × RAY_PIXEL_BLOCK_HEIGHT, cl/shared_types.h) and traces their camera
  * rays, and then each light's shadow rays, a packet at a time (traceBvhPacket,
- * cl/device/cpu/packet_trace.cl). Built only with -DRAY_PACKET_WIDTH (host/opencl/opencl_engine.cpp
- * passes it to CPU devices); a GPU's work-item renders one pixel (renderPixel), SIMT being
- * its packet.
+ * cl/device/cpu/packet_trace.cl). Built only where RAY_PACKET_WIDTH is defined
+ * (cl/device/variant.h: a CPU device's RAY_CPU_LANES of 4, 8 or 16, which
+ * host/opencl/kernel_variant.h chooses); a GPU's work-item renders one pixel (renderPixel),
+ * SIMT being its packet.
  *
  * Everything else is the single-ray path's own code, a pixel at a time: each pixel keeps
  * its sampler (any antialiasing mode), takes its samples and lens rays in its own order and
