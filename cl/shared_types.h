@@ -157,8 +157,8 @@ RAY_TABLE_STRUCT(RayWideBvhNode) {
  * loads and on the branches its box tests decide, and the single-ray walk of reflected rays
  * and their shadow rays was most of the render on large scenes (docs/performance.md). With
  * sixteen children a node, one float16 slab test (an AVX-512 register, two AVX ones) takes
- * a ray past what four-wide nodes take two steps for: on 10⁵ spheres 4.96 M steps instead of
- * 10.0 M. GPUs keep the four-wide tree, whose small nodes suit their registers, and so does
+ * a ray past what four-wide nodes take two steps for, so a walk takes about half the steps
+ * (docs/performance.md, "The walk a ray at a time on CPUs"). GPUs keep the four-wide tree, whose small nodes suit their registers, and so does
  * the packet walk (cl/device/cpu/packet_trace.cl), whose box tests grow with the children a node has.
  *
  * The host collapses the four-wide scene tree into it (host/accel/wide_bvh.h). Lanes as in
@@ -166,7 +166,7 @@ RAY_TABLE_STRUCT(RayWideBvhNode) {
  * of 0: an inner node of this table; > 0: a leaf of the primitive buffer; -1: node `index`
  * of the four-wide table, where the walk goes on (a subtree too small to fill a node of its
  * own: the four-wide tree's lowest nodes hold two leaves of one sphere each, and sixteen-
- * wide nodes of them made 10⁵ spheres' table 13.4 MB instead of 2.2 MB). Index -1: absent,
+ * wide nodes of them would be mostly absent children, a table several times larger). Index -1: absent,
  * absent children last. Node 0 is the root. Meshes keep their trees in RayWideBvhNode. */
 #define RAY_CPU_BVH_WIDTH 16
 RAY_TABLE_STRUCT(RayCpuBvhNode) {

@@ -71,8 +71,8 @@ static inline void startSampler(PixelSampler* s, const RayRenderParams* params) 
     }
     JitteredSampler* j = &s->jittered;
     j->count = 0;
-    /* --aa off counts its one sample and nothing else: the rest is a per-pixel cost there
-     * (PoCL: 0.8 M instructions of chess's 132.3 M, most of its pixels missing everything) */
+    /* --aa off counts its one sample and nothing else: the rest is a per-pixel cost there,
+     * paid by pixels that miss everything too */
     if (params->antialias == RAY_AA_OFF) return;
     j->sum = (float3)(0.0f);
     j->low = (float3)(INFINITY);

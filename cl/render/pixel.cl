@@ -22,8 +22,8 @@ float3 traceSample(const SceneBuffers* scene, const RayRenderParams* params, int
 /* The color of pixel (i, j): every sample the antialiasing mode asks for, traced at the one
  * trace site. A call on PoCL: there the work-group function runs the kernel for each
  * work-item in a loop and keeps the private variables of the kernel's own body in arrays
- * with an entry per work-item (the sampler, the ray tree's frames), whose addressing cost
- * chess 3% more instructions than a call with its own stack frame. */
+ * with an entry per work-item (the sampler, the ray tree's frames), whose addressing costs
+ * more instructions than a call with its own stack frame (docs/performance.md). */
 static RAY_CALL_ON_CPU float3 renderPixel(const SceneBuffers* scene, const RayRenderParams* params, int i, int j,
                                            PixelTrace* counter) {
     PixelSampler sampler;

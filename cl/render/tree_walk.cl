@@ -46,7 +46,7 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
  * ray of the tree is shaded at the one shadeFrame call below (which traces it and its
  * shadow rays at one traceBvh call), the loop's first step whenever a frame has just been
  * pushed (a GPU compiler inlines every call site). Inline on PoCL as well: there a call of
- * its own cost chess 1% more instructions. */
+ * its own costs more instructions than it saves. */
 static inline RAY_INLINED_ON_GPU
 float3 walkRayTree(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, Ray ray, bool pushed,
                    PixelTrace* counter) {

@@ -80,7 +80,7 @@ static inline float fresnelReflectance(float cosIncident, float n1, float n2) {
 
 /* A call on PoCL (RAY_CALL_ON_CPU): inlined into the loop over the lights, the axes U and V,
  * the same for every cell, were moved out of it by LLVM and computed for every light,
- * point lights included: chess took 4% more instructions. */
+ * point lights included (docs/performance.md, "The kernel on GPUs"). */
 static RAY_CALL_ON_CPU float3 areaLightPoint(__global const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
     float3 d = light->direction.xyz;
     float3 helper = fabs(d.y) > 0.99f ? (float3)(0.0f, 0.0f, 1.0f) : (float3)(0.0f, 1.0f, 0.0f);

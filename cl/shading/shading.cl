@@ -123,9 +123,8 @@ static inline float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
  * tilts, facing the side the ray leaves from), reached by moving along the ray's own line
  * as far as RAY_MAX_STEP_ALONG_RAY allows, the rest along the normal. A start moved along
  * the normal alone shifts the ray sideways, clearance × tan θ where it meets the next
- * surface, and that shift adds up from bounce to bounce: between the mirrored, textured
- * cubes of the course's dof.xml (≈ 2 texels a bounce) it left 1.2% of the pixels off the
- * reference renderer's by more than 3/255. */
+ * surface, and that shift adds up from bounce to bounce until, between mirrored textured
+ * surfaces, pixels land texels away from the reference renderer's. */
 static inline float3 offsetAlongRay(float3 p, float3 normal, float3 direction, float epsilon) {
     float clearance = surfaceClearance(p, epsilon);
     float cosine = dot(direction, normal);
@@ -164,9 +163,8 @@ typedef struct {
     float3 towardLight;
     float distance, attenuation, nDotL;
     float3 sum; /* of the samples so far, in the order the lights and cells come */
-    /* where each shadow ray starts, computed once per shading point: recomputed per sample
-     * it cost PoCL 20 instructions a shadow ray (chess 1.0 M of 131.5 M) for 16 B of gfx906
-     * scratch (1904 -> 1920 B) */
+    /* where each shadow ray starts, computed once per shading point: PoCL spends more
+     * instructions recomputing it for every sample than gfx906 spends scratch keeping it */
     float3 shadowOrigin;
 } LightSamples;
 

@@ -288,7 +288,7 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings, bool c
     std::vector<BoundingBox>().swap(bounds);
     packed.nodes = widenBvh(bvh.nodes);
     // The binary tree is done with (its primitive order is not): freed before the tables
-    // grow, it is no part of the process's peak (10⁵ spheres: 12.8 MB).
+    // grow, it is no part of the process's peak.
     std::vector<BinaryBvhNode>().swap(bvh.nodes);
     packed.sceneNodes = packed.nodes.size();
     if (cpuTables) packed.cpuNodes = widenBvhForCpu(packed.nodes);

@@ -21,7 +21,8 @@
 
 /* addUnblockedSample for the lanes of `unblocked` (non-zero: its light sample's shadow ray
  * found no blocker), the highlights' powers taken for every lane at once: pow a lane at a
- * time was a third of recursiveCones4's kernel time, and PoCL's vector pow is its scalar
+ * time was a large part of the kernel's time on highlight-heavy scenes (docs/performance.md,
+ * "Highlights in vector form"), and PoCL's vector pow is its scalar
  * one in each lane (both its SLEEF code), so each term is the single-ray path's to the bit. */
 static inline void addUnblockedSamples(LightSamples* lights, const int* unblocked) {
     float base[RAY_PACKET_WIDTH], shininess[RAY_PACKET_WIDTH], power[RAY_PACKET_WIDTH];
