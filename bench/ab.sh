@@ -4,17 +4,18 @@
 # median and the fastest render seconds of each, and the median Mrays/s. The first run of
 # each binary (its kernel compile) is left out of the median.
 #
-#   bench/ab.sh [-n RUNS] [-s WIDTHxHEIGHT] SCENE BINARY... [-- RAY OPTIONS]
+#   bench/ab.sh [-n RUNS] [-s WIDTHxHEIGHT] [-d DEPTH] SCENE BINARY... [-- RAY OPTIONS]
 #   bench/ab.sh -n 8 ../shared/cs123/scenes/chess.xml /tmp/ray-before build/ray
 #
 # Default: 8 runs each at 1024x768, depth 4, --aa off, --device cpu.
 set -euo pipefail
 
-runs=8 size=1024x768
-while getopts "n:s:" opt; do
+runs=8 size=1024x768 depth=4
+while getopts "n:s:d:" opt; do
     case $opt in
         n) runs=$OPTARG ;;
         s) size=$OPTARG ;;
+        d) depth=$OPTARG ;;
         *) sed -n '2,10p' "$0" >&2; exit 2 ;;
     esac
 done
@@ -33,7 +34,7 @@ number() { sed -n "s/.*\"$1\": *\\([0-9.eE+-]*\\).*/\\1/p" "$2"; }
 
 for ((run = 0; run <= runs; ++run)); do
     for ((b = 0; b < ${#binaries[@]}; ++b)); do
-        "${binaries[$b]}" "$scene" "${size%x*}" "${size#*x}" 4 "${options[@]}" --quiet \
+        "${binaries[$b]}" "$scene" "${size%x*}" "${size#*x}" "$depth" "${options[@]}" --quiet \
             --stats-json "$work/stats.json" -o "$work/image.png"
         ((run == 0)) && continue  # the first run compiles the kernel
         echo "$b $(number render_seconds "$work/stats.json") $(number total_rays "$work/stats.json")" >>"$work/times"

@@ -4,7 +4,7 @@
  * cl/render/tree_walk.cl, the shading that spawns the rays cl/render/hit_shading.cl. */
 
 #ifndef RAY_MAX_FRAMES
-#define RAY_MAX_FRAMES 5 /* max depth + 1; the host passes -DRAY_MAX_FRAMES */
+#define RAY_MAX_FRAMES 5 /* ray-tree frames, at least max depth + 1: the host passes its bucket (kernelFrames) */
 #endif
 
 /* A float3 kept in 12 bytes: in a private struct a float3 takes 16, and private memory is
@@ -58,8 +58,9 @@ typedef struct {
     ChildRay seconds[RAY_MAX_FRAMES > 1 ? RAY_MAX_FRAMES - 1 : 1];
 } RayTree;
 
-/* Whether a frame at `depth` spawns no child: the bounce limit (--depth), which the host
- * makes RAY_MAX_FRAMES − 1, so that the first child always has a frame above to go to. */
+/* Whether a frame at `depth` spawns no child: the bounce limit (--depth, a launch
+ * parameter), or the last frame the kernel was built with (RAY_MAX_FRAMES, the host's bucket,
+ * at least --depth + 1), so that the first child always has a frame above to go to. */
 static inline bool atDepthLimit(const RayRenderParams* params, int depth) {
     return depth >= params->maxDepth || depth + 1 >= RAY_MAX_FRAMES;
 }

@@ -93,7 +93,7 @@ struct DeviceSlot {
         // budget of docs/performance.md, "The kernel on GPUs"; scripts/gpu_check.sh reports it).
         uint64_t privateBytes = 0;
     };
-    std::map<int, Program> programs;  // by maximum depth
+    std::map<int, Program> programs;  // by frame count (kernelFrames)
     double slowestTileSeconds = 0;    // the slowest tile it has rendered (warm-up tiles aside)
     std::optional<cl::UserEvent> neverSet;  // the test hook hangDevice: what its launches wait for
 

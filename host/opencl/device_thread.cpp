@@ -34,7 +34,7 @@ void openDevice(DeviceSlot& slot) {
 }
 
 // Uploads the scene (when the device holds another packing), sizes the output buffers,
-// builds (or reuses) the program for the frame's depth and binds the buffers. Reports the
+// builds (or reuses) the program for the frame's depth bucket (kernelFrames) and binds the buffers. Reports the
 // seconds spent uploading and building to the frame.
 cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame) {
     if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels()) {
@@ -45,13 +45,13 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame) {
     double uploadSeconds = 0, buildSeconds = 0;
     auto start = Clock::now();
     if (slot.uploaded != frame.packed && uploadScene(slot, frame.packed)) uploadSeconds = secondsSince(start);
-    const int depth = frame.settings.maxDepth;
-    auto found = slot.programs.find(depth);
+    const int frames = kernelFrames(frame.settings.maxDepth);
+    auto found = slot.programs.find(frames);
     if (found == slot.programs.end()) {
         start = Clock::now();
-        DeviceSlot::Program program = buildDeviceProgram(slot, depth, frame.params);
+        DeviceSlot::Program program = buildDeviceProgram(slot, frames, frame.params);
         buildSeconds = secondsSince(start);
-        found = slot.programs.emplace(depth, std::move(program)).first;
+        found = slot.programs.emplace(frames, std::move(program)).first;
     }
     cl::Kernel& kernel = found->second.kernel;
     // The scene's buffers and the block queue; the launch parameters and the tile outputs are
@@ -76,7 +76,7 @@ bool startRendering(DeviceSlot& slot, Frame& frame) {
     const Clock::time_point now = Clock::now();
     p.part = Frame::Part::Rendering;
     if (!frame.renderingSince) frame.renderingSince = now;
-    p.warm = slot.programs.at(frame.settings.maxDepth).warm;
+    p.warm = slot.programs.at(kernelFrames(frame.settings.maxDepth)).warm;
     p.slowestTileSeconds = slot.slowestTileSeconds;
     p.lastAnswer = now;
     return true;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "opencl/kernel_arguments.h"
+#include "opencl/kernel_build.h"
 #include "render/device_error.h"
 
 namespace ray::engine {
@@ -174,7 +175,7 @@ private:
         p.flights.pop_front();
         if (!p.warm) {
             p.warm = true;  // the first tile also compiled the program for the launch: no measure
-            auto found = slot_.programs.find(frame_.settings.maxDepth);
+            auto found = slot_.programs.find(kernelFrames(frame_.settings.maxDepth));
             if (found != slot_.programs.end()) found->second.warm = true;
         } else {
             double seconds = std::chrono::duration<double>(now - std::max(f.launched, p.lastAnswer)).count();
@@ -209,7 +210,7 @@ private:
         s.secondaryRays += result.secondaryRays;
         DeviceStats& d = s.devices[size_t(index_)];
         ++d.tiles;
-        d.kernelPrivateBytes = slot_.programs.at(frame_.settings.maxDepth).privateBytes;
+        d.kernelPrivateBytes = slot_.programs.at(kernelFrames(frame_.settings.maxDepth)).privateBytes;
         d.pixels += uint64_t(r.width) * uint64_t(r.height);
         d.rays += result.primaryRays + result.shadowRays + result.secondaryRays;
         frame_.pixelsDone += uint64_t(r.width) * uint64_t(r.height);

@@ -1,9 +1,11 @@
 #include "opencl/kernel_build.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
 #include "opencl/kernel_arguments.h"
+#include "render/render_settings.h"
 
 namespace ray::engine {
 
@@ -40,18 +42,25 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
 
 }  // namespace
 
-std::string buildOptions(int maxDepth, const KernelVariant& variant, const TestHooks& hooks) {
-    // One frame per bounce plus the camera ray (cl/render/ray_tree.cl). No
-    // -cl-fast-relaxed-math: the intersection code relies on IEEE infinities.
-    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(maxDepth + 1) + shortStackOption(hooks) +
+int kernelFrames(int maxDepth) {
+    // One frame per bounce plus the camera ray.
+    const int needed = std::clamp(maxDepth, 0, kMaxDepth) + 1;
+    for (int frames : {5, 11, 17})
+        if (needed <= frames) return frames;
+    return kMaxDepth + 1;
+}
+
+std::string buildOptions(int frames, const KernelVariant& variant, const TestHooks& hooks) {
+    // No -cl-fast-relaxed-math: the intersection code relies on IEEE infinities.
+    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(frames) + shortStackOption(hooks) +
            variant.buildDefine();
 }
 
-DeviceSlot::Program buildDeviceProgram(DeviceSlot& slot, int maxDepth, const gpu::RayRenderParams& frameParams) {
+DeviceSlot::Program buildDeviceProgram(DeviceSlot& slot, int frames, const gpu::RayRenderParams& frameParams) {
     if (auto seconds = slot.hooks.slowBuild.forDevice(slot.index))
         std::this_thread::sleep_for(std::chrono::seconds(*seconds));
     DeviceSlot::Program p;
-    p.program = buildKernelProgram(slot.device, slot.context, buildOptions(maxDepth, slot.variant, slot.hooks),
+    p.program = buildKernelProgram(slot.device, slot.context, buildOptions(frames, slot.variant, slot.hooks),
                                    [&](const cl::Program& program) { launchOnNoPixels(slot, program, frameParams); });
     p.kernel = cl::Kernel(p.program.program, "renderTile");
     p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);
