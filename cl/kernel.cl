@@ -1,6 +1,6 @@
 /* The kernel's entry point, renderTile: a work-item renders one pixel (renderPixel,
- * cl/render.cl), or on a kernel built for packets (-DRAY_PACKET_WIDTH: CPU devices) a block
- * of pixels together (renderBlock, cl/packet_render.cl). */
+ * cl/render/pixel.cl), or in a packet build (CPU devices: cl/device/variant.h) a block of
+ * pixels together (renderBlock, cl/device/cpu/packet_render.cl). */
 
 /* On AMD GCN, at least 4 waves a SIMD: the register budget (64 VGPRs) that keeps enough
  * work-items in flight to hide memory latency. What does not fit spills to scratch, which
@@ -26,8 +26,8 @@
  * 2 threads, so a fixed share of the blocks left one thread idle at the end of every tile
  * while the other finished a busier share. blockQueue[1] counts the work-items done: the
  * last one empties the queue for the next launch, which the in-order queue runs after this. */
-#define RAY_SCENE_BUFFER_PARAMETER(Type, name, what) __global const Type* name,
-#define RAY_SCENE_BUFFER_NAME(Type, name, what) name,
+#define RAY_SCENE_BUFFER_PARAMETER(Type, name, what, readers) __global const Type* name,
+#define RAY_SCENE_BUFFER_NAME(Type, name, what, readers) name,
 __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_PARAMETER)
                                               __global float4* tileColors, __global uint4* tileRayCounts
 #ifdef RAY_PACKET_WIDTH
@@ -37,8 +37,8 @@ __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_
     SceneBuffers scene = {RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_NAME)};
 #ifdef RAY_PACKET_WIDTH
     const int blockWidth = RAY_PIXEL_BLOCK_WIDTH(RAY_PACKET_WIDTH), blockHeight = RAY_PIXEL_BLOCK_HEIGHT(RAY_PACKET_WIDTH);
-    const uint blocksAcross = (uint)((params.tile.x + blockWidth - 1) / blockWidth);
-    const uint blocks = blocksAcross * (uint)((params.tile.y + blockHeight - 1) / blockHeight);
+    const uint blocksAcross = (uint)((params.tile.width + blockWidth - 1) / blockWidth);
+    const uint blocks = blocksAcross * (uint)((params.tile.height + blockHeight - 1) / blockHeight);
     for (uint b = atomic_inc(&blockQueue[0]); b < blocks; b = atomic_inc(&blockQueue[0]))
         renderBlock(&scene, &params, (int)(b % blocksAcross) * blockWidth, (int)(b / blocksAcross) * blockHeight,
                     tileColors, &tileRayCounts[b]);
@@ -48,13 +48,13 @@ __kernel RAY_KERNEL_OCCUPANCY void renderTile(RayRenderParams params, RAY_SCENE_
     }
 #else
     int x = get_global_id(0), y = get_global_id(1);
-    if (x >= params.tile.x || y >= params.tile.y) return;
-    int i = params.image.z + x, j = params.image.w + y;
-    if (i >= params.image.x || j >= params.image.y) return;
+    if (x >= params.tile.width || y >= params.tile.height) return;
+    int i = params.tile.x0 + x, j = params.tile.y0 + y;
+    if (i >= params.width || j >= params.height) return;
 
-    PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.image.x + i), 0u, 0u, 0.0f};
+    PixelTrace counter = {0u, 0u, 0u, (uint)(j * params.width + i), 0u, 0u, 0.0f};
     float3 color = renderPixel(&scene, &params, i, j, &counter);
-    int pixel = y * params.tile.x + x; /* the outputs hold this tile alone, row by row */
+    int pixel = y * params.tile.width + x; /* the outputs hold this tile alone, row by row */
     tileColors[pixel] = (float4)(color, 1.0f);
     tileRayCounts[pixel] = (uint4)(counter.primary, counter.shadow, counter.secondary, 0u);
 #endif

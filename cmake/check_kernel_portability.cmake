@@ -16,15 +16,18 @@ foreach(input IN LISTS INPUTS)
   file(READ "${input}" text)
   file(APPEND "${source}" "${text}\n")
 endforeach()
-# Each path: one ray per work-item (GPUs), and the packet path of CPU devices at each width
-# (-DRAY_PACKET_WIDTH: cl/packet_trace.cl).
+# Each variant (cl/device/variant.h): a GPU's (no define), and a CPU device's with one ray a
+# work-item and with packets of each width.
 foreach(target IN ITEMS nvptx64-nvidia-nvcl spir64)
-  foreach(lanes IN ITEMS 1 4 8 16)
+  foreach(lanes IN ITEMS 0 1 4 8 16)
     set(path_option "")
-    set(path "one ray per work-item")
-    if(lanes GREATER 1)
-      set(path_option "-DRAY_PACKET_WIDTH=${lanes}")
-      set(path "${lanes}-ray packets")
+    set(path "a GPU's")
+    if(lanes EQUAL 1)
+      set(path_option "-DRAY_CPU_LANES=1")
+      set(path "a CPU's, one ray a work-item")
+    elseif(lanes GREATER 1)
+      set(path_option "-DRAY_CPU_LANES=${lanes}")
+      set(path "a CPU's, ${lanes}-ray packets")
     endif()
     # __OPENCL_VERSION__ is the device's to define (PoCL and NVIDIA do); clang alone does not.
     execute_process(

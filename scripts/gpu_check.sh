@@ -109,7 +109,7 @@ if [ -s "$work/build.json" ]; then
     say "- CL_KERNEL_PRIVATE_MEM_SIZE: $(json_number kernel_private_bytes "$work/build.json") bytes a work-item"
 fi
 if [ -z "$bundle" ] && command -v clang-15 >/dev/null && command -v python3 >/dev/null; then
-    mapfile -t sources < <(sed -n 's|^ *\${CMAKE_SOURCE_DIR}/\(cl/[a-z_]*\.[a-z]*\)$|\1|p' CMakeLists.txt)
+    mapfile -t sources < <(sed -n '/set(RAY_CL_SOURCES/,/)/s|^ *\${CMAKE_SOURCE_DIR}/\(cl/[a-z_/]*\.[a-z]*\))\{0,1\}$|\1|p' CMakeLists.txt)
     timeout 240 python3 scripts/kernel_resources.py "${sources[@]}" >"$work/resources.txt" 2>&1 &&
         block "$work/resources.txt"
 fi

@@ -21,7 +21,7 @@ calls) needs more scratch than --max-scratch or reaches an occupancy below --min
 private memory a work-item, several waves in flight to hide latency). The defaults are
 the goal (2 KB, 4 waves), which CTest checks too (tests/CMakeLists.txt).
 
-  scripts/kernel_resources.py [--depth 4] [--check] cl/shared_types.h ... cl/render.cl
+  scripts/kernel_resources.py [--depth 4] [--check] cl/shared_types.h ... cl/kernel.cl
 (CTest runs it as kernel_resources, with the sources listed in CMakeLists.txt.)
 """
 import argparse
@@ -53,9 +53,15 @@ def run(command):
     return result
 
 
+def embedded_name(source):
+    """A source's name in the program: its path under cl/ (cmake/embed_kernel.cmake)."""
+    parts = Path(source).parts
+    return "/".join(parts[len(parts) - 1 - parts[::-1].index("cl") + 1:]) if "cl" in parts else Path(source).name
+
+
 def program_source(sources):
     """The program as host/opencl/kernel_source.cpp assembles it."""
-    return "".join(f'#line 1 "{Path(s).name}"\n{Path(s).read_text()}\n' for s in sources)
+    return "".join(f'#line 1 "{embedded_name(s)}"\n{Path(s).read_text()}\n' for s in sources)
 
 
 def compile_to_ir(source_file, triple, cpu_flags, library, depth, work, llvm_flags=()):

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The two paths of a CPU device give the same image, byte for byte: the packet path
-# (cl/packet_render.cl, the default on CPU devices) and one ray per work-item
+# (cl/device/cpu/packet_render.cl, the default on CPU devices) and one ray per work-item
 # (RAY_CPU_PACKETS=0, the GPUs' path). Every bundled scene with the course's antialiasing,
 # then the features that change how a pixel's rays are made (each antialiasing mode, the
 # lens disk, the course's mesh distances, texture filters, Fresnel, a shallow and a deep

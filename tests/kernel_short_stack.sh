@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The traversal's short stack and its fallback (cl/intersect.cl BvhStack): a walk that
+# The traversal's short stack and its fallback (cl/traversal/stack.cl BvhStack): a walk that
 # would push more than the stack holds tests every primitive under its root instead, which
 # must find the same hits. RAY_TEST_BVH_SHORT_STACK=1 builds the kernel with a one-entry
 # stack, so that nearly every walk of every scene overflows (the scene's and each mesh's);

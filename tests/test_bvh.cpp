@@ -77,7 +77,7 @@ std::vector<BoundingBox> randomBoxes(Random& random, size_t count, double extent
 
 float lane(const gpu::float4& v, int i) { return i == 0 ? v.x : i == 1 ? v.y : i == 2 ? v.z : v.w; }
 
-BoundingBox childBounds(const gpu::RayBvhNode& node, int child) {
+BoundingBox childBounds(const BinaryBvhNode& node, int child) {
     BoundingBox b;
     const gpu::float4* rows[3] = {&node.xBounds, &node.yBounds, &node.zBounds};
     for (int a = 0; a < 3; ++a) {
@@ -146,7 +146,7 @@ private:
         if (visited_[size_t(index)]++) return "a node is reached twice";
         if (depth > options_.maxDepth) return "deeper than maxDepth";
         stats.maxDepth = std::max(stats.maxDepth, depth);
-        const gpu::RayBvhNode& node = bvh_.nodes[size_t(index)];
+        const BinaryBvhNode& node = bvh_.nodes[size_t(index)];
         int32_t links[2][2] = {{node.links.x, node.links.y}, {node.links.z, node.links.w}};
         for (int child = 0; child < 2; ++child) {
             int32_t childIndex = links[child][0], count = links[child][1];

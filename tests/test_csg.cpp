@@ -274,9 +274,9 @@ TEST_CASE("slivers of rounding between nearly coincident faces are dropped", "[c
 
 namespace {
 
-// The kernel's combination (cl/csg.cl csgCombine) run on a postfix program of operand spans
+// The kernel's combination (cl/geometry/csg.cl csgCombine) run on a postfix program of operand spans
 // given as numbers, with the stack walk of intersectCsg, one program a work-item: the
-// sources up to cl/csg.cl (all it uses) and this kernel, which writes the final list.
+// sources up to cl/geometry/csg.cl (all it uses) and this kernel, which writes the final list.
 constexpr int kProgramSteps = 2 * kCsgMaxOperands;  // RAY_CSG_BOUNDARIES: room for every step, every result
 const char* const kCombineTestKernel = R"(
 __kernel void csgProgramTest(__global const int* kinds, __global const float2* spans, __global const int* steps,
@@ -392,7 +392,7 @@ TEST_CASE("kernel combines random csg programs exactly as the host", "[csg][kern
     std::string source;
     for (const KernelSourceFile& file : kernelSourceFiles()) {
         source += std::string("#line 1 \"") + file.name + "\"\n" + file.text + "\n";
-        if (std::string(file.name) == "csg.cl") break;
+        if (std::string(file.name) == "geometry/csg.cl") break;
     }
     source += kCombineTestKernel;
     cl::Context context(device->device);

@@ -12,6 +12,7 @@
 #include "devices/renderer.h"
 #include "opencl/kernel_arguments.h"
 #include "opencl/kernel_source.h"
+#include "opencl/kernel_variant.h"
 #include "opencl/opencl_engine.h"
 #include "opencl/opencl_renderer.h"
 #include "scene/scene_loader.h"
@@ -70,8 +71,8 @@ TEST_CASE("renderTile declares its arguments where the engine sets them", "[engi
     for (bool packets : {false, true}) {
         INFO((packets ? "packet build" : "one ray a work-item"));
         cl::Program program(context, ray::kernelProgramSource());
-        const std::string options = std::string("-cl-std=CL1.2 -cl-kernel-arg-info -DRAY_MAX_FRAMES=2") +
-                                    (packets ? " -DRAY_PACKET_WIDTH=4" : "");
+        const ray::KernelVariant variant{.cpuThreads = true, .lanes = packets ? 4 : 1};
+        const std::string options = "-cl-std=CL1.2 -cl-kernel-arg-info -DRAY_MAX_FRAMES=2" + variant.buildDefine();
         program.build({device->device}, options.c_str());
         cl::Kernel kernel(program, "renderTile");
         auto nameOf = [&](cl_uint argument) {

@@ -1,5 +1,5 @@
 // --fresnel (issue 13, SPEC §4): the exact Fresnel reflectance (host/reference/optics.h,
-// cl/optics.cl), the weights it puts on the branches of transparent surfaces in the
+// cl/shading/optics.cl), the weights it puts on the branches of transparent surfaces in the
 // reference renderer, and the kernel against the host with it on.
 #include <catch2/catch.hpp>
 

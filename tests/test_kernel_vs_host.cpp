@@ -90,8 +90,8 @@ const std::map<std::string, double> kChaoticScenes = {
 // The course scenes whose pixels cost a hundred times the others' (test::isCostlyCourseScene)
 // are compared at 48×36: recursiveSpheres4_area took 128 s of this test's 315 at 96×72 (2
 // cores, ctest -j2), dof-recursiveSpheres4 20 s. At 48×36 each still fails when the kernel
-// breaks the convention it tests: area lights twice their size (cl/optics.cl areaLightPoint,
-// 2a and 2b: 90.6% of the pixels within 3/255) and a lens of twice the radius (cl/render.cl
+// breaks the convention it tests: area lights twice their size (cl/shading/optics.cl areaLightPoint,
+// 2a and 2b: 90.6% of the pixels within 3/255) and a lens of twice the radius (cl/render/camera.cl
 // cameraRay: 94.6%), while recursiveSpheres4 (neither) stays at 99.9%.
 TEST_CASE("kernel matches host on every course scene", "[kernel][kvh][corpus]") {
     auto device = cpuDevice();
@@ -187,7 +187,7 @@ TEST_CASE("kernel matches host with stratified sampling and depth of field", "[k
 
 // Reflected rays that bounce four times between the facing, textured mirror cubes of the
 // course's dof.xml, through the pinhole (its PENDING.tsv options without the lens): each
-// bounce's secondary ray must start on its own line (offsetAlongRay in cl/shading.cl). A
+// bounce's secondary ray must start on its own line (offsetAlongRay in cl/shading/shading.cl). A
 // start moved along the normal alone shifted each next hit by about two texels, and the
 // kernel was within 3/255 of the host on 98.4% of these pixels (99.8% on its own line).
 TEST_CASE("kernel matches host between facing textured mirrors", "[kernel][kvh][mirrors]") {
@@ -294,7 +294,7 @@ TEST_CASE("kernel and host give coincident faces to the primitive listed last", 
                                                   << ", yellow " << yellow << ", cyan " << cyan);
         CHECK(red == 0);
         // The kernel finds a csg operand's crossing from an origin moved next to it
-        // (cl/csg.cl csgCrossing), so in float the cyan cube's face and the csg object's
+        // (cl/geometry/csg.cl csgCrossing), so in float the cyan cube's face and the csg object's
         // are not always at exactly the same t: rounding decides a few of those pixels.
         if (image == &host) CHECK(cyan == 0);
         else CHECK(cyan * 4 < yellow);

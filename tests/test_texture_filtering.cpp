@@ -62,26 +62,26 @@ TEST_CASE("mipmaps: each texel is the rounded mean of its 2×2 block", "[texture
     CHECK(buildMipLevels(checker).back().at(0, 0).x * 255 == Approx(128).margin(1e-4));
 }
 
-TEST_CASE("mipmaps: packed after the image in the texel buffer, level count in info.w", "[texture_filter]") {
+TEST_CASE("mipmaps: packed after the image in the texel buffer, level count in RayTexture.levels", "[texture_filter]") {
     Scene scene;
     scene.primitives.push_back(PrimitiveInstance{});  // a unit cube with material 0
     scene.materials.push_back(Material{});
     scene.images.push_back(ramp(8, 4));
     RenderSettings nearest = test::settingsFromOptions("--aa off", 8, 8);
     PackedScene plain = packScene(scene, nearest);
-    CHECK(plain.textures[0].info.w == 1);
+    CHECK(plain.textures[0].levels == 1);
     CHECK(plain.texels.size() == 8 * 4);
 
     RenderSettings trilinear = test::settingsFromOptions("--aa off --texture-filter trilinear", 8, 8);
     PackedScene mipmapped = packScene(scene, trilinear);
-    CHECK(mipmapped.textures[0].info.w == 4);
+    CHECK(mipmapped.textures[0].levels == 4);
     CHECK(mipmapped.texels.size() == 32 + 8 + 2 + 1);
     // Level 1 texel (1, 0) (see above) follows the image's 32 texels.
     CHECK(int(mipmapped.texels[32 + 1].x) == 3);
     CHECK(int(mipmapped.texels[32 + 1].y) == 1);
     gpu::RayRenderParams params = makeRenderParams(scene, trilinear, mipmapped);
-    CHECK((params.mode.z & RAY_FEATURE_TRILINEAR) != 0);
-    CHECK(params.limits.z == Approx(pixelSpreadAngle(scene.camera.heightAngleDegrees, 8)));
+    CHECK((params.features & RAY_FEATURE_TRILINEAR) != 0);
+    CHECK(params.pixelSpreadAngle == Approx(pixelSpreadAngle(scene.camera.heightAngleDegrees, 8)));
 }
 
 TEST_CASE("footprint and level selection", "[texture_filter]") {

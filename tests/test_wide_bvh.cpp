@@ -98,7 +98,7 @@ struct WideWalk {
 };
 
 int binaryDepth(const FlatBvh& bvh, int node = 0) {
-    const gpu::RayBvhNode& n = bvh.nodes[size_t(node)];
+    const BinaryBvhNode& n = bvh.nodes[size_t(node)];
     int deepest = 0;
     if (n.links.x >= 0 && n.links.y == 0) deepest = std::max(deepest, 1 + binaryDepth(bvh, n.links.x));
     if (n.links.z >= 0 && n.links.w == 0) deepest = std::max(deepest, 1 + binaryDepth(bvh, n.links.z));

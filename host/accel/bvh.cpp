@@ -238,7 +238,7 @@ struct Range {
     uint32_t count() const { return end - begin; }
 };
 
-// A child as RayBvhNode.links stores it: (node index, 0) or (first primitive, count).
+// A child as BinaryBvhNode::links stores it: (node index, 0) or (first primitive, count).
 struct Link {
     int32_t index = -1;
     int32_t count = 0;
@@ -300,7 +300,7 @@ struct SahSplit {
     double cost = 0;  // Σ halfArea(child)·count(child), without the node's own cost
 };
 
-void setChildBounds(gpu::RayBvhNode& node, int child, const BoundingBox& b) {
+void setChildBounds(BinaryBvhNode& node, int child, const BoundingBox& b) {
     // Lanes: (left.min, right.min, left.max, right.max); see cl/shared_types.h.
     gpu::float4* rows[3] = {&node.xBounds, &node.yBounds, &node.zBounds};
     for (int a = 0; a < 3; ++a) {
@@ -309,13 +309,13 @@ void setChildBounds(gpu::RayBvhNode& node, int child, const BoundingBox& b) {
     }
 }
 
-void setLinks(gpu::RayBvhNode& node, Link left, Link right) {
+void setLinks(BinaryBvhNode& node, Link left, Link right) {
     node.links = {left.index, left.count, right.index, right.count};
 }
 
 // A node with both children absent: empty bounds, index −1.
-gpu::RayBvhNode emptyNode() {
-    gpu::RayBvhNode node;
+BinaryBvhNode emptyNode() {
+    BinaryBvhNode node;
     setChildBounds(node, 0, BoundingBox{});
     setChildBounds(node, 1, BoundingBox{});
     setLinks(node, Link{}, Link{});
@@ -387,7 +387,7 @@ public:
         return true;
     }
 
-    std::vector<gpu::RayBvhNode> nodes;
+    std::vector<BinaryBvhNode> nodes;
 
 private:
     bool splittingPays(const Range& range, const SahSplit& split) const {
@@ -634,10 +634,10 @@ Range fillBuildPrimitives(const std::vector<BoundingBox>& boxes, uint32_t begin,
 struct Part {
     bool isFork = false;
     // A fork:
-    gpu::RayBvhNode node = emptyNode();
+    BinaryBvhNode node = emptyNode();
     std::unique_ptr<Part> left, right;
     // A piece:
-    std::vector<gpu::RayBvhNode> nodes;
+    std::vector<BinaryBvhNode> nodes;
     Link link;
 };
 
@@ -686,7 +686,7 @@ Link relocate(Link link, int32_t offset) {
 
 // Appends the part depth-first (a fork, then its left part, then its right), shifting each
 // piece's inner-node links by where it lands; returns the link to the part.
-Link assemble(const Part& part, std::vector<gpu::RayBvhNode>& nodes) {
+Link assemble(const Part& part, std::vector<BinaryBvhNode>& nodes) {
     if (part.isFork) {
         int32_t self = int32_t(nodes.size());
         nodes.push_back(part.node);
@@ -696,7 +696,7 @@ Link assemble(const Part& part, std::vector<gpu::RayBvhNode>& nodes) {
         return {self, 0};
     }
     int32_t offset = int32_t(nodes.size());
-    for (gpu::RayBvhNode node : part.nodes) {
+    for (BinaryBvhNode node : part.nodes) {
         if (node.links.y == 0 && node.links.x >= 0) node.links.x += offset;
         if (node.links.w == 0 && node.links.z >= 0) node.links.z += offset;
         nodes.push_back(node);
@@ -735,7 +735,7 @@ FlatBvh buildBvh(const std::vector<BoundingBox>& primitiveBounds, const BvhBuild
     Part tree = buildPart(primitives, all, 1, forkSize, options);
     if (!tree.isFork && tree.link.count > 0) {
         // The whole scene is one leaf: the root's left child, its right one absent.
-        gpu::RayBvhNode root = emptyNode();
+        BinaryBvhNode root = emptyNode();
         setChildBounds(root, 0, all.bounds.toBox());
         setLinks(root, tree.link, Link{});
         bvh.nodes.push_back(root);
@@ -797,7 +797,7 @@ SlabRay makeSlabRay(const Vec3& origin, const Vec3& direction) {
 
 // Whether the ray meets child `child` (0 left, 1 right) of the node within [0, tLimit];
 // *entry receives the distance at which it enters.
-bool hitChild(const gpu::RayBvhNode& node, int child, const SlabRay& ray, double tLimit, double* entry) {
+bool hitChild(const BinaryBvhNode& node, int child, const SlabRay& ray, double tLimit, double* entry) {
     const gpu::float4* rows[3] = {&node.xBounds, &node.yBounds, &node.zBounds};
     double enter = 0, exit = tLimit;
     for (int a = 0; a < 3; ++a) {
@@ -840,7 +840,7 @@ int64_t traverse(const FlatBvh& bvh, const Vec3& origin, const Vec3& direction, 
             }
             if (kStopAtFirstHit && bestPosition >= 0) break;
         } else {
-            const gpu::RayBvhNode& node = bvh.nodes[size_t(current.index)];
+            const BinaryBvhNode& node = bvh.nodes[size_t(current.index)];
             Pending left{node.links.x, node.links.y, 0}, right{node.links.z, node.links.w, 0};
             bool hitLeft = left.index >= 0 && hitChild(node, 0, ray, best, &left.entry);
             bool hitRight = right.index >= 0 && hitChild(node, 1, ray, best, &right.entry);

@@ -1,6 +1,7 @@
 // The bounding volume hierarchy over primitive instances: built on the host with the
-// binned surface-area heuristic, then flattened into the RayBvhNode array that the kernel
-// traverses (the layout and why it was chosen: cl/shared_types.h).
+// binned surface-area heuristic and flattened into an array of two-wide nodes, which the
+// host walks itself (its tests) and collapses into the wide trees the kernel walks
+// (accel/wide_bvh.h, cl/shared_types.h RayWideBvhNode).
 #pragma once
 
 #include <cstdint>
@@ -28,8 +29,25 @@ struct BoundingBox {
 // union of its boxes at shutter times 0 and 1).
 BoundingBox worldBounds(const PrimitiveInstance& primitive);
 
+// A node of the flattened two-wide BVH: 64 bytes, one cache line.
+//
+// A node stores the bounds of its two children rather than its own, so one fetch tests
+// both children (and decides which to visit first): the lanes of xBounds are (left.min.x,
+// right.min.x, left.max.x, right.max.x), and so on for y and z.
+//
+// links: (leftIndex, leftCount, rightIndex, rightCount). A count of 0 means the index is
+// that of an inner node; a count > 0 means a leaf holding primitives [index, index + count)
+// of BVH order (FlatBvh::primitiveOrder). An absent child (a scene of one primitive) has
+// index -1 and empty bounds (min > max). Node 0 is the root.
+struct BinaryBvhNode {
+    gpu::float4 xBounds;
+    gpu::float4 yBounds;
+    gpu::float4 zBounds;
+    gpu::int4 links;
+};
+
 struct FlatBvh {
-    std::vector<gpu::RayBvhNode> nodes;  // node 0 is the root
+    std::vector<BinaryBvhNode> nodes;  // node 0 is the root
     // primitiveOrder[i]: the input index of the primitive at position i of BVH order (the
     // leaves' ranges index positions in this order).
     std::vector<uint32_t> primitiveOrder;

@@ -25,7 +25,7 @@ struct BinaryChild {
 
 // Child c (0: left, 1: right) of a binary node; lanes of xBounds are
 // (left.min.x, right.min.x, left.max.x, right.max.x), and so on for y and z.
-BinaryChild binaryChild(const gpu::RayBvhNode& node, int c) {
+BinaryChild binaryChild(const BinaryBvhNode& node, int c) {
     const gpu::float4* bounds[3] = {&node.xBounds, &node.yBounds, &node.zBounds};
     BinaryChild child;
     for (int a = 0; a < 3; ++a) {
@@ -55,7 +55,7 @@ struct WideChildren {
 
 // The children of the wide node standing for binary node `node`. Fixed arrays, no heap: a
 // large scene has millions of nodes.
-WideChildren gatherChildren(const std::vector<gpu::RayBvhNode>& binary, int node) {
+WideChildren gatherChildren(const std::vector<BinaryBvhNode>& binary, int node) {
     WideChildren children;
     for (int c = 0; c < 2; ++c)
         if (BinaryChild child = binaryChild(binary[size_t(node)], c); !child.absent())
@@ -164,7 +164,7 @@ CpuChildren gatherCpuChildren(const std::vector<gpu::RayWideBvhNode>& wide, int 
 
 }  // namespace
 
-std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<gpu::RayBvhNode>& binary) {
+std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<BinaryBvhNode>& binary) {
     std::vector<gpu::RayWideBvhNode> wide;
     if (binary.empty()) return wide;
     wide.reserve(binary.size() / 2 + 1);

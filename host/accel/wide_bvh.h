@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "accel/bvh.h"
 #include "shared_types.h"
 
 namespace ray {
@@ -13,7 +14,7 @@ namespace ray {
 // only leaves. Leaves keep their primitive ranges, so the primitive order is unchanged.
 // Child indices of inner nodes refer to the returned array (its node 0 is the root);
 // `binary` must be a tree from buildBvh (node 0 its root).
-std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<gpu::RayBvhNode>& binary);
+std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<BinaryBvhNode>& binary);
 
 // The sixteen-wide tree that CPU devices walk a ray at a time (RayCpuBvhNode in
 // cl/shared_types.h), collapsed from the four-wide tree under wide[0] (the scene's; the

@@ -10,7 +10,7 @@
 // (--aa stratified and adaptive); 2 and 3, the lens position of a depth-of-field sample;
 // 4, the shutter time of motion blur (t = shutter · value, render_settings.h); 16 + 2·(light·1024 + cell) + axis,
 // the jitter of an area light's sample in cell `cell` of its grid along its width
-// (axis 0) and height (axis 1) (optics.h areaLightDimension, cl/optics.cl RAY_DIM_AREA).
+// (axis 0) and height (axis 1) (optics.h areaLightDimension, cl/shading/optics.cl RAY_DIM_AREA).
 // The "sample" coordinate is the camera sample's number within its pixel, in the order
 // the sampling pattern takes them; every hit along that sample's ray tree reuses it.
 #pragma once

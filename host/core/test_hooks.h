@@ -47,7 +47,7 @@ struct TestHooks {
     double abortAfterSeconds = 0;  // RAY_TEST_ABORT_AFTER_SECONDS
 
     // The traversal stack's entries the kernel is built with, 0 for its own
-    // (RAY_TEST_BVH_SHORT_STACK, 1 to 64: tests make every walk overflow it, cl/intersect.cl
+    // (RAY_TEST_BVH_SHORT_STACK, 1 to 64: tests make every walk overflow it, cl/traversal/stack.cl
     // BvhStack). Throws std::invalid_argument for another value, at the kernel build, so
     // that only an OpenCL device refuses it.
     int bvhShortStackEntries() const;

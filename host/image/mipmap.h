@@ -7,7 +7,7 @@
 // or row, and a 1-wide level keeps averaging rows only). Every level is rounded to 8 bits,
 // v = round(255·mean)/255, because the kernel keeps its levels in the same RGBA8 texel
 // buffer as the images; both renderers therefore read identical values. The kernel stores
-// a texture's levels back to back from RayTexture.info.x, their count in info.w
+// a texture's levels back to back from RayTexture.offset, their count in RayTexture.levels
 // (cl/shared_types.h); level k is max(1, width >> k) × max(1, height >> k).
 #pragma once
 

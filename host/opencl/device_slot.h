@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/test_hooks.h"
+#include "opencl/kernel_variant.h"
 #include "opencl/opencl_device.h"
 #include "opencl/scene_packing.h"
 
@@ -40,7 +41,7 @@ struct DeviceSlot {
     OpenClDevice device;
     int index = 0;    // position in the engine's selection
     TestHooks hooks;  // the engine's (core/test_hooks.h): its own copy, as the thread may outlive the engine
-    int packetLanes = 1;  // rays a work-item traces together (kernel_build.h): the kernel's build and launches
+    KernelVariant variant;  // what its kernel runs (kernelVariantFor): the kernel's build, launches and tables
 
     // The thread's mailbox, under `mutex`.
     std::mutex mutex;

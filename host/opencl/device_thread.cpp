@@ -27,7 +27,7 @@ DeviceError describeClError(const OpenClDevice& device, const cl::Error& e) {
 void openDevice(DeviceSlot& slot) {
     slot.context = cl::Context(slot.device.device);
     slot.queue = cl::CommandQueue(slot.context, slot.device.device);
-    if (slot.packetLanes > 1) {
+    if (slot.variant.lanes > 1) {
         cl_uint empty[2] = {0, 0};
         slot.blockQueue = cl::Buffer(slot.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof(empty), empty);
     }
@@ -38,7 +38,7 @@ void openDevice(DeviceSlot& slot) {
 // seconds spent uploading and building to the frame.
 cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame) {
     if (slot.uploaded != frame.packed || slot.checkedTilePixels != frame.tilePixels()) {
-        checkDeviceLimits(slot.device, *frame.packed, frame.tilePixels() * sizeof(cl_float4));
+        checkDeviceLimits(slot.device, slot.variant, *frame.packed, frame.tilePixels() * sizeof(cl_float4));
         slot.checkedTilePixels = frame.tilePixels();
     }
     if (!slot.context()) openDevice(slot);
@@ -58,9 +58,9 @@ cl::Kernel& prepareDevice(DeviceSlot& slot, Frame& frame) {
     // set at each launch.
     for (size_t i = 0; i < kSceneBufferCount; ++i)
         kernel.setArg(kernel_argument::kFirstSceneBuffer + cl_uint(i), slot.sceneBuffers[i]);
-    if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
+    if (slot.variant.lanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
     for (DeviceSlot::TileOutput& out : slot.outputs)
-        slot.sizeTileOutput(out, tileEntries(frame.tileWidth, frame.tileHeight, slot.packetLanes));
+        slot.sizeTileOutput(out, tileEntries(frame.tileWidth, frame.tileHeight, slot.variant.lanes));
     slot.queue.finish();
     std::lock_guard lock(frame.mutex);
     frame.uploadSeconds = std::max(frame.uploadSeconds, uploadSeconds);

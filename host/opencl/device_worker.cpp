@@ -98,7 +98,7 @@ private:
     // compute unit, which take the tile's blocks from the queue (cl/kernel.cl).
     cl::NDRange globalSize(const TileRect& rect) const {
         const size_t group = kWorkGroupSide;
-        if (slot_.packetLanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
+        if (slot_.variant.lanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
         auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
         return cl::NDRange(roundUp(rect.width), roundUp(rect.height));
     }
@@ -106,13 +106,11 @@ private:
     void launch(cl::Kernel& kernel, int tile) {
         const TileRect rect = frame_.scheduler->tile(tile);
         gpu::RayRenderParams params = frame_.params;
-        params.image.z = rect.x;
-        params.image.w = rect.y;
-        params.tile = {rect.width, rect.height, 0, 0};
+        params.tile = {rect.x, rect.y, rect.width, rect.height};
         // At most kTilesInFlight launches, finished in order: this output's last user is done.
         const size_t output = launches_++ % kTilesInFlight;
         DeviceSlot::TileOutput& out = slot_.outputs[output];
-        const TileEntries entries = tileEntries(rect.width, rect.height, slot_.packetLanes);
+        const TileEntries entries = tileEntries(rect.width, rect.height, slot_.variant.lanes);
         slot_.sizeTileOutput(out, entries);  // a no-op for the frame's tiles, sized at prepareDevice
         // Arguments are captured at enqueue time.
         kernel.setArg(kernel_argument::kParams, sizeof(params), &params);

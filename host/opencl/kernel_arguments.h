@@ -1,4 +1,4 @@
-// renderTile's arguments (cl/render.cl), numbered as the kernel declares them: the launch
+// renderTile's arguments (cl/kernel.cl), numbered as the kernel declares them: the launch
 // parameters, the scene's buffers in the order of their list (cl/shared_types.h
 // RAY_SCENE_BUFFERS), then the tile's outputs, and on the packet path (CPU devices) its block
 // queue (cl/kernel.cl). Computed from the list, never numbered by hand.
@@ -16,7 +16,7 @@ constexpr uint32_t kTileColors = kFirstSceneBuffer + uint32_t(kSceneBufferCount)
 constexpr uint32_t kTileRayCounts = kTileColors + 1;              // uint4 a pixel (a block: packets)
 constexpr uint32_t kBlockQueue = kTileRayCounts + 1;              // packet builds alone: 2 uint
 
-// How many the kernel declares: a packet build (-DRAY_PACKET_WIDTH) has the block queue too.
+// How many the kernel declares: a packet build (KernelVariant::lanes > 1) has the block queue too.
 constexpr uint32_t count(bool packetBuild) { return packetBuild ? kBlockQueue + 1 : kBlockQueue; }
 
 }  // namespace ray::kernel_argument

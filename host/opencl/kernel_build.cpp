@@ -12,7 +12,7 @@ namespace ray::engine {
 namespace {
 
 // The test hook RAY_TEST_BVH_SHORT_STACK=N builds the kernel with an N-entry traversal stack
-// (cl/intersect.cl BvhStack), so that tests can make every walk overflow and show that the
+// (cl/traversal/stack.cl BvhStack), so that tests can make every walk overflow and show that the
 // fallback finds the same hits. Empty when the hook is off.
 std::string shortStackOption(const TestHooks& hooks) {
     const int entries = hooks.bvhShortStackEntries();
@@ -34,20 +34,13 @@ void launchOnNoPixels(const DeviceSlot& slot, const cl::Program& program, const 
     cl::Buffer unwritten(slot.context, CL_MEM_WRITE_ONLY, sizeof(cl_float4) + sizeof(cl_uint4));
     kernel.setArg(kernel_argument::kTileColors, unwritten);
     kernel.setArg(kernel_argument::kTileRayCounts, unwritten);
-    if (slot.packetLanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
+    if (slot.variant.lanes > 1) kernel.setArg(kernel_argument::kBlockQueue, slot.blockQueue);
     const cl::NDRange group(kWorkGroupSide, kWorkGroupSide);
     slot.queue.enqueueNDRangeKernel(kernel, cl::NullRange, group, group);
     slot.queue.finish();
 }
 
 }  // namespace
-
-int packetLanes(const OpenClDevice& device, const TestHooks& hooks) {
-    if (!device.isCpu || device.isLlvmpipe) return 1;
-    if (hooks.cpuPacketLanes) return *hooks.cpuPacketLanes;
-    const unsigned width = device.nativeFloatWidth;
-    return width >= 16 ? 16 : width >= 8 ? 8 : width >= 4 ? 4 : 1;
-}
 
 int kernelFrames(int maxDepth) {
     // One frame per bounce plus the camera ray.
@@ -57,18 +50,17 @@ int kernelFrames(int maxDepth) {
     return kMaxDepth + 1;
 }
 
-std::string buildOptions(int frames, int lanes, const TestHooks& hooks) {
+std::string buildOptions(int frames, const KernelVariant& variant, const TestHooks& hooks) {
     // No -cl-fast-relaxed-math: the intersection code relies on IEEE infinities.
-    std::string options = "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(frames) + shortStackOption(hooks);
-    if (lanes > 1) options += " -DRAY_PACKET_WIDTH=" + std::to_string(lanes);
-    return options;
+    return "-cl-std=CL1.2 -DRAY_MAX_FRAMES=" + std::to_string(frames) + shortStackOption(hooks) +
+           variant.buildDefine();
 }
 
 DeviceSlot::Program buildDeviceProgram(DeviceSlot& slot, int frames, const gpu::RayRenderParams& frameParams) {
     if (auto seconds = slot.hooks.slowBuild.forDevice(slot.index))
         std::this_thread::sleep_for(std::chrono::seconds(*seconds));
     DeviceSlot::Program p;
-    p.program = buildKernelProgram(slot.device, slot.context, buildOptions(frames, slot.packetLanes, slot.hooks),
+    p.program = buildKernelProgram(slot.device, slot.context, buildOptions(frames, slot.variant, slot.hooks),
                                    [&](const cl::Program& program) { launchOnNoPixels(slot, program, frameParams); });
     p.kernel = cl::Kernel(p.program.program, "renderTile");
     p.privateBytes = p.kernel.getWorkGroupInfo<CL_KERNEL_PRIVATE_MEM_SIZE>(slot.device.device);

@@ -1,5 +1,5 @@
-// The kernel a device of the engine runs: the build options that choose its path (how many
-// rays a work-item traces together, the depth, the test hooks' stack), and its program built
+// The kernel a device of the engine runs: the build options that choose its path (its
+// variant, kernel_variant.h; the frame count of the depth's bucket; the test hooks' stack), and its program built
 // (or taken from the disk cache, opencl_device.h buildKernelProgram) and run once.
 #pragma once
 
@@ -12,16 +12,8 @@
 
 namespace ray::engine {
 
-// How many rays a work-item of the device traces together (cl/packet_trace.cl): on a CPU
-// device its native float vector width (16 with AVX-512, 8 with AVX2, 4 with SSE), since
-// PoCL runs a one-ray walk as scalar code; 1 on other devices, whose SIMT is their packet,
-// and on Mesa's llvmpipe, which runs work-items in SIMT lanes as a GPU does (and stands in
-// for one in tests/rusticl.sh). The test hook RAY_CPU_PACKETS sets a CPU device's width, or
-// keeps it on one ray a work-item (tests/cpu_paths.sh compares the paths' images).
-int packetLanes(const OpenClDevice& device, const TestHooks& hooks);
-
 // How many ray-tree frames the kernel is built with for a maximum depth (-DRAY_MAX_FRAMES,
-// cl/render.cl): the depth itself is a launch parameter, and the frame count the smallest of
+// cl/render/ray_tree.cl): the depth itself is a launch parameter, and the frame count the smallest of
 // a few buckets that holds it (depths up to 4, 10, 16 and kMaxDepth), so that a user who
 // tries depth after depth waits for a build once a bucket. The first bucket is the GPU's
 // budget (docs/performance.md, "The kernel on GPUs"): the default depth, 4, keeps the
@@ -29,8 +21,8 @@ int packetLanes(const OpenClDevice& device, const TestHooks& hooks);
 // CPU work-item holds a ray tree for each of its packet's lanes.
 int kernelFrames(int maxDepth);
 
-// The options the kernel is built with for a frame count (kernelFrames) and a packet width.
-std::string buildOptions(int frames, int lanes, const TestHooks& hooks);
+// The options the kernel is built with for a frame count (kernelFrames) and the device's variant.
+std::string buildOptions(int frames, const KernelVariant& variant, const TestHooks& hooks);
 
 // The slot's program for a frame count (kernelFrames), built in its context and run once on a tile of no
 // pixels with the scene's buffers bound (they must be uploaded), so that PoCL compiles the

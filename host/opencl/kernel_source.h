@@ -11,7 +11,8 @@ struct KernelSourceFile {
     const char* text;
 };
 
-// In the order they are compiled: the shared layout header first, then cl/*.cl.
+// In the order they are compiled (CMakeLists.txt RAY_CL_SOURCES), each named by its path
+// under cl/; a lane template appears once for each of its instances.
 const std::vector<KernelSourceFile>& kernelSourceFiles();
 
 // The files joined into one program source, each preceded by a #line directive so that

@@ -11,6 +11,7 @@
 #include "opencl/engine_frame.h"
 #include "opencl/frame_deadlines.h"
 #include "opencl/kernel_build.h"
+#include "opencl/kernel_variant.h"
 #include "opencl/packed_scene_cache.h"
 #include "render/device_error.h"
 #include "render/tile_side.h"
@@ -27,7 +28,10 @@ struct OpenClEngine::Impl {
     std::vector<std::shared_ptr<DeviceSlot>> slots;
     uint64_t frames = 0;
 
-    Impl(std::shared_ptr<const Scene> s, std::vector<OpenClDevice> d) : cache(std::move(s)), selection(std::move(d)) {}
+    Impl(std::shared_ptr<const Scene> s, std::vector<OpenClDevice> d)
+        : cache(std::move(s), std::any_of(d.begin(), d.end(),
+                                          [](const OpenClDevice& device) { return kernelVariantFor(device).cpuThreads; })),
+          selection(std::move(d)) {}
 };
 
 // The caller keeps the scene alive: a shared pointer that does not own it.
@@ -42,7 +46,7 @@ OpenClEngine::OpenClEngine(std::shared_ptr<const Scene> scene, std::vector<OpenC
         auto slot = std::make_shared<DeviceSlot>();
         slot->device = d;
         slot->hooks = hooks;
-        slot->packetLanes = engine::packetLanes(d, hooks);
+        slot->variant = kernelVariantFor(d, hooks.cpuPacketLanes);
         slot->index = int(impl_->slots.size());
         slot->thread = std::thread(engine::serveFrames, slot);
         impl_->slots.push_back(std::move(slot));

@@ -40,7 +40,7 @@ void PackedSceneCache::update(const RenderSettings& settings, RenderStats& stats
     packed_.reset();
     releaseOldTables();
     const auto start = std::chrono::steady_clock::now();
-    auto fresh = std::make_shared<PackedScene>(packScene(*scene_, settings));
+    auto fresh = std::make_shared<PackedScene>(packScene(*scene_, settings, cpuTables_));
     for (uint64_t& version : fresh->versions) version = ++tableVersions_;
     stats.packSeconds = secondsSince(start);
     stats.bvhBuildSeconds = fresh->bvhBuildSeconds;

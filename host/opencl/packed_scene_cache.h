@@ -23,7 +23,9 @@ namespace ray::engine {
 
 class PackedSceneCache {
 public:
-    explicit PackedSceneCache(std::shared_ptr<const Scene> scene) : scene_(std::move(scene)) {}
+    // cpuTables: whether some device walks the tables CPU devices alone read (packScene).
+    PackedSceneCache(std::shared_ptr<const Scene> scene, bool cpuTables)
+        : scene_(std::move(scene)), cpuTables_(cpuTables) {}
 
     // The scene of the next frames.
     void setScene(std::shared_ptr<const Scene> scene) { scene_ = std::move(scene); }
@@ -47,6 +49,7 @@ private:
     int packedGridSide_ = -1;
     bool packedTrilinear_ = false;
     uint64_t tableVersions_ = 0;  // the last version given to a packed table
+    bool cpuTables_ = true;
 };
 
 }  // namespace ray::engine

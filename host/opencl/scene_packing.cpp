@@ -14,33 +14,7 @@
 
 namespace ray {
 
-// The layouts must agree with OpenCL C's (cl/shared_types.h): float4/int4 fields only,
-// each 16 bytes, no padding anywhere.
-static_assert(sizeof(gpu::float4) == 16 && alignof(gpu::float4) == 16);
-static_assert(sizeof(gpu::int4) == 16 && alignof(gpu::int4) == 16);
-static_assert(sizeof(gpu::RayBvhNode) == 64);
-static_assert(offsetof(gpu::RayBvhNode, links) == 48);
-static_assert(sizeof(gpu::RayWideBvhNode) == 128 && alignof(gpu::RayWideBvhNode) == 64);
-static_assert(offsetof(gpu::RayWideBvhNode, minY) == 32 && offsetof(gpu::RayWideBvhNode, index) == 96 &&
-              offsetof(gpu::RayWideBvhNode, count) == 112);
-static_assert(sizeof(gpu::float16) == 64 && alignof(gpu::float16) == 64);
-static_assert(sizeof(gpu::int16) == 64 && alignof(gpu::int16) == 64);
-static_assert(sizeof(gpu::RayCpuBvhNode) == 512 && offsetof(gpu::RayCpuBvhNode, index) == 384 &&
-              offsetof(gpu::RayCpuBvhNode, count) == 448);
-static_assert(sizeof(gpu::RayPrimitive) == 64 && alignof(gpu::RayPrimitive) == 64);
-static_assert(offsetof(gpu::RayPrimitive, info) == 48);
-static_assert(sizeof(gpu::RayMaterial) == 128 && alignof(gpu::RayMaterial) == 64);
-static_assert(offsetof(gpu::RayMaterial, maps) == 112);
-static_assert(sizeof(gpu::RayLight) == 112);
-static_assert(offsetof(gpu::RayLight, area) == 96);
-static_assert(sizeof(gpu::RayTexture) == 16 && offsetof(gpu::RayTexture, info) == 0);
-static_assert(sizeof(gpu::RayTexel) == 4);  // OpenCL C's uchar4
-static_assert(sizeof(gpu::RayTriangle) == 48);
-static_assert(sizeof(gpu::RayTriangleShading) == 80);
-static_assert(offsetof(gpu::RayTriangleShading, uv2) == 64);
-static_assert(sizeof(gpu::RayRenderParams) == 176);
-static_assert(offsetof(gpu::RayRenderParams, tile) == 160);
-static_assert(offsetof(gpu::RayRenderParams, limits) == 96);  // .z: the pixel spread angle (trilinear)
+// The values the kernel's constants stand for (the layouts are checked in cl/shared_types.h).
 static_assert(int(PrimitiveType::Cone) == RAY_PRIM_CONE && int(PrimitiveType::Mesh) == RAY_PRIM_MESH);
 static_assert(int(PrimitiveType::Csg) == RAY_PRIM_CSG);
 static_assert(kCsgMaxOperands == RAY_CSG_MAX_OPERANDS && kCsgMaxStack == RAY_CSG_MAX_STACK);
@@ -49,7 +23,7 @@ static_assert(int(AntialiasMode::Course) == RAY_AA_COURSE && int(AntialiasMode::
 
 namespace {
 
-gpu::float4 toFloat4(const Vec3& v, double w = 0) { return {float(v.x), float(v.y), float(v.z), float(w)}; }
+gpu::float4 toFloat4(const Vec3& v) { return {float(v.x), float(v.y), float(v.z), 0}; }
 
 // order: the tie-breaking rank of cl/shared_types.h (the instance's index in the scene).
 gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, int order, const std::vector<int>& meshRoots) {
@@ -58,13 +32,26 @@ gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, int order, co
         const double* m = instance.worldToObject.m[row];
         p.worldToObject[row] = {float(m[0]), float(m[1]), float(m[2]), float(m[3])};
     }
-    int root = instance.type == PrimitiveType::Mesh ? meshRoots[size_t(instance.mesh)] : -1;
-    p.info = {int(instance.type), instance.material, order, root};
+    p.type = int(instance.type);
+    p.material = instance.material;
+    p.order = order;
+    p.geometry = instance.type == PrimitiveType::Mesh ? meshRoots[size_t(instance.mesh)] : -1;
     return p;
 }
 
-// Every csg object's program, appended to the primitive buffer (cl/shared_types.h), and
-// the program's place in the csg object's own record (in BVH order already in packed).
+// A csg program's record that is not an operand: an operator, or the program's end.
+gpu::RayPrimitive csgStepRecord(int type) {
+    gpu::RayPrimitive record;
+    record.type = type;
+    record.material = 0;
+    record.order = -1;
+    record.geometry = -1;
+    return record;
+}
+
+// Every csg object's program, appended to the primitive buffer and ended by a RAY_CSG_END
+// record (cl/shared_types.h), and the program's place in the csg object's own record (in BVH
+// order already in packed).
 void packCsgPrograms(const Scene& scene, const std::vector<uint32_t>& bvhOrder, PackedScene& packed) {
     // Each object's operands break ties with the rank of its first instance.
     std::vector<int> firstInstance(scene.csgObjects.size(), -1);
@@ -81,19 +68,15 @@ void packCsgPrograms(const Scene& scene, const std::vector<uint32_t>& bvhOrder, 
                     packPrimitive(scene.csgOperands[size_t(step.operand)], firstInstance[k], packed.meshRoots));
                 continue;
             }
-            gpu::RayPrimitive op;
-            int code = step.kind == CsgStepKind::Union          ? RAY_CSG_UNION
-                       : step.kind == CsgStepKind::Intersection ? RAY_CSG_INTERSECTION
-                                                                : RAY_CSG_DIFFERENCE;
-            op.info = {code, 0, -1, -1};
-            packed.primitives.push_back(op);
+            packed.primitives.push_back(csgStepRecord(step.kind == CsgStepKind::Union          ? RAY_CSG_UNION
+                                                      : step.kind == CsgStepKind::Intersection ? RAY_CSG_INTERSECTION
+                                                                                               : RAY_CSG_DIFFERENCE));
         }
+        packed.primitives.push_back(csgStepRecord(RAY_CSG_END));
     }
     for (size_t i = 0; i < bvhOrder.size(); ++i) {
         const PrimitiveInstance& instance = scene.primitives[bvhOrder[i]];
-        if (instance.type != PrimitiveType::Csg) continue;
-        packed.primitives[i].info.z = programStart[size_t(instance.csg)];
-        packed.primitives[i].info.w = int(scene.csgObjects[size_t(instance.csg)].program.size());
+        if (instance.type == PrimitiveType::Csg) packed.primitives[i].geometry = programStart[size_t(instance.csg)];
     }
 }
 
@@ -102,48 +85,53 @@ gpu::RayMaterial packMaterial(const Material& m, const Scene& scene) {
         return map.image >= 0 && !scene.images[size_t(map.image)].empty() ? map.image : -1;
     };
     gpu::RayMaterial g;
-    g.diffuse = toFloat4(m.diffuse, m.blend);
-    g.ambient = toFloat4(m.ambient, m.shininess);
-    g.specular = toFloat4(m.specular, m.ior);
+    g.diffuse = toFloat4(m.diffuse);
+    g.ambient = toFloat4(m.ambient);
+    g.specular = toFloat4(m.specular);
     g.reflective = toFloat4(m.reflective);
     g.transparent = toFloat4(m.transparent);
     g.emissive = toFloat4(m.emissive);
-    g.repeats = {float(m.texture.repeatU), float(m.texture.repeatV), float(m.bumpMap.repeatU),
-                 float(m.bumpMap.repeatV)};
-    g.maps = {mapIndex(m.texture), mapIndex(m.bumpMap), 0, 0};
+    g.blend = float(m.blend);
+    g.shininess = float(m.shininess);
+    g.ior = float(m.ior);
+    g.textureRepeat = {float(m.texture.repeatU), float(m.texture.repeatV)};
+    g.bumpRepeat = {float(m.bumpMap.repeatU), float(m.bumpMap.repeatV)};
+    g.textureMap = mapIndex(m.texture);
+    g.bumpMap = mapIndex(m.bumpMap);
     return g;
 }
 
 gpu::RayLight packLight(const Light& light, const RenderSettings& settings) {
     gpu::RayLight g;
-    g.info = {int(light.type), areaLightGridSide(settings), 0, 0};
+    g.type = int(light.type);
+    g.areaSamples = areaLightGridSide(settings);
     g.color = toFloat4(light.color);
     g.position = toFloat4(light.position);
     g.direction = toFloat4(normalize(light.direction));
-    g.attenuation = toFloat4(light.attenuation);
+    g.constantAttenuation = float(light.attenuation.x);
+    g.linearAttenuation = float(light.attenuation.y);
+    g.quadraticAttenuation = float(light.attenuation.z);
     // inner = angle − penumbra as SPEC §4 writes it, negative when the penumbra is wider
     // than the cone (spotlight_on_cheese.xml: penumbra 80 with the default angle 45): the
     // smooth step then starts outside the cone's axis, so even the axis is dimmed.
-    double outer = radians(light.angleDegrees);
-    double inner = radians(light.angleDegrees - light.penumbraDegrees);
-    g.spot = {float(std::cos(outer)), float(std::cos(inner)), float(outer), float(inner)};
-    g.area = {float(light.width), float(light.height), 0, 0};
+    g.outerAngle = float(radians(light.angleDegrees));
+    g.innerAngle = float(radians(light.angleDegrees - light.penumbraDegrees));
+    g.width = float(light.width);
+    g.height = float(light.height);
     return g;
 }
 
-gpu::float4 texCoordPair(const TriangleMesh& mesh, const MeshCorner& a, const MeshCorner* b) {
-    auto uv = [&](const MeshCorner& c) {
-        return c.texCoord >= 0 ? mesh.texCoords[size_t(c.texCoord)] : std::array<double, 2>{0, 0};
-    };
-    std::array<double, 2> first = uv(a), second = b ? uv(*b) : std::array<double, 2>{0, 0};
-    return {float(first[0]), float(first[1]), float(second[0]), float(second[1])};
+gpu::float2 texCoord(const TriangleMesh& mesh, const MeshCorner& corner) {
+    if (corner.texCoord < 0) return {};
+    const std::array<double, 2>& uv = mesh.texCoords[size_t(corner.texCoord)];
+    return {float(uv[0]), float(uv[1])};
 }
 
 // One mesh: its BVH's nodes appended to packed.nodes (child indices rebased to their place
 // there, leaf ranges to the mesh's place in the triangle buffer), its triangles in BVH
 // order. Returns the root node's index.
 int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
-    const float uvDensity = float(meshUvDensity(mesh));  // every triangle's uv2.z (trilinear filtering)
+    const float uvDensity = float(meshUvDensity(mesh));  // every triangle's (trilinear filtering)
     std::vector<BoundingBox> bounds(mesh.triangles.size());
     for (size_t i = 0; i < bounds.size(); ++i) {
         for (int k = 0; k < 3; ++k) {
@@ -169,18 +157,17 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
         gpu::RayTriangleShading s;
         bool smooth = t[0].normal >= 0 && t[1].normal >= 0 && t[2].normal >= 0;
         Vec3 face = mesh.faceNormal(i);
-        s.n0 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
-        s.n1 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
-        s.n2 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
-        Vec3 tangent = mesh.uTangent(i);  // rides in the normals' .w lanes (bump mapping)
-        s.n0.w = float(tangent.x);
-        s.n1.w = float(tangent.y);
-        s.n2.w = float(tangent.z);
-        bool textured = t[0].texCoord >= 0 && t[1].texCoord >= 0 && t[2].texCoord >= 0;
-        s.uv01 = textured ? texCoordPair(mesh, t[0], &t[1]) : gpu::float4{};
-        s.uv2 = textured ? texCoordPair(mesh, t[2], nullptr) : gpu::float4{};
-        s.uv2.z = uvDensity;
-        s.uv2.w = float(mesh.uvHandedness(i));
+        s.normal0 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
+        s.normal1 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
+        s.normal2 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
+        s.uTangent = toFloat4(mesh.uTangent(i));
+        if (t[0].texCoord >= 0 && t[1].texCoord >= 0 && t[2].texCoord >= 0) {
+            s.uv0 = texCoord(mesh, t[0]);
+            s.uv1 = texCoord(mesh, t[1]);
+            s.uv2 = texCoord(mesh, t[2]);
+        }
+        s.uvDensity = uvDensity;
+        s.uvHandedness = float(mesh.uvHandedness(i));
         packed.triangleShading.push_back(s);
     }
     return nodeOffset;
@@ -207,7 +194,7 @@ void packTextures(const Scene& scene, bool mipmaps, PackedScene& packed) {
                 ++levelCount;
             }
         }
-        packed.textures.push_back({{offset, image.width, image.height, levelCount}});
+        packed.textures.push_back({offset, image.width, image.height, levelCount});
     }
 }
 
@@ -277,7 +264,7 @@ void refitSceneTree(const Scene& scene, PackedScene& packed) {
         for (size_t i = begin; i < end; ++i) bounds[i] = worldBounds(scene.primitives[i]);
     });
     refitNode(scene, packed, bounds, 0);
-    packed.cpuNodes = widenBvhForCpu(packed.nodes);
+    if (packed.cpuTables) packed.cpuNodes = widenBvhForCpu(packed.nodes);
 }
 
 }  // namespace
@@ -288,8 +275,9 @@ size_t PackedScene::totalBytes() const {
     return bytes;
 }
 
-PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
+PackedScene packScene(const Scene& scene, const RenderSettings& settings, bool cpuTables) {
     PackedScene packed;
+    packed.cpuTables = cpuTables;
 
     auto start = std::chrono::steady_clock::now();
     std::vector<BoundingBox> bounds(scene.primitives.size());
@@ -300,10 +288,10 @@ PackedScene packScene(const Scene& scene, const RenderSettings& settings) {
     std::vector<BoundingBox>().swap(bounds);
     packed.nodes = widenBvh(bvh.nodes);
     // The binary tree is done with (its primitive order is not): freed before the tables
-    // grow, it is no part of the process's peak (10⁵ spheres: 12.8 MB).
-    std::vector<gpu::RayBvhNode>().swap(bvh.nodes);
+    // grow, it is no part of the process's peak.
+    std::vector<BinaryBvhNode>().swap(bvh.nodes);
     packed.sceneNodes = packed.nodes.size();
-    packed.cpuNodes = widenBvhForCpu(packed.nodes);
+    if (cpuTables) packed.cpuNodes = widenBvhForCpu(packed.nodes);
     for (const TriangleMesh& mesh : scene.meshes) packed.meshRoots.push_back(packMesh(mesh, packed));
     // The build time counts the meshes' trees with the scene's.
     packed.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -395,14 +383,25 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
     // camera given by <focus>), as the reference renderer does.
     double lensRadius = s.depthOfField ? camera.aperture / 2 : 0;
     double focalDistance = camera.focalLength > 0 ? camera.focalLength : length(camera.look);
+    p.lensRadius = float(lensRadius);
+    p.focalDistance = float(focalDistance);
     // Motion blur: the shutter, 0 (every ray at time 0, no motion read) when nothing moves.
-    double shutter = packed.motions.empty() ? 0 : s.shutter;
-    p.lens = {float(lensRadius), float(focalDistance), float(shutter), 0};
-    p.globals = {float(g.ka), float(g.kd), float(g.ks), float(g.kt)};
-    p.limits = {float(s.weightThreshold), kKernelRayOffset, float(pixelSpreadAngle(camera.heightAngleDegrees, s.height)), 0};
-    p.image = {s.width, s.height, 0, 0};
-    p.mode = {int(s.antialias), s.maxDepth, features, s.samples};
-    p.counts = {int(packed.lights.size()), int(packed.primitives.size()), int(packed.nodes.size()), int(s.seed)};
+    p.shutter = float(packed.motions.empty() ? 0 : s.shutter);
+    p.pixelSpreadAngle = float(pixelSpreadAngle(camera.heightAngleDegrees, s.height));
+    p.ka = float(g.ka);
+    p.kd = float(g.kd);
+    p.ks = float(g.ks);
+    p.kt = float(g.kt);
+    p.weightThreshold = float(s.weightThreshold);
+    p.rayOffset = kKernelRayOffset;
+    p.width = s.width;
+    p.height = s.height;
+    p.antialias = int(s.antialias);
+    p.samples = s.samples;
+    p.maxDepth = s.maxDepth;
+    p.features = features;
+    p.lightCount = int(packed.lights.size());
+    p.seed = int(s.seed);
     return p;
 }
 

@@ -19,17 +19,18 @@ namespace ray {
 struct SceneBufferName {
     const char* name;  // "nodes"
     const char* what;  // "BVH nodes"
+    bool cpuOnly;      // read by CPU devices' kernels alone (RAY_CPU_DEVICES)
 };
 
 // How many buffers the scene has: renderTile's scene parameters.
-#define RAY_COUNT_SCENE_BUFFER(Type, name, what) +1
+#define RAY_COUNT_SCENE_BUFFER(Type, name, what, readers) +1
 constexpr size_t kSceneBufferCount = 0 RAY_SCENE_BUFFERS(RAY_COUNT_SCENE_BUFFER);
 #undef RAY_COUNT_SCENE_BUFFER
 
 // The scene as the kernel reads it: a table for each of its buffers (cl/shared_types.h
 // RAY_SCENE_BUFFERS, which says what each holds), and what the packing keeps besides.
 struct PackedScene {
-#define RAY_SCENE_TABLE(Type, name, what) std::vector<gpu::Type> name;
+#define RAY_SCENE_TABLE(Type, name, what, readers) std::vector<gpu::Type> name;
     RAY_SCENE_BUFFERS(RAY_SCENE_TABLE)
 #undef RAY_SCENE_TABLE
     // meshRoots[i]: mesh i's root node in `nodes` (its BVH's nodes follow the scene's).
@@ -39,16 +40,20 @@ struct PackedScene {
     // Kept so that an edit can repack the records or refit the tree (repackScene).
     std::vector<uint32_t> primitiveOrder;
     size_t sceneNodes = 0;
+    // Whether the tables only CPU devices read (cpuNodes) are packed: some device of the
+    // engine's runs a CPU kernel (opencl/kernel_variant.h). Kept so that repackScene does too.
+    bool cpuTables = true;
     double bvhBuildSeconds = 0;
     // Each table's version: equal in two packings when the table is the same, so that a
-    // device holding one packing uploads only the tables another changed (opencl_engine.cpp).
+    // device holding one packing uploads only the tables another changed (scene_upload.h uploadScene).
     std::array<uint64_t, kSceneBufferCount> versions{};
 
     // Calls visit(table, SceneBufferName) for each table, in the list's order: the order of
     // renderTile's scene parameters.
     template <class Visit>
     void forEachBuffer(Visit&& visit) const {
-#define RAY_VISIT_SCENE_TABLE(Type, name, what) visit(name, SceneBufferName{#name, what});
+#define RAY_VISIT_SCENE_TABLE(Type, name, what, readers) \
+    visit(name, SceneBufferName{#name, what, readers == RAY_CPU_DEVICES});
         RAY_SCENE_BUFFERS(RAY_VISIT_SCENE_TABLE)
 #undef RAY_VISIT_SCENE_TABLE
     }
@@ -57,9 +62,10 @@ struct PackedScene {
 };
 
 // Builds the BVHs (the scene's over instances, one per mesh over its triangles) and packs
-// everything.
+// everything, the tables that only CPU devices read (cl/shared_types.h RAY_CPU_DEVICES) when
+// cpuTables says some device will (KernelVariant::reads); they are left empty otherwise.
 // Settings that shape the buffers: the area lights' sample grid.
-PackedScene packScene(const Scene& scene, const RenderSettings& settings = {});
+PackedScene packScene(const Scene& scene, const RenderSettings& settings = {}, bool cpuTables = true);
 
 // An edited scene packed from the packing of the scene before the edit (`previous`, made
 // with the same settings), when their difference (compareScenes(before, scene)) has no
@@ -78,7 +84,7 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
                                       const RenderSettings& settings, const PackedScene& packed);
 
 // How far secondary and shadow rays start off a surface, relative to the magnitude of
-// the hit point's coordinates (see surfaceClearance in cl/shading.cl).
+// the hit point's coordinates (see surfaceClearance in cl/shading/shading.cl).
 constexpr float kKernelRayOffset = 1e-4f;
 
 }  // namespace ray

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <type_traits>
 
 #include "core/memory_limits.h"
 #include "render/device_error.h"
@@ -28,7 +29,8 @@ cl::Buffer uploadBuffer(const cl::Context& context, const std::vector<T>& data, 
 
 }  // namespace
 
-void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t tileBytes) {
+void checkDeviceLimits(const OpenClDevice& device, const KernelVariant& variant, const PackedScene& packed,
+                       size_t tileBytes) {
     const std::string advice = "; use a smaller scene or image, another device (ray --list-devices), or --device ref";
     auto checkAllocation = [&](const char* what, size_t bytes) {
         if (bytes > device.maxAllocation)
@@ -36,12 +38,15 @@ void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, si
                               " buffer, more than the " + mebibytes(device.maxAllocation) + " " +
                               device.description() + " allows in one allocation" + advice);
     };
+    uint64_t sceneBytes = 0;
     packed.forEachBuffer([&](const auto& table, SceneBufferName name) {
+        if (!variant.reads(name)) return;
         checkAllocation(name.what, table.size() * sizeof(table[0]));
+        sceneBytes += table.size() * sizeof(table[0]);
     });
     checkAllocation("tile", tileBytes);
     // Each launch in flight has its colors and ray counts: two buffers of tileBytes.
-    uint64_t total = packed.totalBytes() + 2 * kTilesInFlight * uint64_t(tileBytes);
+    uint64_t total = sceneBytes + 2 * kTilesInFlight * uint64_t(tileBytes);
     if (total > device.globalMemory)
         throw DeviceError("the scene needs " + mebibytes(total) + " of device memory, more than the " +
                           mebibytes(device.globalMemory) + " of " + device.description() + advice);
@@ -59,12 +64,13 @@ bool uploadScene(DeviceSlot& slot, const std::shared_ptr<const PackedScene>& pac
     const bool inPlace = slot.device.isCpu && !slot.hooks.copyScene;
     size_t next = 0;
     bool uploadedAny = false;
-    packed->forEachBuffer([&](const auto& table, SceneBufferName) {
+    packed->forEachBuffer([&](const auto& table, SceneBufferName name) {
         const size_t i = next++;
         if (slot.sceneBuffers[i]() && slot.bufferVersions[i] == packed->versions[i]) return;
         slot.sceneBuffers[i] = cl::Buffer();  // before its table's owner may go
         slot.bufferOwners[i].reset();
-        slot.sceneBuffers[i] = uploadBuffer(slot.context, table, inPlace);
+        const std::remove_cvref_t<decltype(table)> unread;  // a table the device's kernel never reads
+        slot.sceneBuffers[i] = uploadBuffer(slot.context, slot.variant.reads(name) ? table : unread, inPlace);
         slot.bufferVersions[i] = packed->versions[i];
         slot.bufferOwners[i] = packed;
         uploadedAny = true;

@@ -6,19 +6,24 @@
 #include <memory>
 
 #include "opencl/device_slot.h"
+#include "opencl/kernel_variant.h"
 #include "opencl/opencl_device.h"
 #include "opencl/scene_packing.h"
 
 namespace ray::engine {
 
-// Refuses, before any upload, a scene whose buffers exceed what the device allows, with
-// kTilesInFlight tiles of tileBytes each in flight. Throws DeviceError with advice.
-void checkDeviceLimits(const OpenClDevice& device, const PackedScene& packed, size_t tileBytes);
+// Refuses, before any upload, a scene whose buffers (those the variant's kernel reads) exceed
+// what the device allows, with kTilesInFlight tiles of tileBytes each in flight. Throws
+// DeviceError with advice.
+void checkDeviceLimits(const OpenClDevice& device, const KernelVariant& variant, const PackedScene& packed,
+                       size_t tileBytes);
 
 // Uploads the tables of `packed` that the slot does not hold at their version (every one for
 // a new packing, only those an edit changed for a repacked one). A CPU device reads the
 // host's tables in place, so that each buffer keeps the packing it came from alive; other
-// devices get a copy in their memory. Returns whether any table was uploaded.
+// devices get a copy in their memory. A table the slot's kernel does not read
+// (KernelVariant::reads) becomes a buffer of one unused element. Returns whether any table
+// was uploaded.
 bool uploadScene(DeviceSlot& slot, const std::shared_ptr<const PackedScene>& packed);
 
 }  // namespace ray::engine

@@ -8,7 +8,7 @@
 // direction of increasing u in the tangent plane and B = N × T that of increasing v (−N × T
 // on mesh triangles whose texture coordinates are mirrored: ShapeHit::bitangentSign). A gray
 // ramp rising by 0.5 per texel tilts the normal by 45°; brighter is higher. The kernel does
-// the same in float (cl/bump.cl). Bump maps follow the textures switch (--no-textures).
+// the same in float (cl/shading/bump.cl). Bump maps follow the textures switch (--no-textures).
 #pragma once
 
 #include "image/image.h"

@@ -3,7 +3,7 @@
 // Along a ray the solid of each operand is a list of spans, the stretches of the whole line
 // (negative t too, so a ray starting inside an operand is handled like any other) between
 // entering and leaving its surface. The program combines the lists by its operations; the
-// combined solid's surface is where its spans begin and end. cl/csg.cl does the same in float.
+// combined solid's surface is where its spans begin and end. cl/geometry/csg.cl does the same in float.
 #pragma once
 
 #include <optional>

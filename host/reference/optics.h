@@ -1,5 +1,5 @@
 // Refraction and area-light sampling for the reference renderer: the same steps as the
-// kernel's cl/optics.cl, in double precision, so that both renderers trace the same rays
+// kernel's cl/shading/optics.cl, in double precision, so that both renderers trace the same rays
 // and draw the same area-light samples.
 #pragma once
 
@@ -12,7 +12,7 @@
 
 namespace ray {
 
-// The media a ray travels through, innermost last (cl/optics.cl MediumStack): the ior of
+// The media a ray travels through, innermost last (cl/shading/optics.cl MediumStack): the ior of
 // each transparent object it is inside of; air (1) outside them all. Entering a surface
 // pushes the material's ior, leaving pops; at most kMaxMedia levels are kept (entering a
 // fifth nested object overwrites the innermost entry).
@@ -41,7 +41,7 @@ bool refractDirection(const Vec3& d, const Vec3& n, double n1, double n2, Vec3& 
 // total internal reflection (by refractDirection's test, so the two always agree) and at
 // grazing incidence; ((n1 − n2)/(n1 + n2))² head on; 0 where n1 = n2. A negative
 // cosIncident (a bump map tilting the shading normal past the ray) counts as its
-// magnitude. cl/optics.cl fresnelReflectance is the same steps in float (--fresnel, SPEC §4).
+// magnitude. cl/shading/optics.cl fresnelReflectance is the same steps in float (--fresnel, SPEC §4).
 double fresnelReflectance(double cosIncident, double n1, double n2);
 
 // The random dimensions of area-light samples (host/core/random.h): cell `cell` of light
@@ -53,7 +53,7 @@ constexpr uint32_t areaLightDimension(uint32_t light, uint32_t cell, uint32_t ax
 }
 
 // The point of the area light's rectangle for grid cell `cell` of a side × side grid, as
-// cl/optics.cl areaLightPoint: width along U = normalize(helper × d), height along
+// cl/shading/optics.cl areaLightPoint: width along U = normalize(helper × d), height along
 // V = d × U, helper = +y, or +z when |d.y| > 0.99.
 Vec3 areaLightPoint(const Light& light, int lightIndex, int cell, int side, uint32_t pixel, uint32_t sample,
                     uint32_t seed);

@@ -6,7 +6,7 @@
 // interval into pieces on which the polynomial is monotone, so each piece holds at most one
 // root, found by bisection where the sign changes. The derivative's roots come the same
 // way, down to a linear polynomial. The kernel does the same cascade in float
-// (cl/intersect.cl, intersectTorus).
+// (cl/geometry/torus_mesh.cl, intersectTorus).
 #pragma once
 
 namespace ray {

@@ -20,7 +20,7 @@
 // the color is the bilinear sample of level ⌊λ⌋ mixed with that of level ⌊λ⌋ + 1 by the
 // fraction of λ. Antialiasing samples all use the pixel's footprint.
 //
-// cl/texture_filter.cl is the same computation in float.
+// cl/shading/texture_filter.cl is the same computation in float.
 #pragma once
 
 #include "core/math.h"

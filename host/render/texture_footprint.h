@@ -2,7 +2,7 @@
 // ray spreads and how many texture coordinates an object-space unit covers. The reference
 // turns them into a footprint and a mipmap level (host/reference/texture_filtering.h, where
 // the model is described); the kernel receives them packed (host/opencl/scene_packing.cpp)
-// and does the same in float (cl/texture_filter.cl).
+// and does the same in float (cl/shading/texture_filter.cl).
 #pragma once
 
 #include "scene/scene.h"

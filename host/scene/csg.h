@@ -7,7 +7,7 @@
 // primitives is their union; a nested csg object is its own sub-program; "difference"
 // subtracts every later operand from the first (a b − c − …). Both renderers evaluate the
 // program on the intervals along a ray inside each operand (host/reference/csg.h,
-// cl/csg.cl), with a stack bounded by kCsgMaxStack and intervals bounded by kCsgMaxOperands:
+// cl/geometry/csg.cl), with a stack bounded by kCsgMaxStack and intervals bounded by kCsgMaxOperands:
 // every operand is convex (one interval), and combining lists of m and n intervals gives at
 // most m + n, so an object of at most kCsgMaxOperands operands never overflows.
 #pragma once
@@ -38,7 +38,7 @@ constexpr int kCsgMaxStack = 4;
 // rounding, not geometry: where two operands share a face (a cube cut by a box flush with
 // its front), their two planes are computed through different transforms and land a few
 // ulps apart, leaving a film that shadow rays would hit (speckle in float). Both renderers
-// drop such spans and close such gaps at every combination (equal to cl/csg.cl's
+// drop such spans and close such gaps at every combination (equal to cl/geometry/csg.cl's
 // RAY_CSG_SLIVER). 1e-5 is about 100 float ulps of the distance, and invisibly thin.
 constexpr double kCsgSliver = 1e-5;
 

@@ -21,18 +21,13 @@ static inline bool csgSliver(float t0, float t1) {
 
 /* The nearest surface point of a unit convex primitive from o along d (t > 0). */
 static inline bool csgNearestSurface(int type, float3 o, float3 d, float* t, int* part, float3* normal) {
-    float best = RAY_INFINITY;
-    *part = 0;
-    *normal = (float3)(0.0f);
-    switch (type) {
-        case RAY_PRIM_CUBE: intersectCube(o, d, &best, part, normal); break;
-        case RAY_PRIM_SPHERE: intersectSphere(o, d, &best, part, normal); break;
-        case RAY_PRIM_CYLINDER: intersectCylinder(o, d, &best, part, normal); break;
-        case RAY_PRIM_CONE: intersectCone(o, d, &best, part, normal); break;
-        default: return false; /* the loader refuses other operands */
-    }
-    *t = best;
-    return best < RAY_INFINITY;
+    if (!convexShape(type)) return false; /* the loader refuses other operands */
+    ShapeHit h = {RAY_INFINITY, 0, (float3)(0.0f)};
+    intersectConvexShape(type, o, d, &h);
+    *t = h.best;
+    *part = h.part;
+    *normal = h.normal;
+    return h.best < RAY_INFINITY;
 }
 
 /* Where the line origin + t·direction crosses an operand's surface on entering it
@@ -53,7 +48,7 @@ static inline bool csgCrossing(__global const RayPrimitive* operand, float3 orig
     float margin = 0.25f / length(d);
     float start = leaving ? boxLeave + margin : boxEnter - margin;
     float s;
-    if (!csgNearestSurface(operand->info.x, o + start * d, leaving ? -d : d, &s, part, normal)) return false;
+    if (!csgNearestSurface(operand->type, o + start * d, leaving ? -d : d, &s, part, normal)) return false;
     *t = leaving ? start - s : start + s;
     return true;
 }
@@ -153,7 +148,7 @@ static inline int csgCombine(int operation, int countA, int countB, float* times
  * combines the last two lists into the first of them. Every operand adds at most two
  * boundaries and a combination never adds any, so RAY_CSG_BOUNDARIES hold the whole stack
  * (5 bytes a boundary, 320 in all); a combination works in place, with no copy. */
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitive* csg, float3 origin, float3 direction,
                   Hit* hit) {
     float times[RAY_CSG_BOUNDARIES];
@@ -161,9 +156,9 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
     int start[RAY_CSG_MAX_STACK + 1]; /* list k is times[start[k] .. start[k + 1]) */
     int top = 0;
     start[0] = 0;
-    int first = csg->info.z, end = csg->info.z + csg->info.w;
-    for (int step = first; step < end; ++step) {
-        int kind = prims[step].info.x;
+    int first = csg->geometry;
+    for (int step = first; prims[step].type != RAY_CSG_END; ++step) {
+        int kind = prims[step].type;
         if (kind < RAY_CSG_UNION) {
             if (top >= RAY_CSG_MAX_STACK) return; /* the host never packs such a program */
             int at = start[top];
@@ -178,9 +173,8 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
     }
     if (top != 1) return;
     /* A boundary at exactly hit->t wins when the object is listed after the primitive hit
-     * so far (Hit.order; the program's operand records carry the object's order). */
-    const bool winsTies = hit->primitive >= 0 && prims[first].info.z > hit->order;
-    const float limit = winsTies ? nextafter(hit->t, RAY_INFINITY) : hit->t;
+     * so far (the program's operand records carry the object's order). */
+    const float limit = hitLimit(hit->t, hit->primitive, hit->order, prims[first].order);
     for (int k = 0; k < start[1]; ++k) {
         float t = times[k];
         if (!(t < limit)) return;
@@ -196,7 +190,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
         if (entersResult == (leaving != 0)) normal = -normal;
         hit->t = t;
         hit->primitive = operand;
-        hit->order = prims[operand].info.z;
+        hit->order = prims[operand].order;
         hit->part = part;
         hit->objectPoint = transformPoint(prims[operand].worldToObject, origin) +
                            t * transformVector(prims[operand].worldToObject, direction);

@@ -70,7 +70,7 @@ static inline float fresnelReflectance(float cosIncident, float n1, float n2) {
  * along V = d × U, where helper is the world's +y axis, or +z when d is within about 8° of
  * ±y (|d.y| > 0.99). A light pointing straight down therefore has its width along +x and
  * its height along +z. The rectangle is cut into an n × n grid (n = the light's samples per
- * side, RayLight.info.y); cell c (row c / n, column c % n) holds one point light, jittered
+ * side, RayLight.areaSamples); cell c (row c / n, column c % n) holds one point light, jittered
  * uniformly within the cell by random dimensions RAY_DIM_AREA(light, c, 0 and 1) of the
  * camera sample being traced, and carrying 1/n² of the light's intensity. */
 #define RAY_DIM_AREA_BASE 16u
@@ -78,18 +78,18 @@ static inline float fresnelReflectance(float cosIncident, float n1, float n2) {
 #define RAY_DIM_AREA(light, cell, axis) \
     (RAY_DIM_AREA_BASE + 2u * ((uint)(light) * RAY_MAX_AREA_CELLS + (uint)(cell)) + (uint)(axis))
 
-/* A call on PoCL (RAY_CALL_ON_POCL): inlined into the loop over the lights, the axes U and V,
+/* A call on PoCL (RAY_CALL_ON_CPU): inlined into the loop over the lights, the axes U and V,
  * the same for every cell, were moved out of it by LLVM and computed for every light,
- * point lights included: chess took 4% more instructions. */
-static RAY_CALL_ON_POCL float3 areaLightPoint(__global const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
+ * point lights included (docs/performance.md, "The kernel on GPUs"). */
+static RAY_CALL_ON_CPU float3 areaLightPoint(__global const RayLight* light, int lightIndex, int cell, uint pixel, uint sample, uint seed) {
     float3 d = light->direction.xyz;
     float3 helper = fabs(d.y) > 0.99f ? (float3)(0.0f, 0.0f, 1.0f) : (float3)(0.0f, 1.0f, 0.0f);
     float3 u = normalize(cross(helper, d));
     float3 v = cross(d, u);
-    int n = max(1, light->info.y);
+    int n = max(1, light->areaSamples);
     float jx = rayRandom(pixel, sample, RAY_DIM_AREA(lightIndex, cell, 0), seed);
     float jy = rayRandom(pixel, sample, RAY_DIM_AREA(lightIndex, cell, 1), seed);
     float a = ((float)(cell % n) + jx) / (float)n - 0.5f;
     float b = ((float)(cell / n) + jy) / (float)n - 0.5f;
-    return light->position.xyz + a * light->area.x * u + b * light->area.y * v;
+    return light->position.xyz + a * light->width * u + b * light->height * v;
 }

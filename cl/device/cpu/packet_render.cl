@@ -1,9 +1,10 @@
 /* The packet path of CPU devices: a work-item renders a block of RAY_PACKET_WIDTH pixels
  * (RAY_PIXEL_BLOCK_WIDTH × RAY_PIXEL_BLOCK_HEIGHT, cl/shared_types.h) and traces their camera
  * rays, and then each light's shadow rays, a packet at a time (traceBvhPacket,
- * cl/packet_trace.cl). Built only with -DRAY_PACKET_WIDTH (host/opencl/opencl_engine.cpp
- * passes it to CPU devices); a GPU's work-item renders one pixel (renderPixel), SIMT being
- * its packet.
+ * cl/device/cpu/packet_trace.cl). Built only where RAY_PACKET_WIDTH is defined
+ * (cl/device/variant.h: a CPU device's RAY_CPU_LANES of 4, 8 or 16, which
+ * host/opencl/kernel_variant.h chooses); a GPU's work-item renders one pixel (renderPixel),
+ * SIMT being its packet.
  *
  * Everything else is the single-ray path's own code, a pixel at a time: each pixel keeps
  * its sampler (any antialiasing mode), takes its samples and lens rays in its own order and
@@ -20,7 +21,8 @@
 
 /* addUnblockedSample for the lanes of `unblocked` (non-zero: its light sample's shadow ray
  * found no blocker), the highlights' powers taken for every lane at once: pow a lane at a
- * time was a third of recursiveCones4's kernel time, and PoCL's vector pow is its scalar
+ * time was a large part of the kernel's time on highlight-heavy scenes (docs/performance.md,
+ * "Highlights in vector form"), and PoCL's vector pow is its scalar
  * one in each lane (both its SLEEF code), so each term is the single-ray path's to the bit. */
 static inline void addUnblockedSamples(LightSamples* lights, const int* unblocked) {
     float base[RAY_PACKET_WIDTH], shininess[RAY_PACKET_WIDTH], power[RAY_PACKET_WIDTH];
@@ -43,10 +45,10 @@ static inline void addUnblockedSamples(LightSamples* lights, const int* unblocke
 /* Traces camera ray rays[l] of each pixel of `lanes` (non-zero: it has one) through its
  * whole tree: colors[l], as traceCameraRay gives it. The camera rays go as one packet, then
  * the shadow rays of their hits, a packet for each light sample in turn. */
-static RAY_CALL_ON_POCL void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
+static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
                                                    const Ray* rays, const int* lanes, PixelTrace* counters,
                                                    float3* colors) {
-    const bool courseMeshes = (params->mode.z & RAY_FEATURE_COURSE_MESHES) != 0;
+    const bool courseMeshes = (params->features & RAY_FEATURE_COURSE_MESHES) != 0;
     RayTree trees[RAY_PACKET_WIDTH];
     LightSamples lights[RAY_PACKET_WIDTH];
     Ray next[RAY_PACKET_WIDTH], shadow[RAY_PACKET_WIDTH];
@@ -105,7 +107,7 @@ typedef struct {
 /* Renders the block whose top left pixel is (x0, y0) of the tile, writing the colors of its
  * pixels that lie in the tile and the image, and the sum of their ray counts to *rayCounts
  * (the block's entry: renderTile). */
-static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRenderParams* params, int x0, int y0,
+static RAY_CALL_ON_CPU void renderBlock(const SceneBuffers* scene, const RayRenderParams* params, int x0, int y0,
                                          __global float4* tileColors, __global uint4* rayCounts) {
     BlockPixel pixels[RAY_PACKET_WIDTH];
     PixelTrace counters[RAY_PACKET_WIDTH];
@@ -114,10 +116,10 @@ static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRen
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         BlockPixel* p = &pixels[l];
         int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
-        p->i = params->image.z + x;
-        p->j = params->image.w + y;
-        p->inside = x < params->tile.x && y < params->tile.y && p->i < params->image.x && p->j < params->image.y;
-        PixelTrace counter = {0u, 0u, 0u, (uint)(p->j * params->image.x + p->i), 0u, 0u, 0.0f};
+        p->i = params->tile.x0 + x;
+        p->j = params->tile.y0 + y;
+        p->inside = x < params->tile.width && y < params->tile.height && p->i < params->width && p->j < params->height;
+        PixelTrace counter = {0u, 0u, 0u, (uint)(p->j * params->width + p->i), 0u, 0u, 0.0f};
         counters[l] = counter;
         startSampler(&p->sampler, params);
         sampling[l] = p->inside && nextSamplePosition(&p->sampler, params, counter.pixel, &p->position, &p->color);
@@ -160,7 +162,7 @@ static RAY_CALL_ON_POCL void renderBlock(const SceneBuffers* scene, const RayRen
         const BlockPixel* p = &pixels[l];
         if (!p->inside) continue;
         int x = x0 + l % RAY_BLOCK_WIDTH, y = y0 + l / RAY_BLOCK_WIDTH;
-        int pixel = y * params->tile.x + x; /* the colors hold this tile alone, row by row */
+        int pixel = y * params->tile.width + x; /* the colors hold this tile alone, row by row */
         tileColors[pixel] = (float4)(p->color, 1.0f);
         blockRays += (uint4)(counters[l].primary, counters[l].shadow, counters[l].secondary, 0u);
     }

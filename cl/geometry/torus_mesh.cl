@@ -1,8 +1,5 @@
-/* The torus and triangle meshes (SPEC §2), in object space like the other primitives;
- * declared in intersect.cl, which dispatches to them.
- *
- * No fast-math here either: the root isolation and the slab tests rely on exact IEEE
- * comparisons. */
+/* The torus and triangle meshes (SPEC §2), in object space like the other primitives,
+ * a ray at a time; declared in cl/geometry/intersect.cl, which dispatches to them. */
 
 #define TORUS_MAJOR RAY_TORUS_MAJOR_RADIUS
 #define TORUS_MINOR RAY_TORUS_MINOR_RADIUS
@@ -61,7 +58,7 @@ int quarticBreakpoints(float4 c, int order, const float* b, int n, float* out) {
  * the fourth power, swamps the float mantissa). Its roots on the box's span are then
  * isolated through the derivatives' roots and bisected: robust for grazing rays (two close
  * roots) and rays through the hole (none) alike. */
-RAY_INLINED_OFF_POCL void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal) {
+RAY_INLINED_ON_GPU void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal) {
     float scale = length(d);
     if (scale == 0.0f) return;
     float3 u = d / scale;
@@ -148,11 +145,11 @@ static inline void intersectTriangle(__global const RayTriangle* triangle, int i
 /* The mesh's own BVH (two-level: instances above, one tree per mesh below, the triangles
  * stored once however many instances use them), walked as traceBvh walks the scene's; its
  * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
- * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack): it starts
- * empty there and is empty again when the walk ends, an overflow included (afterOverflow),
- * so the scene walk's own entries below are never touched.
+ * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack,
+ * cl/traversal/wide_walk.cl): it starts empty there and is empty again when the walk ends, an
+ * overflow included (afterOverflow), so the scene walk's own entries below are never touched.
  * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
-RAY_INLINED_OFF_POCL
+RAY_INLINED_ON_GPU
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
                    float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
                    float2* barycentric) {
@@ -176,7 +173,7 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
                 addInnerChild(&inner, first, children.entry[c], true);
             }
         }
-        next = afterOverflow(nextNode(&inner, &stack, limit), &stack); /* cl/intersect.cl BvhStack */
+        next = afterOverflow(nextNode(&inner, &stack, limit), &stack);
     } while (next != -1);
 }
 
@@ -184,12 +181,12 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
  * the face normal where it gave none) interpolated at the hit. */
 static inline float3 meshShadingNormal(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
-    float3 n = (1.0f - b.x - b.y) * s->n0.xyz + b.x * s->n1.xyz + b.y * s->n2.xyz;
-    return dot(n, n) > 0.0f ? n : s->n0.xyz;
+    float3 n = (1.0f - b.x - b.y) * s->normal0.xyz + b.x * s->normal1.xyz + b.y * s->normal2.xyz;
+    return dot(n, n) > 0.0f ? n : s->normal0.xyz;
 }
 
 /* The texture coordinates of a mesh hit: the corners' vt interpolated, (0, 0) without. */
 static inline float2 meshUv(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
-    return (1.0f - b.x - b.y) * s->uv01.xy + b.x * s->uv01.zw + b.y * s->uv2.xy;
+    return (1.0f - b.x - b.y) * s->uv0 + b.x * s->uv1 + b.y * s->uv2;
 }

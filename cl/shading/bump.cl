@@ -20,7 +20,7 @@ static inline float bumpHeight(const SceneBuffers* scene, int map, float2 uv, fl
 static inline float3 objectTangent(const SceneBuffers* scene, int type, int part, float3 p) {
     if (type == RAY_PRIM_MESH) {
         __global const RayTriangleShading* s = &scene->triangleShading[part];
-        return (float3)(s->n0.w, s->n1.w, s->n2.w);
+        return s->uTangent.xyz;
     }
     int face = -1; /* cube face numbering: 0..5 = +x, -x, +y, -y, +z, -z */
     if (type == RAY_PRIM_CUBE) face = part;
@@ -39,7 +39,7 @@ static inline float3 objectTangent(const SceneBuffers* scene, int type, int part
  * and a shading normal facing the other way reverses it. */
 static inline float bitangentSign(const SceneBuffers* scene, int type, int part, float3 faceNormal, float3 n) {
     if (type != RAY_PRIM_MESH) return 1.0f;
-    float handedness = scene->triangleShading[part].uv2.w;
+    float handedness = scene->triangleShading[part].uvHandedness;
     return dot(faceNormal, n) < 0.0f ? -handedness : handedness;
 }
 
@@ -52,8 +52,8 @@ float3 bumpedObjectNormal(const SceneBuffers* scene, int map, float2 uv, float2 
     if (!(len > 1e-6f)) return n;
     t /= len;
     float3 b = bitangentSign * cross(n, t);
-    int4 info = scene->textures[map].info; /* one texel of the repeated map, in u and v */
-    float du = 1.0f / ((float)info.y * repeats.x), dv = 1.0f / ((float)info.z * repeats.y);
+    RayTexture image = scene->textures[map]; /* one texel of the repeated map, in u and v */
+    float du = 1.0f / ((float)image.width * repeats.x), dv = 1.0f / ((float)image.height * repeats.y);
     float alongU = 0.5f * (bumpHeight(scene, map, uv + (float2)(du, 0.0f), repeats) -
                            bumpHeight(scene, map, uv - (float2)(du, 0.0f), repeats));
     float alongV = 0.5f * (bumpHeight(scene, map, uv + (float2)(0.0f, dv), repeats) -

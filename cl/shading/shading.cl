@@ -2,7 +2,7 @@
 
 /* The scene's buffers, one field each (cl/shared_types.h RAY_SCENE_BUFFERS), as renderTile
  * receives them. */
-#define RAY_SCENE_BUFFER_FIELD(Type, name, what) __global const Type* name;
+#define RAY_SCENE_BUFFER_FIELD(Type, name, what, readers) __global const Type* name;
 typedef struct {
     RAY_SCENE_BUFFERS(RAY_SCENE_BUFFER_FIELD)
 } SceneBuffers;
@@ -54,50 +54,51 @@ static inline float2 surfaceUv(int type, int part, float3 p) {
     }
 }
 
-static inline float3 texel(const SceneBuffers* scene, int4 info, int column, int row) {
-    uchar4 c = scene->texels[info.x + row * info.y + column];
+static inline float3 texel(const SceneBuffers* scene, RayTexture image, int column, int row) {
+    uchar4 c = scene->texels[image.offset + row * image.width + column];
     return (float3)(c.x, c.y, c.z) * (1.0f / 255.0f);
 }
 
 /* Bilinear interpolation at continuous texel coordinates (x, y) in which integers name
  * texel corners, wrapping around (host/reference/texture_sampling.cpp bilinearAt). */
-float3 bilinearAt(const SceneBuffers* scene, int4 info, float x, float y) {
+float3 bilinearAt(const SceneBuffers* scene, RayTexture image, float x, float y) {
     float x0f = floor(x), y0f = floor(y);
     float ax = x - x0f, ay = y - y0f;
-    int x0 = ((int)x0f % info.y + info.y) % info.y, y0 = ((int)y0f % info.z + info.z) % info.z;
-    int x1 = (x0 + 1) % info.y, y1 = (y0 + 1) % info.z;
-    float3 top = mix(texel(scene, info, x0, y0), texel(scene, info, x1, y0), ax);
-    float3 bottom = mix(texel(scene, info, x0, y1), texel(scene, info, x1, y1), ax);
+    int x0 = ((int)x0f % image.width + image.width) % image.width;
+    int y0 = ((int)y0f % image.height + image.height) % image.height;
+    int x1 = (x0 + 1) % image.width, y1 = (y0 + 1) % image.height;
+    float3 top = mix(texel(scene, image, x0, y0), texel(scene, image, x1, y0), ax);
+    float3 bottom = mix(texel(scene, image, x0, y1), texel(scene, image, x1, y1), ax);
     return mix(top, bottom, ay);
 }
 
-/* The color at (u, v) with the material's repeats of the image (or mipmap level) whose
- * texels start at info.x and measure info.y × info.z: nearest texel (the course's
- * behaviour) or bilinear between the four nearest texel centres, wrapping around. */
-float3 sampleTextureLevel(const SceneBuffers* scene, int4 info, float2 uv, float2 repeats, bool bilinear) {
+/* The color at (u, v) with the material's repeats of an image (a texture, or one of its
+ * mipmap levels): nearest texel (the course's behaviour) or bilinear between the four nearest
+ * texel centres, wrapping around. */
+float3 sampleTextureLevel(const SceneBuffers* scene, RayTexture image, float2 uv, float2 repeats, bool bilinear) {
     float s = fractional(uv.x * repeats.x);
     float t = fractional(uv.y * repeats.y);
-    float x = s * (float)info.y, y = (1.0f - t) * (float)info.z;
+    float x = s * (float)image.width, y = (1.0f - t) * (float)image.height;
     if (!bilinear) {
-        int column = clamp((int)x, 0, info.y - 1);
-        int row = clamp((int)y, 0, info.z - 1);
-        return texel(scene, info, column, row);
+        int column = clamp((int)x, 0, image.width - 1);
+        int row = clamp((int)y, 0, image.height - 1);
+        return texel(scene, image, column, row);
     }
-    return bilinearAt(scene, info, x - 0.5f, y - 0.5f); /* integers at texel centres */
+    return bilinearAt(scene, image, x - 0.5f, y - 0.5f); /* integers at texel centres */
 }
 
 /* The course's filter (SPEC §5, --texture-filter course): bilinear with texel corners at
  * integer coordinates, i.e. without the half-texel shift. */
 float3 sampleCourseBilinear(const SceneBuffers* scene, int textureIndex, float2 uv, float2 repeats) {
-    int4 info = scene->textures[textureIndex].info;
+    RayTexture image = scene->textures[textureIndex];
     float s = fractional(uv.x * repeats.x);
     float t = fractional(uv.y * repeats.y);
-    return bilinearAt(scene, info, s * (float)info.y, (1.0f - t) * (float)info.z);
+    return bilinearAt(scene, image, s * (float)image.width, (1.0f - t) * (float)image.height);
 }
 
 /* The same on a texture's full-size image. */
 float3 sampleTexture(const SceneBuffers* scene, int textureIndex, float2 uv, float2 repeats, bool bilinear) {
-    return sampleTextureLevel(scene, scene->textures[textureIndex].info, uv, repeats, bilinear);
+    return sampleTextureLevel(scene, scene->textures[textureIndex], uv, repeats, bilinear);
 }
 
 /* How far off the surface a secondary or shadow ray starts: an amount that grows with the
@@ -122,9 +123,8 @@ static inline float3 offsetFromSurface(float3 p, float3 normal, float epsilon) {
  * tilts, facing the side the ray leaves from), reached by moving along the ray's own line
  * as far as RAY_MAX_STEP_ALONG_RAY allows, the rest along the normal. A start moved along
  * the normal alone shifts the ray sideways, clearance × tan θ where it meets the next
- * surface, and that shift adds up from bounce to bounce: between the mirrored, textured
- * cubes of the course's dof.xml (≈ 2 texels a bounce) it left 1.2% of the pixels off the
- * reference renderer's by more than 3/255. */
+ * surface, and that shift adds up from bounce to bounce until, between mirrored textured
+ * surfaces, pixels land texels away from the reference renderer's. */
 static inline float3 offsetAlongRay(float3 p, float3 normal, float3 direction, float epsilon) {
     float clearance = surfaceClearance(p, epsilon);
     float cosine = dot(direction, normal);
@@ -136,7 +136,7 @@ static inline float3 offsetAlongRay(float3 p, float3 normal, float3 direction, f
 static inline float spotFactor(__global const RayLight* light, float3 towardLight) {
     float cosTheta = dot(-towardLight, light->direction.xyz);
     float theta = acos(clamp(cosTheta, -1.0f, 1.0f));
-    float outer = light->spot.z, inner = light->spot.w;
+    float outer = light->outerAngle, inner = light->innerAngle;
     if (theta >= outer) return 0.0f;
     if (theta <= inner) return 1.0f;
     float x = (theta - inner) / (outer - inner);
@@ -145,7 +145,7 @@ static inline float spotFactor(__global const RayLight* light, float3 towardLigh
 
 /* Direct lighting, Σ over lights of f_att · S · I_L · [D·max(N·L, 0) + ks·Os·max(R·V, 0)^n]
  * (SPEC §4), where an area light is the sum over its n² jittered point samples
- * (cl/optics.cl), each with 1/n² of its intensity and a shadow ray of its own: a walk over
+ * (cl/shading/optics.cl), each with 1/n² of its intensity and a shadow ray of its own: a walk over
  * the light samples seen from one shading point that hands out one shadow ray at a time,
  * so that shadeFrame traces them all at its one trace site (see there). The caller starts it
  * (startLights), asks for each sample's shadow ray (nextShadowRay) and hands back the
@@ -163,9 +163,8 @@ typedef struct {
     float3 towardLight;
     float distance, attenuation, nDotL;
     float3 sum; /* of the samples so far, in the order the lights and cells come */
-    /* where each shadow ray starts, computed once per shading point: recomputed per sample
-     * it cost PoCL 20 instructions a shadow ray (chess 1.0 M of 131.5 M) for 16 B of gfx906
-     * scratch (1904 -> 1920 B) */
+    /* where each shadow ray starts, computed once per shading point: PoCL spends more
+     * instructions recomputing it for every sample than gfx906 spends scratch keeping it */
     float3 shadowOrigin;
 } LightSamples;
 
@@ -188,8 +187,8 @@ static inline void startLights(LightSamples* s, float3 p, float3 normal, float3 
 
 /* Starts the samples of light s->light. */
 static inline void startLight(LightSamples* s, __global const RayLight* light) {
-    bool area = light->info.x == RAY_LIGHT_AREA;
-    s->cells = area ? max(1, light->info.y) * max(1, light->info.y) : 1;
+    bool area = light->type == RAY_LIGHT_AREA;
+    s->cells = area ? max(1, light->areaSamples) * max(1, light->areaSamples) : 1;
     s->intensity = area ? light->color.xyz / (float)s->cells : light->color.xyz;
     s->cell = 0;
 }
@@ -199,19 +198,19 @@ static inline void startLight(LightSamples* s, __global const RayLight* light) {
  * is zero whatever blocks the light: behind the surface, or outside a spot light's cone. */
 static inline bool lightFacing(LightSamples* s, __global const RayLight* light, float3 position) {
     float attenuation = 1.0f;
-    if (light->info.x == RAY_LIGHT_DIRECTIONAL) {
+    if (light->type == RAY_LIGHT_DIRECTIONAL) {
         s->towardLight = -light->direction.xyz;
         s->distance = RAY_INFINITY;
     } else {
         float3 toLight = position - s->p;
         s->distance = length(toLight);
         s->towardLight = toLight / s->distance;
-        float4 c = light->attenuation;
-        attenuation = fmin(1.0f, 1.0f / (c.x + c.y * s->distance + c.z * s->distance * s->distance));
+        attenuation = fmin(1.0f, 1.0f / (light->constantAttenuation + light->linearAttenuation * s->distance +
+                                         light->quadraticAttenuation * s->distance * s->distance));
     }
     s->nDotL = dot(s->normal, s->towardLight);
     if (s->nDotL <= 0.0f) return false;
-    if (light->info.x == RAY_LIGHT_SPOT) {
+    if (light->type == RAY_LIGHT_SPOT) {
         attenuation *= spotFactor(light, s->towardLight);
         if (attenuation <= 0.0f) return false;
     }
@@ -226,7 +225,7 @@ static inline float highlightBase(const LightSamples* s) {
 }
 
 /* highlightBase(s)^n (n the shininess): pow(+0, n) is +0 for n > 0, taken without the call,
- * PoCL's costliest (addUnblockedSamples, cl/packet_render.cl, takes the same for a packet). */
+ * PoCL's costliest (addUnblockedSamples, cl/device/cpu/packet_render.cl, takes the same for a packet). */
 static inline float highlightPower(float base, float shininess) {
     return base > 0.0f || shininess <= 0.0f ? pow(base, shininess) : 0.0f;
 }
@@ -240,7 +239,7 @@ static inline float3 litSampleWithPower(const LightSamples* s, float power) {
 }
 
 /* Adds the sample whose shadow ray found no blocker, given its highlight's power (the
- * packet path takes its lanes' powers at once: cl/packet_render.cl). Blocked samples and
+ * packet path takes its lanes' powers at once: cl/device/cpu/packet_render.cl). Blocked samples and
  * those lightFacing turned down add nothing: skipping them is adding +0, as the sum starts
  * at +0 and so is never −0. */
 static inline void addUnblockedSampleWithPower(LightSamples* s, float power) {
@@ -258,19 +257,19 @@ static inline void addUnblockedSample(LightSamples* s) {
  * a sample is summed at once. */
 static inline bool nextShadowRay(LightSamples* s, const SceneBuffers* scene, const RayRenderParams* params,
                                  PixelTrace* counter, Ray* ray, float* tMax) {
-    uint seed = (uint)params->counts.w;
+    uint seed = (uint)params->seed;
     while (true) {
         if (s->cell == s->cells) { /* the light's samples are all summed */
-            if (++s->light >= params->counts.x) return false;
+            if (++s->light >= params->lightCount) return false;
             startLight(s, &scene->lights[s->light]);
         }
         __global const RayLight* light = &scene->lights[s->light];
         int c = s->cell++;
-        float3 position = light->info.x == RAY_LIGHT_AREA
+        float3 position = light->type == RAY_LIGHT_AREA
                               ? areaLightPoint(light, s->light, c, counter->pixel, counter->sample, seed)
                               : light->position.xyz;
         if (!lightFacing(s, light, position)) continue;
-        if (!(params->mode.z & RAY_FEATURE_SHADOWS)) {
+        if (!(params->features & RAY_FEATURE_SHADOWS)) {
             addUnblockedSample(s);
             continue;
         }

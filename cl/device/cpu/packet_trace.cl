@@ -1,0 +1,258 @@
+/* The packet walk: RAY_PACKET_WIDTH rays through the scene's BVH at once, for CPU devices
+ * (cl/device/cpu/packet_render.cl), in a packet build (cl/device/variant.h).
+ *
+ * Why: PoCL runs traceBvh, one ray per work-item, as scalar code (its control flow is too
+ * divergent to vectorise across work-items), so a CPU's 8- or 16-wide vector units idle.
+ * Here a node's box is tested for every ray of the packet in one slab test (a lane a ray),
+ * and the walk descends into a child while any ray of the packet enters it. A leaf's
+ * primitives are intersected for the rays that enter its box within their nearest hit so
+ * far: the convex shapes for those rays at once (packetIntersectPrimitive, with the packet
+ * instance of cl/geometry/shapes.cl), the others ray by ray with one ray's
+ * intersectPrimitive. Every ray gets exactly the hit traceBvh gives it (hits are ranked by
+ * distance and then by order, hitLimit, whatever the order in which they are found), so the
+ * images are the single-ray path's to the bit.
+ *
+ * The lanes' entry distances travel on the stack with their node (BvhStackPacket,
+ * cl/traversal/stack.cl), so that a node popped after every ray found something nearer is
+ * skipped, as the single-ray walk skips it. */
+
+#ifdef RAY_PACKET_WIDTH
+
+/* The smallest lane of a packet: halves folded onto each other. */
+static inline float packetMinimum(PacketFloat v) {
+#if RAY_PACKET_WIDTH == 16
+    float8 v8 = fmin(v.lo, v.hi);
+#elif RAY_PACKET_WIDTH == 8
+    float8 v8 = v;
+#endif
+#if RAY_PACKET_WIDTH >= 8
+    float4 v4 = fmin(v8.lo, v8.hi);
+#else
+    float4 v4 = v;
+#endif
+    float2 v2 = fmin(v4.lo, v4.hi);
+    return fmin(v2.x, v2.y);
+}
+
+/* The rays of a packet as the box tests and the shape tests read them: origins, safe
+ * inverse directions (safeInverse) and directions. */
+typedef struct {
+    PacketVec3 origin, inverse, direction;
+} PacketRays;
+
+static inline PacketRays packetRays(const Ray* rays) {
+    float ox[RAY_PACKET_WIDTH], oy[RAY_PACKET_WIDTH], oz[RAY_PACKET_WIDTH];
+    float ix[RAY_PACKET_WIDTH], iy[RAY_PACKET_WIDTH], iz[RAY_PACKET_WIDTH];
+    float dx[RAY_PACKET_WIDTH], dy[RAY_PACKET_WIDTH], dz[RAY_PACKET_WIDTH];
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        float3 inverse = safeInverse(rays[l].direction);
+        ox[l] = rays[l].origin.x;
+        oy[l] = rays[l].origin.y;
+        oz[l] = rays[l].origin.z;
+        ix[l] = inverse.x;
+        iy[l] = inverse.y;
+        iz[l] = inverse.z;
+        dx[l] = rays[l].direction.x;
+        dy[l] = rays[l].direction.y;
+        dz[l] = rays[l].direction.z;
+    }
+    PacketRays p = {packetVec3(RAY_PACKET_LOAD(ox), RAY_PACKET_LOAD(oy), RAY_PACKET_LOAD(oz)),
+                    packetVec3(RAY_PACKET_LOAD(ix), RAY_PACKET_LOAD(iy), RAY_PACKET_LOAD(iz)),
+                    packetVec3(RAY_PACKET_LOAD(dx), RAY_PACKET_LOAD(dy), RAY_PACKET_LOAD(dz))};
+    return p;
+}
+
+RAY_DEFINE_SLAB_ENTRY(boxEntryPacket, PacketFloat, PacketInt)
+
+/* Every ray's entry distance into child `c` of a wide node within (0, limit), +infinity
+ * for a ray that misses it. A lane whose limit is negative (a finished ray) always misses. */
+static inline PacketFloat packetChildEntry(__global const RayWideBvhNode* node, int c, const PacketRays* r,
+                                           PacketFloat limit) {
+#define RAY_BOUND(bound) ((PacketFloat)(((__global const float*)&node->bound)[c]))
+    return boxEntryPacket(RAY_BOUND(minX), RAY_BOUND(maxX), RAY_BOUND(minY), RAY_BOUND(maxY), RAY_BOUND(minZ),
+                          RAY_BOUND(maxZ), r->origin.x, r->origin.y, r->origin.z, r->inverse.x, r->inverse.y,
+                          r->inverse.z, limit, (PacketInt)(-1));
+#undef RAY_BOUND
+}
+
+/* The packet walk's stack: deep enough for every walk of the bundled and course scenes
+ * (as RAY_BVH_SHORT_STACK is for one ray's); a walk that would push more is finished by
+ * each of its rays' own single-ray walk (traceBvh), which finds the same hits. */
+#ifndef RAY_PACKET_STACK
+#define RAY_PACKET_STACK 32
+#endif
+
+/* The state of the rays of one walk, a lane a ray: limit is the prune distance of each
+ * (pruneDistance), negative once it is done (an any-hit ray that found its blocker, or a
+ * lane the walk was not asked to trace). */
+typedef union {
+    PacketFloat vector;
+    float lane[RAY_PACKET_WIDTH];
+} PacketLanes;
+
+typedef union {
+    PacketInt vector;
+    int lane[RAY_PACKET_WIDTH];
+} PacketIntLanes;
+
+/* What the walk compares hits by, a lane a ray: hits[l].t, .primitive and .order, kept in
+ * step with hits[] (which holds the rest of each hit). */
+typedef struct {
+    PacketLanes t;
+    PacketIntLanes primitive, order;
+} PacketHitKeys;
+
+static inline void keepHitKeys(PacketHitKeys* keys, int l, const Hit* hit) {
+    keys->t.lane[l] = hit->t;
+    keys->primitive.lane[l] = hit->primitive;
+    keys->order.lane[l] = hit->order;
+}
+
+/* intersectPrimitive for the rays of `entering` and one primitive of a convex shape
+ * (convexShape), the rays carried into its object space in vectors; hits[l] changes as
+ * intersectPrimitive changes it (no motion: the caller leaves moving rays to it). */
+static inline void packetIntersectPrimitive(__global const RayPrimitive* prim, int index, const PacketRays* r,
+                                            PacketInt entering, PacketHitKeys* keys, Hit* hits) {
+    PacketVec3 o = transformPointPacket(prim->worldToObject, r->origin);
+    PacketVec3 d = transformVectorPacket(prim->worldToObject, r->direction);
+    const int order = prim->order;
+    PacketFloat limit = hitLimitPacket(keys->t.vector, keys->primitive.vector, keys->order.vector, order);
+    ShapeHitPacket h = {select((PacketFloat)(-1.0f), limit, entering), (PacketInt)(0),
+                        packetVec3((PacketFloat)(0.0f), (PacketFloat)(0.0f), (PacketFloat)(0.0f))};
+    intersectConvexShapePacket(prim->type, o, d, &h);
+    PacketInt better = entering & (h.best < limit);
+    if (!any(better)) return;
+    int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
+    float t[RAY_PACKET_WIDTH], px[RAY_PACKET_WIDTH], py[RAY_PACKET_WIDTH], pz[RAY_PACKET_WIDTH];
+    float nx[RAY_PACKET_WIDTH], ny[RAY_PACKET_WIDTH], nz[RAY_PACKET_WIDTH];
+    RAY_PACKET_STORE(better, take);
+    RAY_PACKET_STORE(h.part, part);
+    RAY_PACKET_STORE(h.best, t);
+    RAY_PACKET_STORE(o.x + h.best * d.x, px); /* o + best * d */
+    RAY_PACKET_STORE(o.y + h.best * d.y, py);
+    RAY_PACKET_STORE(o.z + h.best * d.z, pz);
+    RAY_PACKET_STORE(h.normal.x, nx);
+    RAY_PACKET_STORE(h.normal.y, ny);
+    RAY_PACKET_STORE(h.normal.z, nz);
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!take[l]) continue;
+        Hit* hit = &hits[l];
+        hit->t = t[l];
+        hit->primitive = index;
+        hit->order = order;
+        hit->part = part[l];
+        hit->objectPoint = (float3)(px[l], py[l], pz[l]);
+        hit->objectNormal = (float3)(nx[l], ny[l], nz[l]);
+        hit->barycentric = (float2)(0.0f);
+    }
+    keys->t.vector = select(keys->t.vector, h.best, better);
+    keys->primitive.vector = select(keys->primitive.vector, (PacketInt)(index), better);
+    keys->order.vector = select(keys->order.vector, (PacketInt)(order), better);
+}
+
+/* Intersects the primitives [first, first + count) for the rays of `entering`, then brings
+ * their limits up to date; with anyHit a ray that hit something is done. The convex shapes
+ * are tested for every ray at once unless rays move (motion blur), the others ray by ray. */
+static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
+                              __global const RayTriangle* triangles, __global const float4* motions,
+                              const Ray* rays, const PacketRays* packet, bool moving, PacketInt entering, int first,
+                              int count, bool anyHit, bool courseMeshes, BvhStackEntry* spare, Hit* hits,
+                              PacketHitKeys* keys, PacketLanes* limits) {
+    int lanes[RAY_PACKET_WIDTH];
+    bool lanesStored = false; /* lanes holds `entering`, for the primitives tested ray by ray */
+    for (int i = first; i < first + count; ++i) {
+        if (!moving && convexShape(prims[i].type)) {
+            packetIntersectPrimitive(&prims[i], i, packet, entering, keys, hits);
+            continue;
+        }
+        if (!lanesStored) RAY_PACKET_STORE(entering, lanes);
+        lanesStored = true;
+        for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+            if (!lanes[l]) continue;
+            intersectPrimitive(nodes, triangles, motions, &prims[i], i, rays[l], courseMeshes, spare,
+                               RAY_BVH_SHORT_STACK, &hits[l]);
+            keepHitKeys(keys, l, &hits[l]);
+        }
+    }
+    PacketFloat prune = courseMeshes ? (PacketFloat)(RAY_INFINITY) : keys->t.vector; /* pruneDistance */
+    if (anyHit) prune = select(prune, (PacketFloat)(-1.0f), keys->primitive.vector >= (PacketInt)(0));
+    limits->vector = select(limits->vector, prune, entering);
+}
+
+/* traceBvh for the rays of `lanes` (non-zero: trace it) at once, each below its own tMax:
+ * hits[l] as traceBvh(rays[l], tMax[l], ...) gives it; lanes not traced keep hits[l] as
+ * they were. The children of a node are visited nearest first for the packet's nearest ray
+ * (closest hits), or in node order (anyHit). */
+RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
+                                     __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+                                     __global const float4* motions,
+                                     const Ray* rays, const float* tMax, const int* lanes, bool anyHit,
+                                     bool courseMeshes, Hit* hits) {
+    PacketLanes limits;
+    PacketHitKeys keys;
+    bool moving = false;
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        limits.lane[l] = -1.0f;
+        keys.t.lane[l] = -1.0f;
+        keys.primitive.lane[l] = -1;
+        keys.order.lane[l] = 0;
+        if (!lanes[l]) continue;
+        hits[l].t = tMax[l];
+        hits[l].primitive = -1;
+        hits[l].order = 0;
+        keepHitKeys(&keys, l, &hits[l]);
+        limits.lane[l] = courseMeshes ? RAY_INFINITY : tMax[l];
+        moving |= rays[l].time != 0.0f;
+    }
+    const PacketRays packet = packetRays(rays);
+    BvhStackEntry spare[RAY_BVH_SHORT_STACK]; /* the mesh walks' (intersectMesh) */
+    BvhStackEntryPacket entries[RAY_PACKET_STACK];
+    BvhStackPacket stack = emptyBvhStackPacket(entries, RAY_PACKET_STACK);
+    int next = 0;
+    while (next >= 0) {
+        __global const RayWideBvhNode* node = &nodes[next];
+        /* the inner children entered, nearest (for the packet's nearest ray) last */
+        BvhStackEntryPacket inner[4];
+        float key[4];
+        int innerCount = 0;
+        for (int c = 0; c < 4; ++c) {
+            const int index = ((__global const int*)&node->index)[c];
+            if (index < 0) continue;
+            PacketFloat entry = packetChildEntry(node, c, &packet, limits.vector);
+            PacketInt entering = enteredByPacket(entry, limits.vector);
+            if (!any(entering)) continue;
+            const int count = ((__global const int*)&node->count)[c];
+            if (count > 0) {
+                packetLeaf(nodes, prims, triangles, motions, rays, &packet, moving, entering, index, count, anyHit,
+                           courseMeshes, spare, hits, &keys, &limits);
+                continue;
+            }
+            int i = innerCount++;
+            float nearest = anyHit ? 0.0f : packetMinimum(entry);
+            while (i > 0 && key[i - 1] < nearest) {
+                inner[i] = inner[i - 1];
+                key[i] = key[i - 1];
+                --i;
+            }
+            inner[i].entry = entry;
+            inner[i].node = index;
+            key[i] = nearest;
+        }
+        /* As nextNode: descend into the nearest child still entered, push the others (the
+         * farthest deepest), or resume from the stack. */
+        int chosen = -1;
+        for (int i = 0; i < innerCount; ++i) {
+            if (!any(enteredByPacket(inner[i].entry, limits.vector))) continue;
+            if (chosen >= 0 && !pushNodePacket(&stack, inner[chosen].node, inner[chosen].entry)) break;
+            chosen = i;
+        }
+        if (stack.overflowed) break;
+        next = chosen >= 0 ? inner[chosen].node : popNodePacket(&stack, limits.vector);
+    }
+    if (!stack.overflowed) return;
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l)
+        if (lanes[l])
+            traceBvh(nodes, cpuNodes, prims, triangles, motions, rays[l], tMax[l], anyHit, courseMeshes, &hits[l]);
+}
+
+#endif /* RAY_PACKET_WIDTH */
