@@ -11,6 +11,8 @@
  *    coordinates is a float2; the wide BVH nodes' lanes are float4 / int4 or float16 / int16;
  *  - every other value is a named scalar field (int or float, 4 bytes), in runs that fill
  *    16 bytes, with named padding where a run falls short, so that neither compiler pads;
+ *    the host declares a record with {} so that its padding is zero (tables are compared
+ *    and uploaded byte for byte);
  *  - integers are ints, never bit-cast into a float (a denormal bit pattern may be flushed
  *    by some devices).
  */

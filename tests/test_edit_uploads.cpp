@@ -52,7 +52,7 @@ std::vector<std::pair<std::string, std::vector<char>>> tableBytes(const PackedSc
 
 TEST_CASE("An edit's change set names every packed table whose bytes it changed, and no other", "[incremental][edit]") {
     edit::EditSession session = shadowsSession();
-    engine::PackedSceneCache cache(session.scene());
+    engine::PackedSceneCache cache(session.scene(), true);
     RenderStats stats;
     const RenderSettings settings;
     cache.update(settings, stats, [] {});

@@ -176,7 +176,7 @@ std::vector<gpu::RayWideBvhNode> widenBvh(const std::vector<BinaryBvhNode>& bina
         auto [node, slot] = pending.back();
         pending.pop_back();
         const WideChildren children = gatherChildren(binary, node);
-        gpu::RayWideBvhNode out;
+        gpu::RayWideBvhNode out{};
         for (int c = 0; c < 4; ++c)
             writeChild(out, c, c < children.count ? children.child[size_t(c)] : BinaryChild{}, wide, pending);
         wide[slot] = out;
@@ -201,7 +201,7 @@ std::vector<gpu::RayCpuBvhNode> widenBvhForCpu(const std::vector<gpu::RayWideBvh
         const CpuChildren children = gathered.back();
         pending.pop_back();
         gathered.pop_back();
-        gpu::RayCpuBvhNode out;
+        gpu::RayCpuBvhNode out{};
         for (int c = 0; c < RAY_CPU_BVH_WIDTH; ++c) {
             BinaryChild child = c < children.count ? children.child[size_t(c)] : BinaryChild{};
             if (child.inner()) {

@@ -27,7 +27,7 @@ gpu::float4 toFloat4(const Vec3& v) { return {float(v.x), float(v.y), float(v.z)
 
 // order: the tie-breaking rank of cl/shared_types.h (the instance's index in the scene).
 gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, int order, const std::vector<int>& meshRoots) {
-    gpu::RayPrimitive p;
+    gpu::RayPrimitive p{};
     for (int row = 0; row < 3; ++row) {
         const double* m = instance.worldToObject.m[row];
         p.worldToObject[row] = {float(m[0]), float(m[1]), float(m[2]), float(m[3])};
@@ -41,7 +41,7 @@ gpu::RayPrimitive packPrimitive(const PrimitiveInstance& instance, int order, co
 
 // A csg program's record that is not an operand: an operator, or the program's end.
 gpu::RayPrimitive csgStepRecord(int type) {
-    gpu::RayPrimitive record;
+    gpu::RayPrimitive record{};
     record.type = type;
     record.material = 0;
     record.order = -1;
@@ -84,7 +84,7 @@ gpu::RayMaterial packMaterial(const Material& m, const Scene& scene) {
     auto mapIndex = [&](const TextureMap& map) {
         return map.image >= 0 && !scene.images[size_t(map.image)].empty() ? map.image : -1;
     };
-    gpu::RayMaterial g;
+    gpu::RayMaterial g{};
     g.diffuse = toFloat4(m.diffuse);
     g.ambient = toFloat4(m.ambient);
     g.specular = toFloat4(m.specular);
@@ -102,7 +102,7 @@ gpu::RayMaterial packMaterial(const Material& m, const Scene& scene) {
 }
 
 gpu::RayLight packLight(const Light& light, const RenderSettings& settings) {
-    gpu::RayLight g;
+    gpu::RayLight g{};
     g.type = int(light.type);
     g.areaSamples = areaLightGridSide(settings);
     g.color = toFloat4(light.color);
@@ -154,7 +154,7 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
         const std::array<MeshCorner, 3>& t = mesh.triangles[i];
         Vec3 p0 = mesh.corner(i, 0), p1 = mesh.corner(i, 1), p2 = mesh.corner(i, 2);
         packed.triangles.push_back({toFloat4(p0), toFloat4(p1 - p0), toFloat4(p2 - p0)});
-        gpu::RayTriangleShading s;
+        gpu::RayTriangleShading s{};
         bool smooth = t[0].normal >= 0 && t[1].normal >= 0 && t[2].normal >= 0;
         Vec3 face = mesh.faceNormal(i);
         s.normal0 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
@@ -373,7 +373,7 @@ gpu::RayRenderParams makeRenderParams(const Camera& camera, const GlobalCoeffici
     if (s.textureFilter == TextureFilter::Course) features |= RAY_FEATURE_COURSE_FILTER;
     if (s.textureFilter == TextureFilter::Trilinear) features |= RAY_FEATURE_TRILINEAR;
 
-    gpu::RayRenderParams p;
+    gpu::RayRenderParams p{};
     p.eye = toFloat4(camera.position);
     p.right = toFloat4(right * w);
     p.up = toFloat4(up * h);
