@@ -285,7 +285,7 @@ SceneChanges setImage(PrimitiveNode& object, const FieldInput& input, const Fiel
     } catch (const EditError&) {
         throw;
     } catch (const std::exception& e) {
-        refuse(std::string(field.name) + ": " + e.what(), field, node);
+        refuse(e.what(), field, node);  // the resolver names the field (FileResolver)
     }
     loadImageInto(context.resources, file, std::string(field.name));
     PrimitiveFiles& files = object.filesToSet();

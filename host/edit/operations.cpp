@@ -98,7 +98,7 @@ PrimitiveNode newPrimitive(SceneDocument& document, const AddPrimitive& add, con
     } catch (const EditError&) {
         throw;
     } catch (const std::exception& e) {
-        throw EditError(std::string("file: ") + e.what(), EditError::Kind::Value, "file");
+        throw EditError(e.what(), EditError::Kind::Value, "file");  // the resolver names the file (FileResolver)
     }
     loadMeshInto(context.resources, file, "file");
     node.filesToSet().meshFile = file;
