@@ -97,9 +97,9 @@ private:
     // The launch's work-items: a pixel each, or on the packet path a work-group for each
     // compute unit, which take the tile's blocks from the queue (cl/kernel.cl).
     cl::NDRange globalSize(const TileRect& rect) const {
-        const size_t group = kWorkGroupSide;
+        constexpr size_t group = kWorkGroupSide;
         if (slot_.variant.lanes > 1) return cl::NDRange(group, group * std::max<size_t>(1, slot_.device.computeUnits));
-        auto roundUp = [group](int n) { return (size_t(n) + group - 1) / group * group; };
+        auto roundUp = [](int n) { return (size_t(n) + group - 1) / group * group; };
         return cl::NDRange(roundUp(rect.width), roundUp(rect.height));
     }
 

@@ -33,6 +33,19 @@ void refused(httplib::Response& response, const EditError& error) {
     response.set_content(edit::errorJson(error).dump(), "application/json");
 }
 
+// Answers with what `answer` returns, as JSON; a refused edit or a bad request (a missing or
+// malformed parameter) as 400 with its sentence (refused, badRequest).
+template <typename Answer>
+void answerJson(httplib::Response& response, Answer&& answer) {
+    try {
+        response.set_content(answer().dump(), "application/json");
+    } catch (const EditError& e) {
+        refused(response, e);
+    } catch (const std::exception& e) {
+        badRequest(response, e.what());
+    }
+}
+
 // A whole number from the query: "x must be a whole number" rather than std::stoi's "stoi".
 int intParameter(const httplib::Request& request, const char* name) {
     const std::string text = request.get_param_value(name);
@@ -135,47 +148,23 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
         response.set_content(session.outline().dump(), "application/json");
     });
     server.Get("/node", [&](const httplib::Request& request, httplib::Response& response) {
-        try {
-            response.set_content(session.node(request.get_param_value("id")).dump(), "application/json");
-        } catch (const EditError& e) {
-            refused(response, e);
-        }
+        answerJson(response, [&] { return session.node(request.get_param_value("id")); });
     });
     server.Get("/state", [&](const httplib::Request&, httplib::Response& response) {
         response.set_content(session.state().dump(), "application/json");
     });
     server.Post("/view", [&](const httplib::Request& request, httplib::Response& response) {
-        try {
-            // The view's number: the page draws over a frame in the camera of the view it shows.
-            response.set_content(json{{"view", session.request(request.body)}}.dump(), "application/json");
-        } catch (const std::exception& e) {
-            badRequest(response, e.what());
-        }
+        // The view's number: the page draws over a frame in the camera of the view it shows.
+        answerJson(response, [&] { return json{{"view", session.request(request.body)}}; });
     });
     server.Get("/explain", [&](const httplib::Request& request, httplib::Response& response) {
-        try {
-            response.set_content(session.explain(intParameter(request, "x"), intParameter(request, "y")).dump(),
-                                 "application/json");
-        } catch (const std::exception& e) {
-            badRequest(response, e.what());
-        }
+        answerJson(response, [&] { return session.explain(intParameter(request, "x"), intParameter(request, "y")); });
     });
     server.Get("/pick", [&](const httplib::Request& request, httplib::Response& response) {
-        try {
-            response.set_content(session.pick(intParameter(request, "x"), intParameter(request, "y")).dump(),
-                                 "application/json");
-        } catch (const std::exception& e) {
-            badRequest(response, e.what());
-        }
+        answerJson(response, [&] { return session.pick(intParameter(request, "x"), intParameter(request, "y")); });
     });
     server.Get("/object", [&](const httplib::Request& request, httplib::Response& response) {
-        try {
-            response.set_content(session.object(intParameter(request, "id")).dump(), "application/json");
-        } catch (const EditError& e) {
-            refused(response, e);
-        } catch (const std::exception& e) {
-            badRequest(response, e.what());
-        }
+        answerJson(response, [&] { return session.object(intParameter(request, "id")); });
     });
     // Editing: only with the access token (a viewer started with --no-token shows the scene
     // and does not change it or its file).
