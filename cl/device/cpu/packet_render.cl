@@ -59,6 +59,15 @@ static RAY_CALL_ON_CPU void packetShadeFrames(const SceneBuffers* scene, const R
     }
     traceBvhPacket(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, rays, tMax,
                    lanes, false, courseMeshes, hits);
+    /* Each mesh hit's shading record (its corners' normals and texture coordinates), asked
+     * for before the first is read: a dense mesh's hits are scattered through its records,
+     * and shadeHit, a lane after another, waited on each one's cache miss in turn. */
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!lanes[l] || hits[l].primitive < 0 || scene->primitives[hits[l].primitive].type != RAY_PRIM_MESH) continue;
+        __global const RayTriangleShading* shading = &scene->triangleShading[hits[l].part];
+        packetPrefetch(shading);
+        packetPrefetch((__global const char*)shading + sizeof(RayTriangleShading) - 1);
+    }
     bool anyWaiting = false;
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         lit[l] = waiting[l] = 0;
