@@ -8,12 +8,17 @@ static inline float3 normalToWorld(__global const float4* m, float3 n) {
 }
 
 /* The torus and meshes: cl/geometry/torus_mesh.cl. A mesh's walk keeps its stack in the
- * scene walk's unused entries, the `spareCount` from `spare` on (BvhStack). */
+ * scene walk's unused entries, the `spareCount` from `spare` on (BvhStack), and its search
+ * in h (TriangleHit, cl/geometry/triangle.cl). */
 RAY_INLINED_ON_GPU void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
 RAY_INLINED_ON_GPU
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
-                   float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
-                   float2* barycentric);
+                   float3 d, BvhStackEntry* spare, int spareCount, TriangleHit* h);
+
+/* The outward object normal (unnormalized) of a mesh's hit: its triangle's face normal. */
+static inline float3 triangleFaceNormal(__global const RayTriangle* triangle) {
+    return cross(triangle->e1.xyz, triangle->e2.xyz);
+}
 
 /* Constructive solid geometry: cl/geometry/csg.cl. prims is the primitive buffer (the
  * program's records are indexed in it), csg the object's own record. */
@@ -50,10 +55,16 @@ static RAY_CALL_ON_CPU void intersectPrimitive(__global const RayWideBvhNode* no
     float2 barycentric = (float2)(0.0f);
     switch (prim->type) {
         case RAY_PRIM_TORUS: intersectTorus(o, d, &h.best, &h.part, &h.normal); break;
-        case RAY_PRIM_MESH:
-            intersectMesh(nodes, triangles, prim->geometry, o, d, spare, spareCount, &h.best, &h.part, &h.normal,
-                          &barycentric);
+        case RAY_PRIM_MESH: {
+            TriangleHit triangle = {h.best, -1, 0.0f, 0.0f};
+            intersectMesh(nodes, triangles, prim->geometry, o, d, spare, spareCount, &triangle);
+            if (triangle.part < 0) break;
+            h.best = triangle.best;
+            h.part = triangle.part;
+            h.normal = triangleFaceNormal(&triangles[triangle.part]);
+            barycentric = (float2)(triangle.b1, triangle.b2);
             break;
+        }
         default: intersectConvexShape(prim->type, o, d, &h); break;
     }
     const float key = keyed ? h.best * scale : h.best;

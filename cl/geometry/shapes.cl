@@ -2,10 +2,11 @@
  * cylinder and cone: the convex shapes), the transform into a primitive's object space, and
  * the rule that breaks ties between hits: written once, over lanes (cl/lanes/one_ray.h),
  * and compiled for one ray and, in a packet build, for a packet, whose every lane then gets
- * one ray's answer to the bit (tests/cpu_paths.sh compares the two paths' images). The torus
- * and meshes (cl/geometry/torus_mesh.cl) and csg objects (cl/geometry/csg.cl) are
- * intersected a ray at a time, and the reference renderer (host/reference/shapes.cpp) does
- * the same in double, apart, as the oracle.
+ * one ray's answer to the bit (tests/cpu_paths.sh compares the two paths' images). A mesh's
+ * triangles are written the same way (cl/geometry/triangle.cl); the torus
+ * (cl/geometry/torus_mesh.cl) and csg objects (cl/geometry/csg.cl) are intersected a ray at
+ * a time, and the reference renderer (host/reference/shapes.cpp) does the same in double,
+ * apart, as the oracle.
  *
  * Written as masks rather than branches, so that each lane does what one ray does; laneAny
  * skips what no lane needs. */

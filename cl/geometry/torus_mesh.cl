@@ -119,56 +119,33 @@ static inline float torusV(float3 p) {
     return v - floor(v);
 }
 
-/* Möller–Trumbore against one triangle (p0, e1 = p1 − p0, e2 = p2 − p0). */
-static inline void intersectTriangle(__global const RayTriangle* triangle, int index, float3 o, float3 d, float* best,
-                              int* part, float3* normal, float2* barycentric) {
-    float3 p0 = triangle->p0.xyz, e1 = triangle->e1.xyz, e2 = triangle->e2.xyz;
-    float3 pv = cross(d, e2);
-    float det = dot(e1, pv);
-    if (det == 0.0f) return;
-    float inverseDet = 1.0f / det;
-    float3 tv = o - p0;
-    float b1 = dot(tv, pv) * inverseDet;
-    if (b1 < 0.0f || b1 > 1.0f) return;
-    float3 qv = cross(tv, e1);
-    float b2 = dot(d, qv) * inverseDet;
-    if (b2 < 0.0f || b1 + b2 > 1.0f) return;
-    float t = dot(e2, qv) * inverseDet;
-    if (t > 0.0f && t < *best) {
-        *best = t;
-        *part = index;
-        *normal = cross(e1, e2);
-        *barycentric = (float2)(b1, b2);
-    }
-}
-
 /* The mesh's own BVH (two-level: instances above, one tree per mesh below, the triangles
  * stored once however many instances use them), walked as traceBvh walks the scene's; its
  * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
  * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack,
  * cl/traversal/wide_walk.cl): it starts empty there and is empty again when the walk ends, an
  * overflow included (afterOverflow), so the scene walk's own entries below are never touched.
- * part receives the triangle's index, barycentric the weights of its corners 1 and 2. */
+ * The search h goes on from where it stands (intersectTriangle, cl/geometry/triangle.cl, whose
+ * tie rule makes the triangle found independent of the order of the walk): a box entered
+ * exactly at the nearest hit so far is visited (enteredBy), since it may hold a tie. */
 RAY_INLINED_ON_GPU
 void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
-                   float3 d, BvhStackEntry* spare, int spareCount, float* best, int* part, float3* normal,
-                   float2* barycentric) {
+                   float3 d, BvhStackEntry* spare, int spareCount, TriangleHit* h) {
     float3 inverseDirection = safeInverse(d);
     BvhStack stack = emptyBvhStack(spare, spareCount);
     int next = root;
     do {
         NodeChildren children = next == RAY_WALK_EVERY_PRIMITIVE ? everyPrimitiveUnder(nodes, root)
-                                                                 : testChildren(&nodes[next], o, inverseDirection, *best);
+                                                                 : testChildren(&nodes[next], o, inverseDirection, h->best);
         InnerChildren inner;
         inner.count = 0;
-        float limit = *best; /* read again only after a leaf's triangles, as traceBvh does */
+        float limit = h->best; /* read again only after a leaf's triangles, as traceBvh does */
         for (int c = 0; c < 4; ++c) {
-            if (!(children.entry[c] < limit)) continue;
+            if (!enteredBy(children.entry[c], limit)) continue;
             const int first = children.index[c], count = children.count[c];
             if (count > 0) {
-                for (int i = first; i < first + count; ++i)
-                    intersectTriangle(&triangles[i], i, o, d, best, part, normal, barycentric);
-                limit = *best;
+                intersectTriangles(triangles, first, count, o, d, h);
+                limit = h->best;
             } else {
                 addInnerChild(&inner, first, children.entry[c], true);
             }

@@ -1,7 +1,8 @@
 /* The lane vocabulary for one ray: the first instance of the lane templates
- * (cl/geometry/shapes.cl, cl/traversal/stack.cl), which every device uses. A template is
- * written once over "lanes", each lane a ray; this file makes a lane the ray itself, with
- * float for LaneFloat and the functions' plain names (intersectSphere, pushNode), and
+ * (cl/geometry/shapes.cl, cl/geometry/triangle.cl, cl/traversal/stack.cl), which every
+ * device uses. A template is written once over "lanes", each lane a ray; this file makes a
+ * lane the ray itself, with float for LaneFloat and the functions' plain names
+ * (intersectSphere, pushNode), and
  * cl/lanes/packet.h makes the lanes the rays of a packet. The templates are compiled once
  * per vocabulary: the kernel's source list (CMakeLists.txt RAY_CL_SOURCES) names each after
  * its vocabulary, as Cycles includes kernel/bvh/traversal.h once per BVH_FUNCTION_NAME.
@@ -22,7 +23,9 @@
  *                          on a mask that is seldom empty)
  *   laneAlong(o, t, d)     the LaneVec3 o + t·d (a point along a ray)
  *   laneDot(a, b)          the dot product of two LaneVec3s
- *   laneRowDot(row, v)     the dot product of a float4 row's .xyz and a LaneVec3 */
+ *   laneRowDot(row, v)     the dot product of a float4 row's .xyz and a LaneVec3
+ *   laneCrossUniform(v, u) the cross product v × u of a LaneVec3 and a float3 that every
+ *                          lane shares (a triangle's edge) */
 #define RAY_PASTE(a, b) RAY_PASTE_EXPANDED(a, b)
 #define RAY_PASTE_EXPANDED(a, b) a##b
 #define RAY_LANE_FN(name) RAY_PASTE(name, RAY_LANE_SUFFIX)
@@ -41,3 +44,4 @@
 #define laneAlong(o, t, d) ((o) + (t) * (d))
 #define laneDot(a, b) dot(a, b)
 #define laneRowDot(row, v) dot((row).xyz, v)
+#define laneCrossUniform(v, u) cross(v, u)

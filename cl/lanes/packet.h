@@ -1,6 +1,6 @@
 /* The lane vocabulary for a packet: the second instance of the lane templates
- * (cl/geometry/shapes.cl, cl/traversal/stack.cl; the vocabulary is listed in
- * cl/lanes/one_ray.h), in a build for packets of RAY_PACKET_WIDTH rays (CPU devices:
+ * (cl/geometry/shapes.cl, cl/geometry/triangle.cl, cl/traversal/stack.cl; the vocabulary
+ * is listed in cl/lanes/one_ray.h), in a build for packets of RAY_PACKET_WIDTH rays (CPU devices:
  * cl/device/variant.h). A lane is one ray of the packet, LaneFloat an OpenCL vector of a
  * float a ray, and the functions' names end in Packet (intersectSpherePacket, pushNodePacket).
  * In other builds the vocabulary is left undefined, and the templates' second listing
@@ -19,6 +19,7 @@
 #undef laneAlong
 #undef laneDot
 #undef laneRowDot
+#undef laneCrossUniform
 
 #ifdef RAY_PACKET_WIDTH
 
@@ -38,6 +39,17 @@ typedef int4 PacketInt;
 #define RAY_PACKET_LOAD(pointer) vload4(0, pointer)
 #define RAY_PACKET_STORE(value, pointer) vstore4(value, 0, pointer)
 #endif
+
+/* Whether some lane of mask m is set. PoCL's any() tests the lanes' sign bits one by one, a
+ * chain of extracts and branches; an or-reduction compiles to a few instructions (a mask
+ * test, with AVX-512), and the walks ask this at every box and triangle. */
+static inline bool packetAny(PacketInt m) {
+#if __has_builtin(__builtin_reduce_or)
+    return __builtin_reduce_or(m) != 0;
+#else
+    return any(m);
+#endif
+}
 
 /* A point or direction a ray of the packet, one vector a coordinate. */
 typedef struct {
@@ -65,6 +77,12 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
     return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
+/* cross(v, u) of float3s, a lane a v, u shared: PoCL's cross, like its dot, fuses nothing. */
+static inline PacketVec3 packetCrossUniform(PacketVec3 v, float3 u) {
+#pragma OPENCL FP_CONTRACT OFF
+    return packetVec3(v.y * u.z - v.z * u.y, v.z * u.x - v.x * u.z, v.x * u.y - v.y * u.x);
+}
+
 #define RAY_LANE_VOCABULARY
 #define RAY_LANE_SUFFIX Packet
 #define LaneFloat PacketFloat
@@ -73,12 +91,13 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
 #define laneVec3(x, y, z) packetVec3(x, y, z)
 #define laneSelect(a, b, m) select(a, b, m)
 #define laneSelectVec3(a, b, m) packetSelectVec3(a, b, m)
-#define laneAny(m) any(m)
+#define laneAny(m) packetAny(m)
 #define laneNot(m) (~(m))
 #define laneEarlyOut(m) 0
 #define laneAlong(o, t, d) packetAlong(o, t, d)
 #define laneDot(a, b) packetDot(a, b)
 #define laneRowDot(row, v) \
     packetDot(packetVec3((PacketFloat)((row).x), (PacketFloat)((row).y), (PacketFloat)((row).z)), v)
+#define laneCrossUniform(v, u) packetCrossUniform(v, u)
 
 #endif /* RAY_PACKET_WIDTH */

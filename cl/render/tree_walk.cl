@@ -40,18 +40,20 @@ void shadeFrame(const SceneBuffers* scene, const RayRenderParams* params, RayTre
 }
 
 /* The color of one camera ray's tree of reflected and refracted rays, depth first, from
- * `ray`, the ray of tree->frames[0]: pushed, it is yet to be traced and shaded; not, its
- * frame is shaded already (the packet path, cl/device/cpu/packet_render.cl, traces camera rays and
+ * `ray`, the ray of tree->frames[0]: pushed (top -1), it is yet to be traced and shaded;
+ * else the frames 0 to top are shaded already, and ray is frame top's first child (the
+ * packet path, cl/device/cpu/packet_render.cl, traces camera rays, their first children and
  * their shadow rays a packet at a time and hands the rest of each tree to this walk). Each
  * ray of the tree is shaded at the one shadeFrame call below (which traces it and its
  * shadow rays at one traceBvh call), the loop's first step whenever a frame has just been
  * pushed (a GPU compiler inlines every call site). Inline on PoCL as well: there a call of
  * its own costs more instructions than it saves. */
 static inline RAY_INLINED_ON_GPU
-float3 walkRayTree(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, Ray ray, bool pushed,
+float3 walkRayTree(const SceneBuffers* scene, const RayRenderParams* params, RayTree* tree, Ray ray, int top,
                    PixelTrace* counter) {
     Frame* stack = tree->frames;
-    int top = 0;
+    bool pushed = top < 0;
+    if (pushed) top = 0;
     while (true) {
         Frame* frame = &stack[top];
         if (pushed) {
@@ -86,7 +88,7 @@ static inline RAY_INLINED_ON_GPU
 float3 traceCameraRay(const SceneBuffers* scene, const RayRenderParams* params, Ray ray, PixelTrace* counter) {
     RayTree tree;
     counter->primary++;
-    return walkRayTree(scene, params, &tree, ray, true, counter);
+    return walkRayTree(scene, params, &tree, ray, -1, counter);
 }
 #endif
 

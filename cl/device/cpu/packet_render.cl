@@ -42,34 +42,41 @@ static inline void addUnblockedSamples(LightSamples* lights, const int* unblocke
         if (unblocked[l]) addUnblockedSampleWithPower(&lights[l], anyHighlight ? power[l] : 0.0f);
 }
 
-/* Traces camera ray rays[l] of each pixel of `lanes` (non-zero: it has one) through its
- * whole tree: colors[l], as traceCameraRay gives it. The camera rays go as one packet, then
- * the shadow rays of their hits, a packet for each light sample in turn. */
-static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
-                                                   const Ray* rays, const int* lanes, PixelTrace* counters,
-                                                   float3* colors) {
+/* shadeFrame for frame `depth` of the trees of `lanes` (non-zero: it has one) at once: their
+ * rays, rays[l], go as one packet, then the shadow rays of their hits, a packet for each
+ * light sample in turn. next[l] receives each hit's first child ray (spawnChild); each
+ * lane's steps are shadeFrame's, the traces aside. */
+static RAY_CALL_ON_CPU void packetShadeFrames(const SceneBuffers* scene, const RayRenderParams* params, RayTree* trees,
+                                              int depth, const Ray* rays, const int* lanes, PixelTrace* counters,
+                                              Ray* next) {
     const bool courseMeshes = (params->features & RAY_FEATURE_COURSE_MESHES) != 0;
-    RayTree trees[RAY_PACKET_WIDTH];
     LightSamples lights[RAY_PACKET_WIDTH];
-    Ray next[RAY_PACKET_WIDTH], shadow[RAY_PACKET_WIDTH];
+    Ray shadow[RAY_PACKET_WIDTH];
     Hit hits[RAY_PACKET_WIDTH];
     float tMax[RAY_PACKET_WIDTH];
     int lit[RAY_PACKET_WIDTH], waiting[RAY_PACKET_WIDTH];
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         next[l] = shadow[l] = rays[l]; /* a child's ray keeps the camera sample's time (spawnChild) */
         tMax[l] = RAY_INFINITY;
-        if (lanes[l]) counters[l].primary++;
     }
     traceBvhPacket(scene->nodes, scene->cpuNodes, scene->primitives, scene->triangles, scene->motions, rays, tMax,
                    lanes, false, courseMeshes, hits);
-    /* shadeFrame's steps for the camera ray's frame, the traces aside */
+    /* Each mesh hit's shading record (its corners' normals and texture coordinates), asked
+     * for before the first is read: a dense mesh's hits are scattered through its records,
+     * and shadeHit, a lane after another, waited on each one's cache miss in turn. */
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!lanes[l] || hits[l].primitive < 0 || scene->primitives[hits[l].primitive].type != RAY_PRIM_MESH) continue;
+        __global const RayTriangleShading* shading = &scene->triangleShading[hits[l].part];
+        packetPrefetch(shading);
+        packetPrefetch((__global const char*)shading + sizeof(RayTriangleShading) - 1);
+    }
     bool anyWaiting = false;
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         lit[l] = waiting[l] = 0;
         if (!lanes[l]) continue;
-        startFrame(&trees[l].frames[0]);
+        startFrame(&trees[l].frames[depth]);
         lit[l] = hits[l].primitive >= 0 &&
-                 shadeHit(scene, params, &trees[l], 0, rays[l], hits[l], &next[l], &lights[l]);
+                 shadeHit(scene, params, &trees[l], depth, rays[l], hits[l], &next[l], &lights[l]);
         waiting[l] = lit[l] && nextShadowRay(&lights[l], scene, params, &counters[l], &shadow[l], &tMax[l]);
         anyWaiting |= waiting[l] != 0;
     }
@@ -86,10 +93,40 @@ static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, con
             anyWaiting |= waiting[l] != 0;
         }
     }
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l)
+        if (lit[l]) addLights(&trees[l].frames[depth], &lights[l]);
+}
+
+/* Traces camera ray rays[l] of each pixel of `lanes` (non-zero: it has one) through its
+ * whole tree: colors[l], as traceCameraRay gives it. The camera rays' frames are shaded a
+ * packet at a time, and so are their first children's: walkRayTree's first step down,
+ * taken here for every pixel whose camera ray spawned a child (a mirror's reflections of
+ * neighbouring pixels are as coherent as their camera rays). The rest of each tree is
+ * walkRayTree's, from where the packets left it. */
+static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
+                                                   const Ray* rays, const int* lanes, PixelTrace* counters,
+                                                   float3* colors) {
+    RayTree trees[RAY_PACKET_WIDTH];
+    Ray next[RAY_PACKET_WIDTH], after[RAY_PACKET_WIDTH];
+    int children[RAY_PACKET_WIDTH];
+    bool anyChild = false;
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l)
+        if (lanes[l]) counters[l].primary++;
+    packetShadeFrames(scene, params, trees, 0, rays, lanes, counters, next);
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        /* as walkRayTree pushes frame 0's first child, whose ray is in place (spawnChild) */
+        Frame* frame = &trees[l].frames[0];
+        children[l] = lanes[l] && frame->nextChild < frame->childCount;
+        if (!children[l]) continue;
+        frame->nextChild++;
+        counters[l].secondary++;
+        anyChild = true;
+    }
+    if (anyChild) packetShadeFrames(scene, params, trees, 1, next, children, counters, after);
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         if (!lanes[l]) continue;
-        if (lit[l]) addLights(&trees[l].frames[0], &lights[l]);
-        colors[l] = walkRayTree(scene, params, &trees[l], next[l], false, &counters[l]);
+        colors[l] = children[l] ? walkRayTree(scene, params, &trees[l], after[l], 1, &counters[l])
+                                : walkRayTree(scene, params, &trees[l], next[l], 0, &counters[l]);
     }
 }
 

@@ -7,10 +7,12 @@
  * and the walk descends into a child while any ray of the packet enters it. A leaf's
  * primitives are intersected for the rays that enter its box within their nearest hit so
  * far: the convex shapes for those rays at once (packetIntersectPrimitive, with the packet
- * instance of cl/geometry/shapes.cl), the others ray by ray with one ray's
- * intersectPrimitive. Every ray gets exactly the hit traceBvh gives it (hits are ranked by
- * distance and then by order, hitLimit, whatever the order in which they are found), so the
- * images are the single-ray path's to the bit.
+ * instance of cl/geometry/shapes.cl), a mesh by walking its own tree with the packet and
+ * testing each triangle for every ray at once (packetIntersectMesh, with the packet instance
+ * of cl/geometry/triangle.cl), the others ray by ray with one ray's intersectPrimitive.
+ * Every ray gets exactly the hit traceBvh gives it (hits are ranked by distance and then by
+ * order, hitLimit, and a mesh's triangles by distance and then by index, whatever the order
+ * in which they are found), so the images are the single-ray path's to the bit.
  *
  * The lanes' entry distances travel on the stack with their node (BvhStackPacket,
  * cl/traversal/stack.cl), so that a node popped after every ray found something nearer is
@@ -121,7 +123,7 @@ static inline void packetIntersectPrimitive(__global const RayPrimitive* prim, i
                         packetVec3((PacketFloat)(0.0f), (PacketFloat)(0.0f), (PacketFloat)(0.0f))};
     intersectConvexShapePacket(prim->type, o, d, &h);
     PacketInt better = entering & (h.best < limit);
-    if (!any(better)) return;
+    if (!packetAny(better)) return;
     int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
     float t[RAY_PACKET_WIDTH], px[RAY_PACKET_WIDTH], py[RAY_PACKET_WIDTH], pz[RAY_PACKET_WIDTH];
     float nx[RAY_PACKET_WIDTH], ny[RAY_PACKET_WIDTH], nz[RAY_PACKET_WIDTH];
@@ -150,9 +152,231 @@ static inline void packetIntersectPrimitive(__global const RayPrimitive* prim, i
     keys->order.vector = select(keys->order.vector, (PacketInt)(order), better);
 }
 
+/* safeInverse, a lane a ray. */
+static inline PacketVec3 safeInversePacket(PacketVec3 d) {
+    const PacketFloat tiny = (PacketFloat)(1e-20f);
+    return packetVec3(1.0f / select(copysign(tiny, d.x), d.x, fabs(d.x) > tiny),
+                      1.0f / select(copysign(tiny, d.y), d.y, fabs(d.y) > tiny),
+                      1.0f / select(copysign(tiny, d.z), d.z, fabs(d.z) > tiny));
+}
+
+/* Adds inner child `node`, entered at `entry`, to a node's inner children, kept farthest
+ * first by `nearest` (the packet's nearest entry; a constant keeps node order). */
+static inline void addInnerPacket(BvhStackEntryPacket* inner, float* key, int* count, int node, PacketFloat entry,
+                                  float nearest) {
+    int i = (*count)++;
+    while (i > 0 && key[i - 1] < nearest) {
+        inner[i] = inner[i - 1];
+        key[i] = key[i - 1];
+        --i;
+    }
+    inner[i].entry = entry;
+    inner[i].node = node;
+    key[i] = nearest;
+}
+
+/* popNodePacket, which also gives the entry distances of the node it returns. */
+static inline int packetPopNode(BvhStackPacket* stack, PacketFloat limit, PacketFloat* entry) {
+    int node = popNodePacket(stack, limit);
+    if (node >= 0) *entry = stack->entries[stack->top].entry; /* the entry just popped */
+    return node;
+}
+
+/* As nextNode: descend into the nearest inner child still entered by some ray by
+ * `childLimit`, push the others (the farthest deepest), or resume from the stack, skipping
+ * the nodes that no ray enters by `stackLimit`; -1 when the walk is over or its stack
+ * overflowed (stack->overflowed). *entry receives the next node's entry distances. */
+static inline int packetNextNode(const BvhStackEntryPacket* inner, int count, BvhStackPacket* stack,
+                                 PacketFloat childLimit, PacketFloat stackLimit, PacketFloat* entry) {
+    int chosen = -1;
+    for (int i = 0; i < count; ++i) {
+        if (!packetAny(enteredByPacket(inner[i].entry, childLimit))) continue;
+        if (chosen >= 0 && !pushNodePacket(stack, inner[chosen].node, inner[chosen].entry)) return -1;
+        chosen = i;
+    }
+    if (chosen < 0) return packetPopNode(stack, stackLimit, entry);
+    *entry = inner[chosen].entry;
+    return inner[chosen].node;
+}
+
+/* The packet's mesh walk holds as many nodes as a ray's (RAY_BVH_SHORT_STACK, which the
+ * tests shrink to make it overflow). */
+#define RAY_PACKET_MESH_STACK RAY_BVH_SHORT_STACK
+
+/* The number of rays of the packet that enter a node, at or below which they walk on
+ * through it each alone. Near the leaves of a dense mesh, a packet's rays part for
+ * different triangles, and a box or triangle tested for the whole packet serves one or two:
+ * one ray's walk (a node's four children in one float4 slab test, a triangle in scalar code
+ * that leaves at its first failed test) is then cheaper, as in Embree's hybrid packets. */
+#ifndef RAY_PACKET_MESH_ALONE
+#define RAY_PACKET_MESH_ALONE 1
+#endif
+
+/* Asks the CPU to fetch the cache line of p ahead of its use. */
+#define packetPrefetch(p) __builtin_prefetch((const void*)(size_t)(p))
+
+/* The number of lanes set in mask m. */
+static inline int packetCount(PacketInt m) {
+#if __has_builtin(__builtin_reduce_add)
+    return -__builtin_reduce_add(m);
+#else
+    PacketIntLanes lanes = {m};
+    int n = 0;
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) n -= lanes.lane[l];
+    return n;
+#endif
+}
+
+/* The distance beyond which the mesh walk skips a box, a lane a ray: the nearest hit so far;
+ * with anyHit, a ray that hit a triangle is done (-1). */
+static inline PacketFloat meshPrune(const TriangleHitPacket* h, bool anyHit) {
+    return anyHit ? select(h->best, (PacketFloat)(-1.0f), h->part >= (PacketInt)(0)) : h->best;
+}
+
+/* The rays of `lanes` search the subtree under `node` each alone (intersectMesh), going on
+ * from where their searches in h stand: the tie rule makes the triangle found the same. */
+static void walkMeshLanesAlone(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int node,
+                               const PacketRays* r, PacketInt lanes, BvhStackEntry* spare, TriangleHitPacket* h) {
+    int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
+    float best[RAY_PACKET_WIDTH], b1[RAY_PACKET_WIDTH], b2[RAY_PACKET_WIDTH];
+    float ox[RAY_PACKET_WIDTH], oy[RAY_PACKET_WIDTH], oz[RAY_PACKET_WIDTH];
+    float dx[RAY_PACKET_WIDTH], dy[RAY_PACKET_WIDTH], dz[RAY_PACKET_WIDTH];
+    RAY_PACKET_STORE(lanes, take);
+    RAY_PACKET_STORE(h->best, best);
+    RAY_PACKET_STORE(h->part, part);
+    RAY_PACKET_STORE(h->b1, b1);
+    RAY_PACKET_STORE(h->b2, b2);
+    RAY_PACKET_STORE(r->origin.x, ox);
+    RAY_PACKET_STORE(r->origin.y, oy);
+    RAY_PACKET_STORE(r->origin.z, oz);
+    RAY_PACKET_STORE(r->direction.x, dx);
+    RAY_PACKET_STORE(r->direction.y, dy);
+    RAY_PACKET_STORE(r->direction.z, dz);
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!take[l]) continue;
+        TriangleHit one = {best[l], part[l], b1[l], b2[l]};
+        intersectMesh(nodes, triangles, node, (float3)(ox[l], oy[l], oz[l]), (float3)(dx[l], dy[l], dz[l]), spare,
+                      RAY_BVH_SHORT_STACK, &one);
+        best[l] = one.best;
+        part[l] = one.part;
+        b1[l] = one.b1;
+        b2[l] = one.b2;
+    }
+    h->best = RAY_PACKET_LOAD(best);
+    h->part = RAY_PACKET_LOAD(part);
+    h->b1 = RAY_PACKET_LOAD(b1);
+    h->b2 = RAY_PACKET_LOAD(b2);
+}
+
+/* intersectMesh for a packet: the mesh's own tree (from `root`) walked by every ray of the
+ * packet at once, as the scene's (traceBvhPacket), in object space (r), a leaf's triangles
+ * tested for every ray at once, until few rays enter a node (RAY_PACKET_MESH_ALONE). The
+ * triangle's tie rule (intersectTriangle) makes each ray's triangle the one its own walk
+ * finds, whatever the order of the packet's. With anyHit, a ray stops at its first triangle
+ * (a shadow ray asks only whether something blocks it). `spare`: RAY_BVH_SHORT_STACK entries
+ * for the walks alone. */
+static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root,
+                                  const PacketRays* r, bool anyHit, BvhStackEntry* spare, TriangleHitPacket* h) {
+    BvhStackEntryPacket entries[RAY_PACKET_MESH_STACK];
+    BvhStackPacket stack = emptyBvhStackPacket(entries, RAY_PACKET_MESH_STACK);
+    int next = root;
+    PacketFloat nextEntry = (PacketFloat)(0.0f);
+    while (next >= 0) {
+        PacketFloat limit = meshPrune(h, anyHit);
+        const PacketInt active = enteredByPacket(nextEntry, limit);
+        if (packetCount(active) <= RAY_PACKET_MESH_ALONE) {
+            walkMeshLanesAlone(nodes, triangles, next, r, active, spare, h);
+            next = packetPopNode(&stack, meshPrune(h, anyHit), &nextEntry);
+            continue;
+        }
+        /* The rays that do not enter the node test none of its children. */
+        limit = select((PacketFloat)(-1.0f), limit, active);
+        __global const RayWideBvhNode* node = &nodes[next];
+        BvhStackEntryPacket inner[4];
+        float key[4];
+        int innerCount = 0;
+        for (int c = 0; c < 4; ++c) {
+            const int index = ((__global const int*)&node->index)[c];
+            if (index < 0) break;
+            const int count = ((__global const int*)&node->count)[c];
+            if (count > 0) {
+                packetPrefetch(&triangles[index]);
+                if (count > 1) packetPrefetch(&triangles[index + count - 1]);
+            } else {
+                packetPrefetch(&nodes[index]);
+                packetPrefetch((__global const char*)&nodes[index] + 64);
+            }
+        }
+        for (int c = 0; c < 4; ++c) {
+            const int index = ((__global const int*)&node->index)[c];
+            if (index < 0) continue;
+            PacketFloat entry = packetChildEntry(node, c, r, limit);
+            if (!packetAny(enteredByPacket(entry, limit))) continue;
+            const int count = ((__global const int*)&node->count)[c];
+            if (count > 0) {
+                intersectTrianglesPacket(triangles, index, count, r->origin, r->direction, h);
+                limit = select((PacketFloat)(-1.0f), meshPrune(h, anyHit), active);
+            } else {
+                addInnerPacket(inner, key, &innerCount, index, entry, anyHit ? 0.0f : packetMinimum(entry));
+            }
+        }
+        next = packetNextNode(inner, innerCount, &stack, limit, meshPrune(h, anyHit), &nextEntry);
+    }
+    if (!stack.overflowed) return;
+    /* As a ray's walk does on overflow (afterOverflow): every triangle under the root. */
+    int2 range = leafRange(nodes, root);
+    intersectTrianglesPacket(triangles, range.x, range.y - range.x, r->origin, r->direction, h);
+}
+
+/* intersectPrimitive for the rays of `entering` and one mesh primitive (not under
+ * courseMeshes, no motion: the caller leaves those to intersectPrimitive). */
+static inline void packetIntersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
+                                       __global const RayPrimitive* prim, int index, const PacketRays* r,
+                                       PacketInt entering, bool anyHit, BvhStackEntry* spare, PacketHitKeys* keys,
+                                       Hit* hits) {
+    PacketRays object;
+    object.origin = transformPointPacket(prim->worldToObject, r->origin);
+    object.direction = transformVectorPacket(prim->worldToObject, r->direction);
+    object.inverse = safeInversePacket(object.direction);
+    const int order = prim->order;
+    PacketFloat limit = hitLimitPacket(keys->t.vector, keys->primitive.vector, keys->order.vector, order);
+    TriangleHitPacket h = {select((PacketFloat)(-1.0f), limit, entering), (PacketInt)(-1), (PacketFloat)(0.0f),
+                           (PacketFloat)(0.0f)};
+    packetWalkMesh(nodes, triangles, prim->geometry, &object, anyHit, spare, &h);
+    PacketInt better = h.part >= (PacketInt)(0); /* below limit: a triangle at limit itself loses (index < -1) */
+    if (!packetAny(better)) return;
+    int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
+    float t[RAY_PACKET_WIDTH], b1[RAY_PACKET_WIDTH], b2[RAY_PACKET_WIDTH];
+    float px[RAY_PACKET_WIDTH], py[RAY_PACKET_WIDTH], pz[RAY_PACKET_WIDTH];
+    RAY_PACKET_STORE(better, take);
+    RAY_PACKET_STORE(h.part, part);
+    RAY_PACKET_STORE(h.best, t);
+    RAY_PACKET_STORE(h.b1, b1);
+    RAY_PACKET_STORE(h.b2, b2);
+    RAY_PACKET_STORE(object.origin.x + h.best * object.direction.x, px); /* o + best * d */
+    RAY_PACKET_STORE(object.origin.y + h.best * object.direction.y, py);
+    RAY_PACKET_STORE(object.origin.z + h.best * object.direction.z, pz);
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!take[l]) continue;
+        Hit* hit = &hits[l];
+        hit->t = t[l];
+        hit->primitive = index;
+        hit->order = order;
+        hit->part = part[l];
+        hit->objectPoint = (float3)(px[l], py[l], pz[l]);
+        hit->objectNormal = triangleFaceNormal(&triangles[part[l]]);
+        hit->barycentric = (float2)(b1[l], b2[l]);
+    }
+    keys->t.vector = select(keys->t.vector, h.best, better);
+    keys->primitive.vector = select(keys->primitive.vector, (PacketInt)(index), better);
+    keys->order.vector = select(keys->order.vector, (PacketInt)(order), better);
+}
+
 /* Intersects the primitives [first, first + count) for the rays of `entering`, then brings
  * their limits up to date; with anyHit a ray that hit something is done. The convex shapes
- * are tested for every ray at once unless rays move (motion blur), the others ray by ray. */
+ * and meshes are tested for every ray at once unless rays move (motion blur), meshes also
+ * unless their hits are keyed by the course's distance (courseMeshes); the others ray by
+ * ray. */
 static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
                               __global const RayTriangle* triangles, __global const float4* motions,
                               const Ray* rays, const PacketRays* packet, bool moving, PacketInt entering, int first,
@@ -163,6 +387,10 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
     for (int i = first; i < first + count; ++i) {
         if (!moving && convexShape(prims[i].type)) {
             packetIntersectPrimitive(&prims[i], i, packet, entering, keys, hits);
+            continue;
+        }
+        if (!moving && !courseMeshes && prims[i].type == RAY_PRIM_MESH) {
+            packetIntersectMesh(nodes, triangles, &prims[i], i, packet, entering, anyHit, spare, keys, hits);
             continue;
         }
         if (!lanesStored) RAY_PACKET_STORE(entering, lanes);
@@ -209,6 +437,7 @@ RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __glob
     BvhStackEntryPacket entries[RAY_PACKET_STACK];
     BvhStackPacket stack = emptyBvhStackPacket(entries, RAY_PACKET_STACK);
     int next = 0;
+    PacketFloat nextEntry; /* the next node's entry distances, which this walk does not use */
     while (next >= 0) {
         __global const RayWideBvhNode* node = &nodes[next];
         /* the inner children entered, nearest (for the packet's nearest ray) last */
@@ -220,34 +449,16 @@ RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __glob
             if (index < 0) continue;
             PacketFloat entry = packetChildEntry(node, c, &packet, limits.vector);
             PacketInt entering = enteredByPacket(entry, limits.vector);
-            if (!any(entering)) continue;
+            if (!packetAny(entering)) continue;
             const int count = ((__global const int*)&node->count)[c];
             if (count > 0) {
                 packetLeaf(nodes, prims, triangles, motions, rays, &packet, moving, entering, index, count, anyHit,
                            courseMeshes, spare, hits, &keys, &limits);
                 continue;
             }
-            int i = innerCount++;
-            float nearest = anyHit ? 0.0f : packetMinimum(entry);
-            while (i > 0 && key[i - 1] < nearest) {
-                inner[i] = inner[i - 1];
-                key[i] = key[i - 1];
-                --i;
-            }
-            inner[i].entry = entry;
-            inner[i].node = index;
-            key[i] = nearest;
+            addInnerPacket(inner, key, &innerCount, index, entry, anyHit ? 0.0f : packetMinimum(entry));
         }
-        /* As nextNode: descend into the nearest child still entered, push the others (the
-         * farthest deepest), or resume from the stack. */
-        int chosen = -1;
-        for (int i = 0; i < innerCount; ++i) {
-            if (!any(enteredByPacket(inner[i].entry, limits.vector))) continue;
-            if (chosen >= 0 && !pushNodePacket(&stack, inner[chosen].node, inner[chosen].entry)) break;
-            chosen = i;
-        }
-        if (stack.overflowed) break;
-        next = chosen >= 0 ? inner[chosen].node : popNodePacket(&stack, limits.vector);
+        next = packetNextNode(inner, innerCount, &stack, limits.vector, limits.vector, &nextEntry);
     }
     if (!stack.overflowed) return;
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l)
