@@ -65,6 +65,24 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
     return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
+/* Whether any lane of a mask is set (-1), as OpenCL's any: PoCL 3.1 lowers any(int16) to
+ * eight extract-or-branch steps, one per pair of lanes, on a path walked for every child of
+ * every node; the lanes OR-ed together in halves compile to a few shuffles and one branch. */
+static inline bool packetAny(PacketInt m) {
+#if RAY_PACKET_WIDTH == 16
+    int8 m8 = m.lo | m.hi;
+#elif RAY_PACKET_WIDTH == 8
+    int8 m8 = m;
+#endif
+#if RAY_PACKET_WIDTH >= 8
+    int4 m4 = m8.lo | m8.hi;
+#else
+    int4 m4 = m;
+#endif
+    int2 m2 = m4.lo | m4.hi;
+    return (m2.x | m2.y) < 0;
+}
+
 #define RAY_LANE_VOCABULARY
 #define RAY_LANE_SUFFIX Packet
 #define LaneFloat PacketFloat
@@ -73,7 +91,7 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
 #define laneVec3(x, y, z) packetVec3(x, y, z)
 #define laneSelect(a, b, m) select(a, b, m)
 #define laneSelectVec3(a, b, m) packetSelectVec3(a, b, m)
-#define laneAny(m) any(m)
+#define laneAny(m) packetAny(m)
 #define laneNot(m) (~(m))
 #define laneEarlyOut(m) 0
 #define laneAlong(o, t, d) packetAlong(o, t, d)

@@ -121,7 +121,7 @@ static inline void packetIntersectPrimitive(__global const RayPrimitive* prim, i
                         packetVec3((PacketFloat)(0.0f), (PacketFloat)(0.0f), (PacketFloat)(0.0f))};
     intersectConvexShapePacket(prim->type, o, d, &h);
     PacketInt better = entering & (h.best < limit);
-    if (!any(better)) return;
+    if (!packetAny(better)) return;
     int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
     float t[RAY_PACKET_WIDTH], px[RAY_PACKET_WIDTH], py[RAY_PACKET_WIDTH], pz[RAY_PACKET_WIDTH];
     float nx[RAY_PACKET_WIDTH], ny[RAY_PACKET_WIDTH], nz[RAY_PACKET_WIDTH];
@@ -220,7 +220,7 @@ RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __glob
             if (index < 0) continue;
             PacketFloat entry = packetChildEntry(node, c, &packet, limits.vector);
             PacketInt entering = enteredByPacket(entry, limits.vector);
-            if (!any(entering)) continue;
+            if (!packetAny(entering)) continue;
             const int count = ((__global const int*)&node->count)[c];
             if (count > 0) {
                 packetLeaf(nodes, prims, triangles, motions, rays, &packet, moving, entering, index, count, anyHit,
@@ -242,7 +242,7 @@ RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __glob
          * farthest deepest), or resume from the stack. */
         int chosen = -1;
         for (int i = 0; i < innerCount; ++i) {
-            if (!any(enteredByPacket(inner[i].entry, limits.vector))) continue;
+            if (!packetAny(enteredByPacket(inner[i].entry, limits.vector))) continue;
             if (chosen >= 0 && !pushNodePacket(&stack, inner[chosen].node, inner[chosen].entry)) break;
             chosen = i;
         }
