@@ -67,20 +67,18 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
 
 /* Whether any lane of a mask is set (-1), as OpenCL's any: PoCL 3.1 lowers any(int16) to
  * eight extract-or-branch steps, one per pair of lanes, on a path walked for every child of
- * every node; the lanes OR-ed together in halves compile to a few shuffles and one branch. */
+ * every node. The lanes narrowed to bytes and tested as whole words compile to one
+ * narrowing move and one vector test (vpmovdb, vptest with AVX-512), a short chain before
+ * the branch that waits on it. */
 static inline bool packetAny(PacketInt m) {
 #if RAY_PACKET_WIDTH == 16
-    int8 m8 = m.lo | m.hi;
+    ulong2 bytes = as_ulong2(convert_char16(m));
+    return (bytes.x | bytes.y) != 0;
 #elif RAY_PACKET_WIDTH == 8
-    int8 m8 = m;
-#endif
-#if RAY_PACKET_WIDTH >= 8
-    int4 m4 = m8.lo | m8.hi;
+    return as_ulong(convert_char8(m)) != 0;
 #else
-    int4 m4 = m;
+    return as_uint(convert_char4(m)) != 0;
 #endif
-    int2 m2 = m4.lo | m4.hi;
-    return (m2.x | m2.y) < 0;
 }
 
 #define RAY_LANE_VOCABULARY
