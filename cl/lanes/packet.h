@@ -40,17 +40,6 @@ typedef int4 PacketInt;
 #define RAY_PACKET_STORE(value, pointer) vstore4(value, 0, pointer)
 #endif
 
-/* Whether some lane of mask m is set. PoCL's any() tests the lanes' sign bits one by one, a
- * chain of extracts and branches; an or-reduction compiles to a few instructions (a mask
- * test, with AVX-512), and the walks ask this at every box and triangle. */
-static inline bool packetAny(PacketInt m) {
-#if __has_builtin(__builtin_reduce_or)
-    return __builtin_reduce_or(m) != 0;
-#else
-    return any(m);
-#endif
-}
-
 /* A point or direction a ray of the packet, one vector a coordinate. */
 typedef struct {
     PacketFloat x, y, z;
@@ -81,6 +70,22 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
 static inline PacketVec3 packetCrossUniform(PacketVec3 v, float3 u) {
 #pragma OPENCL FP_CONTRACT OFF
     return packetVec3(v.y * u.z - v.z * u.y, v.z * u.x - v.x * u.z, v.x * u.y - v.y * u.x);
+}
+
+/* Whether any lane of a mask is set (-1), as OpenCL's any: PoCL 3.1 lowers any(int16) to
+ * eight extract-or-branch steps, one per pair of lanes, on a path walked for every child of
+ * every node. The lanes narrowed to bytes and tested as whole words compile to one
+ * narrowing move and one vector test (vpmovdb, vptest with AVX-512), a short chain before
+ * the branch that waits on it. */
+static inline bool packetAny(PacketInt m) {
+#if RAY_PACKET_WIDTH == 16
+    ulong2 bytes = as_ulong2(convert_char16(m));
+    return (bytes.x | bytes.y) != 0;
+#elif RAY_PACKET_WIDTH == 8
+    return as_ulong(convert_char8(m)) != 0;
+#else
+    return as_uint(convert_char4(m)) != 0;
+#endif
 }
 
 #define RAY_LANE_VOCABULARY

@@ -42,25 +42,30 @@ typedef struct {
     PacketVec3 origin, inverse, direction;
 } PacketRays;
 
+/* safeInverse for every lane at once: the division is IEEE's in a vector as in one lane,
+ * so the bits are one ray's, without a packet's 3 × RAY_PACKET_WIDTH scalar divisions at
+ * the start of every walk (a shadow packet's walk is short). */
+static inline PacketFloat packetSafeInverse(PacketFloat d) {
+    const PacketFloat tiny = (PacketFloat)(1e-20f);
+    return (PacketFloat)(1.0f) / select(copysign(tiny, d), d, fabs(d) > tiny);
+}
+
 static inline PacketRays packetRays(const Ray* rays) {
     float ox[RAY_PACKET_WIDTH], oy[RAY_PACKET_WIDTH], oz[RAY_PACKET_WIDTH];
-    float ix[RAY_PACKET_WIDTH], iy[RAY_PACKET_WIDTH], iz[RAY_PACKET_WIDTH];
     float dx[RAY_PACKET_WIDTH], dy[RAY_PACKET_WIDTH], dz[RAY_PACKET_WIDTH];
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
-        float3 inverse = safeInverse(rays[l].direction);
         ox[l] = rays[l].origin.x;
         oy[l] = rays[l].origin.y;
         oz[l] = rays[l].origin.z;
-        ix[l] = inverse.x;
-        iy[l] = inverse.y;
-        iz[l] = inverse.z;
         dx[l] = rays[l].direction.x;
         dy[l] = rays[l].direction.y;
         dz[l] = rays[l].direction.z;
     }
+    PacketVec3 direction = packetVec3(RAY_PACKET_LOAD(dx), RAY_PACKET_LOAD(dy), RAY_PACKET_LOAD(dz));
     PacketRays p = {packetVec3(RAY_PACKET_LOAD(ox), RAY_PACKET_LOAD(oy), RAY_PACKET_LOAD(oz)),
-                    packetVec3(RAY_PACKET_LOAD(ix), RAY_PACKET_LOAD(iy), RAY_PACKET_LOAD(iz)),
-                    packetVec3(RAY_PACKET_LOAD(dx), RAY_PACKET_LOAD(dy), RAY_PACKET_LOAD(dz))};
+                    packetVec3(packetSafeInverse(direction.x), packetSafeInverse(direction.y),
+                               packetSafeInverse(direction.z)),
+                    direction};
     return p;
 }
 
@@ -416,22 +421,25 @@ RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __glob
                                      __global const float4* motions,
                                      const Ray* rays, const float* tMax, const int* lanes, bool anyHit,
                                      bool courseMeshes, Hit* hits) {
-    PacketLanes limits;
-    PacketHitKeys keys;
-    bool moving = false;
+    /* the lanes' state set up in vectors: the start of every walk, and a shadow packet's
+     * walk is short */
+    float times[RAY_PACKET_WIDTH];
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
-        limits.lane[l] = -1.0f;
-        keys.t.lane[l] = -1.0f;
-        keys.primitive.lane[l] = -1;
-        keys.order.lane[l] = 0;
+        times[l] = rays[l].time;
         if (!lanes[l]) continue;
         hits[l].t = tMax[l];
         hits[l].primitive = -1;
         hits[l].order = 0;
-        keepHitKeys(&keys, l, &hits[l]);
-        limits.lane[l] = courseMeshes ? RAY_INFINITY : tMax[l];
-        moving |= rays[l].time != 0.0f;
     }
+    const PacketInt traced = RAY_PACKET_LOAD(lanes) != (PacketInt)(0);
+    const PacketFloat t = RAY_PACKET_LOAD(tMax);
+    const bool moving = packetAny(traced & (RAY_PACKET_LOAD(times) != (PacketFloat)(0.0f)));
+    PacketLanes limits;
+    PacketHitKeys keys;
+    limits.vector = select((PacketFloat)(-1.0f), courseMeshes ? (PacketFloat)(RAY_INFINITY) : t, traced);
+    keys.t.vector = select((PacketFloat)(-1.0f), t, traced);
+    keys.primitive.vector = (PacketInt)(-1);
+    keys.order.vector = (PacketInt)(0);
     const PacketRays packet = packetRays(rays);
     BvhStackEntry spare[RAY_BVH_SHORT_STACK]; /* the mesh walks' (intersectMesh) */
     BvhStackEntryPacket entries[RAY_PACKET_STACK];
