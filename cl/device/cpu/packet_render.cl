@@ -97,12 +97,31 @@ static RAY_CALL_ON_CPU void packetShadeFrames(const SceneBuffers* scene, const R
         if (lit[l]) addLights(&trees[l].frames[depth], &lights[l]);
 }
 
+#ifndef RAY_COHERENT_CHILD_SPAN
+#define RAY_COHERENT_CHILD_SPAN 0.5f
+#endif
+
+/* Whether the rays of `lanes` point about the same way: no component of their (unit)
+ * directions spans more than RAY_COHERENT_CHILD_SPAN. A flat mirror's reflections of a
+ * block's pixels are as parallel as the camera rays they come from; a curved surface
+ * scatters them, and a scattered packet visits the union of its rays' nodes, more than each
+ * ray walks alone in the sixteen-wide tree. */
+static inline bool coherentRays(const Ray* rays, const int* lanes) {
+    float3 low = (float3)(RAY_INFINITY), high = (float3)(-RAY_INFINITY);
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        if (!lanes[l]) continue;
+        low = fmin(low, rays[l].direction);
+        high = fmax(high, rays[l].direction);
+    }
+    const float3 span = high - low;
+    return fmax(span.x, fmax(span.y, span.z)) <= RAY_COHERENT_CHILD_SPAN;
+}
+
 /* Traces camera ray rays[l] of each pixel of `lanes` (non-zero: it has one) through its
  * whole tree: colors[l], as traceCameraRay gives it. The camera rays' frames are shaded a
- * packet at a time, and so are their first children's: walkRayTree's first step down,
- * taken here for every pixel whose camera ray spawned a child (a mirror's reflections of
- * neighbouring pixels are as coherent as their camera rays). The rest of each tree is
- * walkRayTree's, from where the packets left it. */
+ * packet at a time, and so are their first children's (walkRayTree's first step down, for
+ * every pixel whose camera ray spawned a child) while those stay coherent (coherentRays).
+ * The rest of each tree is walkRayTree's, from where the packets left it. */
 static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, const RayRenderParams* params,
                                                    const Ray* rays, const int* lanes, PixelTrace* counters,
                                                    float3* colors) {
@@ -114,11 +133,15 @@ static RAY_CALL_ON_CPU void tracePacketCameraRays(const SceneBuffers* scene, con
         if (lanes[l]) counters[l].primary++;
     packetShadeFrames(scene, params, trees, 0, rays, lanes, counters, next);
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
-        /* as walkRayTree pushes frame 0's first child, whose ray is in place (spawnChild) */
-        Frame* frame = &trees[l].frames[0];
+        const Frame* frame = &trees[l].frames[0];
         children[l] = lanes[l] && frame->nextChild < frame->childCount;
+    }
+    const bool together = coherentRays(next, children);
+    for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
+        children[l] = children[l] && together;
         if (!children[l]) continue;
-        frame->nextChild++;
+        /* as walkRayTree pushes frame 0's first child, whose ray is in place (spawnChild) */
+        trees[l].frames[0].nextChild++;
         counters[l].secondary++;
         anyChild = true;
     }
