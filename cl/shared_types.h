@@ -7,7 +7,9 @@
  *
  * Rules that keep the two compilers in agreement:
  *  - a point, direction or color is a float4 read as .xyz, its .w unused (0): no float3,
- *    whose size is 16 in OpenCL C but 12 in a C++ struct of three floats; a pair of texture
+ *    whose size is 16 in OpenCL C but 12 in a C++ struct of three floats (the one table that
+ *    grows with a mesh's triangles, RayTriangleShading, holds float[3] read with vload3
+ *    instead, a fifth smaller); a pair of texture
  *    coordinates is a float2; the wide BVH nodes' lanes are float4 / int4 or float16 / int16;
  *  - every other value is a named scalar field (int or float, 4 bytes), in runs that fill
  *    16 bytes, with named padding where a run falls short, so that neither compiler pads;
@@ -208,12 +210,14 @@ RAY_STRUCT(RayTriangle) {
     float4 e2;
 } RAY_END_STRUCT(RayTriangle);
 
-/* What shading needs of a triangle, parallel to the triangle buffer: 96 bytes. The corner
+/* What shading needs of a triangle, parallel to the triangle buffer: 80 bytes. The corner
  * normals (the file's vn, or the face normal for every corner of a face without them) and
- * texture coordinates ((0, 0) without vt). */
+ * texture coordinates ((0, 0) without vt). Its directions are three floats each, read with
+ * vload3, not float4s: this table grows with a mesh's triangles (a million: 80 MB, where
+ * float4s would make it 96). */
 RAY_STRUCT(RayTriangleShading) {
-    float4 normal0, normal1, normal2;
-    float4 uTangent;    /* the unit direction in which u grows over the triangle (bump mapping; 0 without vt) */
+    float normal0[3], normal1[3], normal2[3];
+    float uTangent[3];  /* the unit direction in which u grows over the triangle (bump mapping; 0 without vt) */
     float2 uv0, uv1, uv2;
     float uvDensity;    /* texture units per object unit (trilinear filtering) */
     float uvHandedness; /* ±1: whether the texture is mirrored on the triangle (bump mapping) */
@@ -371,11 +375,11 @@ RAY_LAYOUT_CHECK(sizeof(RayPrimitive) == 64);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayPrimitive, type) == 48);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayPrimitive, geometry) == 60);
 RAY_LAYOUT_CHECK(sizeof(RayTriangle) == 48);
-RAY_LAYOUT_CHECK(sizeof(RayTriangleShading) == 96);
-RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uTangent) == 48);
-RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uv0) == 64);
-RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uv2) == 80);
-RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uvHandedness) == 92);
+RAY_LAYOUT_CHECK(sizeof(RayTriangleShading) == 80);
+RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uTangent) == 36);
+RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uv0) == 48);
+RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uv2) == 64);
+RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uvHandedness) == 76);
 RAY_LAYOUT_CHECK(sizeof(RayMaterial) == 144);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayMaterial, blend) == 96);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayMaterial, textureRepeat) == 112);

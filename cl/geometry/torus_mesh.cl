@@ -158,8 +158,9 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
  * the face normal where it gave none) interpolated at the hit. */
 static inline float3 meshShadingNormal(__global const RayTriangleShading* shading, int triangle, float2 b) {
     __global const RayTriangleShading* s = &shading[triangle];
-    float3 n = (1.0f - b.x - b.y) * s->normal0.xyz + b.x * s->normal1.xyz + b.y * s->normal2.xyz;
-    return dot(n, n) > 0.0f ? n : s->normal0.xyz;
+    const float3 n0 = vload3(0, s->normal0);
+    float3 n = (1.0f - b.x - b.y) * n0 + b.x * vload3(0, s->normal1) + b.y * vload3(0, s->normal2);
+    return dot(n, n) > 0.0f ? n : n0;
 }
 
 /* The texture coordinates of a mesh hit: the corners' vt interpolated, (0, 0) without. */

@@ -20,7 +20,7 @@ static inline float bumpHeight(const SceneBuffers* scene, int map, float2 uv, fl
 static inline float3 objectTangent(const SceneBuffers* scene, int type, int part, float3 p) {
     if (type == RAY_PRIM_MESH) {
         __global const RayTriangleShading* s = &scene->triangleShading[part];
-        return s->uTangent.xyz;
+        return vload3(0, s->uTangent);
     }
     int face = -1; /* cube face numbering: 0..5 = +x, -x, +y, -y, +z, -z */
     if (type == RAY_PRIM_CUBE) face = part;

@@ -121,6 +121,13 @@ gpu::RayLight packLight(const Light& light, const RenderSettings& settings) {
     return g;
 }
 
+// A direction of the triangle table, three floats (RayTriangleShading).
+void storeFloat3(float (&out)[3], const Vec3& v) {
+    out[0] = float(v.x);
+    out[1] = float(v.y);
+    out[2] = float(v.z);
+}
+
 gpu::float2 texCoord(const TriangleMesh& mesh, const MeshCorner& corner) {
     if (corner.texCoord < 0) return {};
     const std::array<double, 2>& uv = mesh.texCoords[size_t(corner.texCoord)];
@@ -157,10 +164,10 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
         gpu::RayTriangleShading s{};
         bool smooth = t[0].normal >= 0 && t[1].normal >= 0 && t[2].normal >= 0;
         Vec3 face = mesh.faceNormal(i);
-        s.normal0 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
-        s.normal1 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
-        s.normal2 = toFloat4(smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
-        s.uTangent = toFloat4(mesh.uTangent(i));
+        storeFloat3(s.normal0, smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
+        storeFloat3(s.normal1, smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
+        storeFloat3(s.normal2, smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
+        storeFloat3(s.uTangent, mesh.uTangent(i));
         if (t[0].texCoord >= 0 && t[1].texCoord >= 0 && t[2].texCoord >= 0) {
             s.uv0 = texCoord(mesh, t[0]);
             s.uv1 = texCoord(mesh, t[1]);
