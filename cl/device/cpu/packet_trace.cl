@@ -115,6 +115,25 @@ static inline void keepHitKeys(PacketHitKeys* keys, int l, const Hit* hit) {
     keys->order.lane[l] = hit->order;
 }
 
+/* A lane's new nearest hit, as one ray's walk records it. */
+static inline void takeHit(Hit* hit, float t, int index, int order, int part, float3 objectPoint, float3 objectNormal,
+                           float2 barycentric) {
+    hit->t = t;
+    hit->primitive = index;
+    hit->order = order;
+    hit->part = part;
+    hit->objectPoint = objectPoint;
+    hit->objectNormal = objectNormal;
+    hit->barycentric = barycentric;
+}
+
+/* The lanes of `better` now rank their hits by primitive `index` at distance `best`. */
+static inline void keepPacketKeys(PacketHitKeys* keys, PacketFloat best, int index, int order, PacketInt better) {
+    keys->t.vector = select(keys->t.vector, best, better);
+    keys->primitive.vector = select(keys->primitive.vector, (PacketInt)(index), better);
+    keys->order.vector = select(keys->order.vector, (PacketInt)(order), better);
+}
+
 /* intersectPrimitive for the rays of `entering` and one primitive of a convex shape
  * (convexShape), the rays carried into its object space in vectors; hits[l] changes as
  * intersectPrimitive changes it (no motion: the caller leaves moving rays to it). */
@@ -143,18 +162,10 @@ static inline void packetIntersectPrimitive(__global const RayPrimitive* prim, i
     RAY_PACKET_STORE(h.normal.z, nz);
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         if (!take[l]) continue;
-        Hit* hit = &hits[l];
-        hit->t = t[l];
-        hit->primitive = index;
-        hit->order = order;
-        hit->part = part[l];
-        hit->objectPoint = (float3)(px[l], py[l], pz[l]);
-        hit->objectNormal = (float3)(nx[l], ny[l], nz[l]);
-        hit->barycentric = (float2)(0.0f);
+        takeHit(&hits[l], t[l], index, order, part[l], (float3)(px[l], py[l], pz[l]), (float3)(nx[l], ny[l], nz[l]),
+                (float2)(0.0f));
     }
-    keys->t.vector = select(keys->t.vector, h.best, better);
-    keys->primitive.vector = select(keys->primitive.vector, (PacketInt)(index), better);
-    keys->order.vector = select(keys->order.vector, (PacketInt)(order), better);
+    keepPacketKeys(keys, h.best, index, order, better);
 }
 
 /* safeInverse, a lane a ray. */
@@ -363,18 +374,10 @@ static inline void packetIntersectMesh(__global const RayWideBvhNode* nodes, __g
     RAY_PACKET_STORE(object.origin.z + h.best * object.direction.z, pz);
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         if (!take[l]) continue;
-        Hit* hit = &hits[l];
-        hit->t = t[l];
-        hit->primitive = index;
-        hit->order = order;
-        hit->part = part[l];
-        hit->objectPoint = (float3)(px[l], py[l], pz[l]);
-        hit->objectNormal = triangleFaceNormal(&triangles[part[l]]);
-        hit->barycentric = (float2)(b1[l], b2[l]);
+        takeHit(&hits[l], t[l], index, order, part[l], (float3)(px[l], py[l], pz[l]),
+                triangleFaceNormal(&triangles[part[l]]), (float2)(b1[l], b2[l]));
     }
-    keys->t.vector = select(keys->t.vector, h.best, better);
-    keys->primitive.vector = select(keys->primitive.vector, (PacketInt)(index), better);
-    keys->order.vector = select(keys->order.vector, (PacketInt)(order), better);
+    keepPacketKeys(keys, h.best, index, order, better);
 }
 
 /* Intersects the primitives [first, first + count) for the rays of `entering`, then brings
