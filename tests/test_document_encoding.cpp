@@ -3,6 +3,7 @@
 // and what it would write is read back before the file is replaced.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -222,4 +223,26 @@ TEST_CASE("a UTF-16 scene's names beyond the BMP go through the save as themselv
     const std::string saved = bytesOf(file);
     CHECK(saved.find(std::string("\x3D\xD8\x42\xDE", 4)) != std::string::npos);  // U+1F642 as a surrogate pair
     CHECK(loadSceneDocument(file, quiet()).trees.count("\xF0\x9F\x99\x82") == 1);
+}
+
+TEST_CASE("a US-ASCII scene stays ASCII: a name beyond it is written as a character reference",
+          "[document][encoding]") {
+    const fs::path folder = scratchFolder("ascii");
+    const fs::path file = folder / "scene.xml";
+    const std::string original = "<?xml version='1.0' encoding='us-ascii'?>\n"
+                                 "<scenefile><object type=\"tree\" name=\"leg\"><transblock>"
+                                 "<object type=\"primitive\" name=\"cube\"/></transblock></object>"
+                                 "<object type=\"tree\" name=\"root\"><transblock><object type=\"master\" "
+                                 "name=\"leg\"/></transblock></object></scenefile>\n";
+    write(file, original);
+    SceneDocument document = loadSceneDocument(file, quiet());
+    REQUIRE(document.source);
+    CHECK(document.source->encoding() == TextEncoding::Ascii);
+    renameTree(document, "leg", "caf\xC3\xA9 \xF0\x9F\x99\x82");
+    Resources resources;
+    saveDocument(document, resources, file);
+    const std::string saved = bytesOf(file);
+    CHECK(saved.find("name=\"caf&#xE9; &#x1F642;\"") != std::string::npos);
+    CHECK(std::all_of(saved.begin(), saved.end(), [](char c) { return static_cast<unsigned char>(c) < 0x80; }));
+    CHECK(loadSceneDocument(file, quiet()).trees.count("caf\xC3\xA9 \xF0\x9F\x99\x82") == 1);
 }
