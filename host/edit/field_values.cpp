@@ -266,8 +266,9 @@ SceneChanges setImage(PrimitiveNode& object, const FieldInput& input, const Fiel
                    field, node);
         // An image read from a file is saved as its path (relative to the saved file: a part
         // of this one), which must be text XML can hold.
-        if (const fs::path& file = context.resources.imageFiles[size_t(handle->index)]; file != "<memory>")
-            checkWritable(field.name, file.string(), node);
+        const std::vector<fs::path>& files = context.resources.imageFiles;
+        if (size_t(handle->index) < files.size() && files[size_t(handle->index)] != "<memory>")
+            checkWritable(field.name, files[size_t(handle->index)].string(), node);
         if (object.files) {
             referenceOf(*object.files, field.special).reset();
             missingOf(*object.files, field.special).clear();

@@ -1,7 +1,6 @@
 // The scene document (scene_document.h): its copies, its places and paths, its text.
 #include "scene/scene_document.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <set>
