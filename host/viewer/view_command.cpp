@@ -1,6 +1,9 @@
 #include "viewer/view_command.h"
 
 #include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cerrno>
 #include <csignal>
 #include <ctime>
 #include <iostream>
@@ -132,11 +135,21 @@ std::string recoverCommand(const std::filesystem::path& scene) {
     return "ray view " + shellQuoted(quotedForMessage(scene.string(), 4096)) + " --recover";
 }
 
+// Whether the viewer that wrote a recovery may still be running (another ray view of the
+// scene with edits of its own): its process id is in use ("may": ids are reused).
+bool writerMayRun(const Recovery& recovery) {
+    return recovery.pid > 0 && recovery.pid != getpid() && (::kill(recovery.pid, 0) == 0 || errno == EPERM);
+}
+
 // The terminal's line about the newest recovery of the scene, when the viewer did not open it.
 std::string offerLine(const Recovery& offer, const std::filesystem::path& scene) {
+    std::string notes;
+    if (sceneChangedSince(offer)) notes += " (the scene file has changed since)";
+    if (writerMayRun(offer))
+        notes += " (written by process " + std::to_string(offer.pid) + ", which may be a ray view still running)";
     return "ray view: unsaved edits of " + quotedForMessage(scene.filename().string()) + " from " + offer.writtenText +
-           " are kept in " + quotedForMessage(offer.file.string()) + (sceneChangedSince(offer) ? " (the scene file has changed since)" : "") +
-           ": open them with `" + recoverCommand(scene) + "`, or Restore in the page";
+           " are kept in " + quotedForMessage(offer.file.string()) + notes + ": open them with `" + recoverCommand(scene) +
+           "`, or Restore in the page";
 }
 
 // What a stop by a signal says: where the unsaved edits are, or why they could not be kept.

@@ -16,7 +16,16 @@ namespace {
 // The editor of the scene file, of a recovery's edits to it (--recover: unsaved until
 // saved), or of a new scene to be written there.
 SceneEditor editorFor(const ViewerOptions& options) {
-    if (options.recovered) return SceneEditor(options.scene, options.recovered->document, options.load);
+    if (options.recovered) {
+        try {
+            return SceneEditor(options.scene, options.recovered->document, options.load);
+        } catch (const InputError& e) {
+            // Its lines are the kept text's, which the message must say.
+            throw InputError(std::string(e.what()) + "\n(in the unsaved edits kept in " +
+                             quotedForMessage(options.recovered->file.string()) +
+                             ", which do not load: open the scene without --recover, or remove that file)");
+        }
+    }
     if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load);
     return SceneEditor(options.scene, options.load);
 }

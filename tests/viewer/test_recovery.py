@@ -8,8 +8,9 @@
 - SIGINT and SIGHUP stop with 130 and 129, keeping the edits; without edits nothing is kept;
 - POST /recovery discards the offer; edits replaced by a change of the file on disk are set
   aside, kept, and offered;
-- --recover with nothing kept is refused (exit 2); a recovery file that is a FIFO, a link or
-  not a recovery is passed over with a message, never read or waited on.
+- --recover with nothing kept is refused (exit 2); a recovery file that is a FIFO, a link, not
+  a recovery, cut short, damaged or larger than any scene is passed over with a message, never
+  read or waited on.
 No browser needed. Usage: python3 test_recovery.py RAY_BINARY SCENE (scenes/shadows.xml)"""
 import json
 import os
@@ -18,7 +19,7 @@ import subprocess
 import sys
 import time
 
-from recovery_harness import Home, ViewerOf, mode_of, scene_key
+from recovery_harness import Home, ViewerOf, fnv1a64, mode_of, scene_key
 
 ray, source = sys.argv[1], sys.argv[2]
 ADD_TORUS = {"op": "add-primitive", "shape": "torus"}
@@ -252,14 +253,42 @@ try:
     junk = os.path.join(home.folder, key + "-junk.ray-recovery")
     with open(junk, "w") as f:
         f.write('{"ray_recovery": 1}\n<scenefile/>')
+    # Recoveries in the right form but cut short, damaged, or larger than any scene's.
+    document = home.original
+    header = {"ray_recovery": 1, "scene": os.path.realpath(home.scene), "written": "2026-01-01 00:00:00",
+              "written_unix": 1767225600, "pid": 1,
+              "scene_file": {"exists": True, "size": len(document), "mtime_ns": 0, "fnv1a64": fnv1a64(document)},
+              "document_bytes": len(document), "document_fnv1a64": fnv1a64(document)}
+    whole = json.dumps(header).encode() + b"\n" + document
+    short, damaged, huge = (os.path.join(home.folder, f"{key}-{n}.ray-recovery") for n in ("short", "damaged", "huge"))
+    with open(short, "wb") as f:
+        f.write(whole[:-10])
+    with open(damaged, "wb") as f:
+        f.write(whole.replace(b"sphere", b"sphera", 1))
+    with open(huge, "wb") as f:
+        f.write(whole)
+        f.truncate((1 << 30) + 1)  # sparse: nothing of it is written or read
     started = time.time()
     run = subprocess.run([ray, "view", home.scene, "--port", "0", "--recover"], capture_output=True, text=True,
                          timeout=60, env=home.env)
     assert run.returncode == 2 and time.time() - started < 30, run
-    for path, says in [(fifo, "not a regular file"), (link, "cannot be opened"), (junk, "header")]:
+    for path, says in [(fifo, "not a regular file"), (link, "cannot be opened"), (junk, "header"), (short, "cut short"),
+                       (damaged, "does not match its own hash"), (huge, "more than any scene's")]:
         line = next((l for l in run.stderr.splitlines() if os.path.basename(path) in l), "")
         assert says in line and "passed over" in line, (path, run.stderr)
-    print("a FIFO, a link and a file that is not a recovery: passed over, each with a message")
+    print("a FIFO, a link, a file that is not a recovery, one cut short, one damaged, one of 1 GiB: passed over, "
+          "each with a message")
+    # A whole recovery whose scene does not load: refused, naming it, the scene untouched.
+    broken = b"<scenefile><object type=\"primitive\" name=\"sphere\">"
+    header.update(document_bytes=len(broken), document_fnv1a64=fnv1a64(broken))
+    kept = os.path.join(home.folder, f"{key}-broken.ray-recovery")
+    with open(kept, "wb") as f:
+        f.write(json.dumps(header).encode() + b"\n" + broken)
+    run = subprocess.run([ray, "view", home.scene, "--port", "0", "--recover"], capture_output=True, text=True,
+                         timeout=60, env=home.env)
+    assert run.returncode == 2 and "which do not load" in run.stderr and kept in run.stderr, run.stderr
+    assert home.scene_untouched() and os.path.exists(kept)
+    print("--recover of edits that do not load: exit 2, the recovery named, nothing changed")
 finally:
     home.close()
 print("recovery test passed")
