@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <fstream>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -259,10 +260,20 @@ void writeRecovery(const fs::path& file, const fs::path& scene, const SceneFileS
     bytes += '\n';
     bytes += document;
     try {
-        writeFileAtomically(file, bytes);
+        // Private before it is written, so that it never appears readable by others.
+        writeFileAtomicallyVia(file, [&](const fs::path& temporary) {
+            if (::chmod(temporary.c_str(), 0600) != 0)
+                throw FileWriteError(quotedForMessage(temporary.string()) + " cannot be made private (" +
+                                     std::strerror(errno) + ")");
+            std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+            out.write(bytes.data(), std::streamsize(bytes.size()));
+            out.close();
+            if (!out) throw FileWriteError("cannot write " + quotedForMessage(temporary.string()) + " (" + std::strerror(errno) + ")");
+        });
     } catch (const FileWriteError& e) {
         throw RecoveryError(e.what());
     }
+    // Kept private whatever the writer does with the mode of a file it replaces.
     if (::chmod(file.c_str(), 0600) != 0) fail(file, std::string("cannot be made private (") + std::strerror(errno) + ")");
 }
 

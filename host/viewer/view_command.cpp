@@ -209,7 +209,7 @@ void finishOptions(ViewCommand& c) {
             std::cout << "ray view: opened with the unsaved edits kept in "
                       << quotedForMessage(options.recovered->file.string()) << " from " << options.recovered->writtenText
                       << " (" << quotedForMessage(options.scene.filename().string())
-                      << " is unchanged until you save)" << std::endl;
+                      << (options.newScene ? " is written when you save)" : " is unchanged until you save)") << std::endl;
         if (options.offer) std::cout << offerLine(*options.offer, options.scene) << std::endl;
     };
     options.onStopSignal = [&options](int signal, const RecoveryKeeper::Kept& kept) {

@@ -35,8 +35,14 @@ class Home:
         """The recovery files kept now, oldest first."""
         if not os.path.isdir(self.folder):
             return []
-        names = [n for n in os.listdir(self.folder) if n.endswith(EXTENSION) and not n.startswith(".")]
-        return sorted((os.path.join(self.folder, n) for n in names), key=os.path.getmtime)
+        found = []
+        for name in os.listdir(self.folder):
+            if name.endswith(EXTENSION) and not name.startswith("."):
+                try:  # the viewer may remove it meanwhile
+                    found.append((os.path.getmtime(os.path.join(self.folder, name)), os.path.join(self.folder, name)))
+                except FileNotFoundError:
+                    pass
+        return [path for _, path in sorted(found)]
 
     def wait_recoveries(self, count, timeout=15):
         deadline = time.time() + timeout

@@ -171,6 +171,31 @@ try:
 finally:
     home.close()
 
+# ---- A new scene (its file not there yet): its edits are kept and recovered the same way
+home = Home(source)
+try:
+    os.remove(home.scene)
+    viewer = ViewerOf(ray, home)
+    try:
+        time.sleep(1.5)
+        assert home.recoveries() == [], "a new scene's camera and light are no edits to keep"
+        viewer.op(ADD_TORUS)
+        code = viewer.stop(signal.SIGTERM)
+    finally:
+        viewer.close()
+    assert code == 143 and "are kept in" in viewer.log() and not os.path.exists(home.scene), viewer.log()
+    viewer = ViewerOf(ray, home, "--recover")
+    try:
+        wait_log(viewer, "is written when you save")
+        has_torus(viewer)
+        assert modified(viewer) and not os.path.exists(home.scene)
+    finally:
+        viewer.stop()
+        viewer.close()
+    print("a new scene: nothing kept until an edit; its edits recovered, the file not written until saved")
+finally:
+    home.close()
+
 # ---- The page's routes: Discard; and an undo back to the file removes the copy
 home = Home(source)
 try:
