@@ -55,6 +55,12 @@ std::string hashOf(std::string_view bytes) {
     return hash.hex();
 }
 
+// A path as a header holds it: JSON text is UTF-8, so a path that is not has replacement
+// characters in their place (the file's name, a hash of the exact path, still finds it).
+std::string headerText(const fs::path& path) {
+    return json::parse(json(path.string()).dump(-1, ' ', false, json::error_handler_t::replace)).get<std::string>();
+}
+
 // The start of every recovery file name of `scene`.
 std::string sceneKey(const fs::path& scene) { return hashOf(sceneIdentity(scene).string()); }
 
@@ -205,7 +211,7 @@ std::vector<Recovery> findRecoveries(const fs::path& folder, const fs::path& sce
     std::vector<Recovery> found;
     std::error_code ec;
     if (!fs::is_directory(fs::symlink_status(folder, ec))) return found;
-    const std::string identity = sceneIdentity(scene).string();
+    const std::string identity = headerText(sceneIdentity(scene));
     const std::string prefix = sceneKey(scene) + "-";
     for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
@@ -224,7 +230,9 @@ std::vector<Recovery> findRecoveries(const fs::path& folder, const fs::path& sce
     return found;
 }
 
-bool sceneChangedSince(const Recovery& recovery) { return !(stampOf(recovery.scene) == recovery.sceneWhenRead); }
+bool sceneChangedSince(const Recovery& recovery, const fs::path& scene) {
+    return !(stampOf(scene) == recovery.sceneWhenRead);
+}
 
 void removeRecovery(const fs::path& file) {
     if (::unlink(file.c_str()) != 0 && errno != ENOENT) fail(file, std::string("cannot be removed (") + std::strerror(errno) + ")");
@@ -247,16 +255,14 @@ void writeRecovery(const fs::path& file, const fs::path& scene, const SceneFileS
                    const std::string& document) {
     const std::time_t now = std::time(nullptr);
     const json header = {{"ray_recovery", kFormat},
-                         {"scene", sceneIdentity(scene).string()},
+                         {"scene", headerText(sceneIdentity(scene))},
                          {"written", localTime(now, "%Y-%m-%d %H:%M:%S")},
                          {"written_unix", int64_t(now)},
                          {"pid", int(getpid())},
                          {"scene_file", stampJson(sceneWhenRead)},
                          {"document_bytes", document.size()},
                          {"document_fnv1a64", hashOf(document)}};
-    // A path that is not UTF-8 is written with replacement characters: the header still
-    // reads, and the file's name (a hash of the exact path) is what finds it.
-    std::string bytes = header.dump(-1, ' ', false, json::error_handler_t::replace);
+    std::string bytes = header.dump();
     bytes += '\n';
     bytes += document;
     try {

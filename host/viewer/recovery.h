@@ -83,7 +83,7 @@ std::vector<Recovery> findRecoveries(const std::filesystem::path& folder, const 
                                      const std::filesystem::path& except = {});
 
 // Whether the scene file on disk is no longer what the recovery's edits were made to.
-bool sceneChangedSince(const Recovery& recovery);
+bool sceneChangedSince(const Recovery& recovery, const std::filesystem::path& scene);
 
 // Removes a recovery file; a file already gone is not an error. Throws RecoveryError.
 void removeRecovery(const std::filesystem::path& file);

@@ -144,7 +144,7 @@ bool writerMayRun(const Recovery& recovery) {
 // The terminal's line about the newest recovery of the scene, when the viewer did not open it.
 std::string offerLine(const Recovery& offer, const std::filesystem::path& scene) {
     std::string notes;
-    if (sceneChangedSince(offer)) notes += " (the scene file has changed since)";
+    if (sceneChangedSince(offer, scene)) notes += " (the scene file has changed since)";
     if (writerMayRun(offer))
         notes += " (written by process " + std::to_string(offer.pid) + ", which may be a ray view still running)";
     return "ray view: unsaved edits of " + quotedForMessage(scene.filename().string()) + " from " + offer.writtenText +

@@ -221,7 +221,7 @@ json Session::recoveryOffer() {
              {{"file", offer->file.string()},
               {"scene", offer->scene},
               {"written", offer->writtenText},
-              {"scene_changed", sceneChangedSince(*offer)},
+              {"scene_changed", sceneChangedSince(*offer, options_.scene)},
               {"command", "ray view " + options_.scene.string() + " --recover"}}}};
 }
 
