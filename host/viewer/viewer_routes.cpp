@@ -166,13 +166,13 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     server.Get("/object", [&](const httplib::Request& request, httplib::Response& response) {
         answerJson(response, [&] { return session.object(intParameter(request, "id")); });
     });
-    // Editing: only with the access token (a viewer started with --no-token shows the scene
-    // and does not change it or its file).
     // The recovery of unsaved edits another viewer left (viewer/recovery.h): offered to all,
-    // restored or discarded with the token alone.
+    // restored or discarded (POST /recovery, below) with the token alone.
     server.Get("/recovery", [&](const httplib::Request&, httplib::Response& response) {
         answerJson(response, [&] { return session.recoveryOffer(); });
     });
+    // Editing: only with the access token (a viewer started with --no-token shows the scene
+    // and does not change it or its file).
     for (const char* action : {"op", "edit", "undo", "redo", "save", "recovery"}) {
         server.Post(std::string("/") + action, [&session, action, editable = editable](const httplib::Request& request,
                                                                                      httplib::Response& response) {
