@@ -89,6 +89,9 @@ public:
     // must not exist unless `replace`. Returns where it wrote. Throws BadFileName,
     // FileExists, EditError or std::runtime_error (the write failed; nothing replaced).
     std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false);
+    // The text a save to the file would write now (what a recovery copy keeps: viewer/recovery.h).
+    // Throws InputError.
+    std::string documentText() const { return documentToText(session_.document(), session_.resources(), file_); }
     // The file changed on disk (not by save): loads it again; the history is cleared, as
     // the edits were made to another version. Throws InputError (the editor is unchanged).
     void reload();

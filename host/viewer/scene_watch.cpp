@@ -3,8 +3,10 @@
 // and shows why. The viewer's own saves are not taken for such a change (Session::edit
 // records the time they leave).
 #include <chrono>
+#include <optional>
 #include <string>
 
+#include "core/message_text.h"
 #include "viewer/viewer_session.h"
 
 namespace ray {
@@ -35,8 +37,18 @@ void Session::watchLoop() {
         const std::string name = options_.scene.filename().string();
         try {
             std::lock_guard lock(mutex_);
+            // Unsaved edits the reload replaces are kept (viewer/recovery.h): the next
+            // viewer of the scene offers them.
+            std::optional<std::string> setAside;
+            if (keeper_ && edited_ && editor_.modified()) setAside = editor_.documentText();
             editor_.reload();
+            edited_ = false;
             log("reloaded " + name + (editor_.canUndo() ? "" : " (the edits' history starts again)"));
+            if (setAside)
+                log("the unsaved edits it replaced are kept in " +
+                    quotedForMessage(keeper_->setAside(std::move(*setAside)).string()) + ": ray view " +
+                    options_.scene.string() + " --recover opens them");
+            if (keeper_) keeper_->sceneRead();
             scene_ = editor_.scene();
             sceneError_.clear();
             errorIsFrames_ = false;

@@ -115,7 +115,7 @@ httplib::Server::HandlerResponse explainError(const httplib::Request&, httplib::
         why = "the request's body is over the " + std::to_string(kMaxRequestBody / 1024) + " KiB limit";
     else if (response.status == 404)
         why = "there is no such route (the viewer serves /, /state, /settings, /fields, /outline, /node, /events, "
-              "/view, /pick, /object, /explain, /op, /edit, /undo, /redo and /save)";
+              "/view, /pick, /object, /explain, /op, /edit, /undo, /redo, /save and /recovery)";
     response.set_content(json{{"error", why}}.dump(), "application/json");
     return httplib::Server::HandlerResponse::Handled;
 }
@@ -166,9 +166,14 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     server.Get("/object", [&](const httplib::Request& request, httplib::Response& response) {
         answerJson(response, [&] { return session.object(intParameter(request, "id")); });
     });
+    // The recovery of unsaved edits another viewer left (viewer/recovery.h): offered to all,
+    // restored or discarded (POST /recovery, below) with the token alone.
+    server.Get("/recovery", [&](const httplib::Request&, httplib::Response& response) {
+        answerJson(response, [&] { return session.recoveryOffer(); });
+    });
     // Editing: only with the access token (a viewer started with --no-token shows the scene
     // and does not change it or its file).
-    for (const char* action : {"op", "edit", "undo", "redo", "save"}) {
+    for (const char* action : {"op", "edit", "undo", "redo", "save", "recovery"}) {
         server.Post(std::string("/") + action, [&session, action, editable = editable](const httplib::Request& request,
                                                                                      httplib::Response& response) {
             if (!editable) {

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,6 +26,7 @@
 
 #include "render/frame_source.h"
 #include "viewer/preview_resolution.h"
+#include "viewer/recovery.h"
 #include "viewer/scene_editor.h"
 #include "viewer/view_request.h"
 #include "viewer/viewer_server.h"
@@ -60,6 +62,12 @@ public:
     // /edit. A change to the scene re-renders the view, preview first. Throws EditError
     // (a body that is not JSON too), BadFileName, FileExists.
     nlohmann::json edit(const std::string& action, const std::string& body);
+    // GET /recovery: {"offer": the newest recovery of the scene (viewer/recovery.h) another
+    // viewer left, or null}. POST /recovery {"action": "restore" | "discard", "file": the
+    // offer's}: its edits opened as unsaved changes (refused while this viewer has edits of
+    // its own), or its file removed; the next offer, and the editor's state. Throws EditError.
+    nlohmann::json recoveryOffer();
+    nlohmann::json answerRecovery(const std::string& body);
     // GET /explain: pixel (x, y)'s tree of rays, naming the view and scene it was made for,
     // so that the page can tell when a later frame has made it stale.
     nlohmann::json explain(int x, int y);
@@ -84,6 +92,15 @@ private:
 
     // The editor's part of the state. Called with mutex_ held.
     nlohmann::json editorStateLocked();
+    // The document's text while it has unsaved edits made here (the recovery keeper's
+    // snapshot); nullopt without. Takes mutex_.
+    std::optional<std::string> unsavedDocument();
+    // The document changed (or was saved: `now`): its recovery copy follows. mutex_ held.
+    void documentChangedLocked(bool now);
+    // The offer after `answered`: the newest other recovery of the scene. Reads the folder.
+    std::optional<Recovery> nextOffer(const std::filesystem::path& answered) const;
+    nlohmann::json restoreRecovery(const std::filesystem::path& file);
+    nlohmann::json discardRecovery(const std::filesystem::path& file);
     void log(const std::string& message) const;
 
     // frame_schedule.cpp
@@ -132,6 +149,12 @@ private:
     std::vector<FrameTile> finishedTiles_;
     nlohmann::json finishedDone_;
     std::thread renderThread_, watchThread_;
+    // Unsaved edits (viewer/recovery.h): whether the document holds edits made in this viewer
+    // (a new scene's camera and light are none), the keeper of their copy, the recovery
+    // offered to the page (its document not held).
+    bool edited_ = false;
+    std::unique_ptr<RecoveryKeeper> keeper_;
+    std::optional<Recovery> offer_;
 };
 
 }  // namespace ray

@@ -22,8 +22,12 @@ class Viewer:
         self.scene = os.path.join(self.folder, os.path.basename(scene))
         if not new_file:
             shutil.copy(scene, self.scene)  # a copy the tests may edit (the watcher)
+        # Unsaved edits a stopped viewer keeps (viewer/recovery.h) go to a scratch state
+        # folder, never the user's.
+        self.state = tempfile.mkdtemp(prefix="ray_view_state_")
         self.process = subprocess.Popen([ray, "view", self.scene, "--port", "0", *extra],
-                                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                        env=dict(os.environ, XDG_STATE_HOME=self.state))
         line = self.process.stdout.readline()
         match = re.search(r"http://127\.0\.0\.1:(\d+)/(\?token=([0-9a-f]+))?$", line.strip())
         if not match:
@@ -102,6 +106,7 @@ class Viewer:
             self.process.kill()
         self.reader.join(5)
         shutil.rmtree(self.folder, ignore_errors=True)
+        shutil.rmtree(self.state, ignore_errors=True)
 
     def log(self):
         """Everything the viewer printed so far."""
