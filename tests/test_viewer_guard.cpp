@@ -1,13 +1,16 @@
-// Who ray view answers (viewer/request_guard.h), the files a request may name
+// Who ray view answers (viewer/request_guard.h) and how many connections without the token it
+// keeps (viewer/connection_deadlines.h), the files a request may name
 // (viewer/folder_files.h) and text from outside quoted in messages (core/message_text.h).
 #include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <fstream>
 
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include "core/message_text.h"
+#include "viewer/connection_deadlines.h"
 #include "viewer/folder_files.h"
 #include "viewer/request_guard.h"
 #include "test_support.h"
@@ -137,6 +140,35 @@ TEST_CASE("A body must say it is JSON, which a form cannot", "[viewer][security]
     bodiless.contentType.clear();
     bodiless.hasBody = false;
     CHECK(statusOf(bodiless) == 0);
+}
+
+TEST_CASE("Connections without the token beyond the bound close the oldest", "[viewer][security]") {
+    ray::UnprovenConnections connections(2);
+    int pairs[4][2];
+    for (auto& pair : pairs) REQUIRE(socketpair(AF_UNIX, SOCK_STREAM, 0, pair) == 0);
+    // The peer of a connection shut down reads its end at once; another's has nothing to read.
+    auto shutDown = [](int peer) {
+        char byte;
+        return recv(peer, &byte, 1, MSG_DONTWAIT) == 0;
+    };
+    const uint64_t first = connections.enter(pairs[0][0]);
+    const uint64_t second = connections.enter(pairs[1][0]);
+    connections.prove(first);  // it showed the token: no longer counted
+    connections.enter(pairs[2][0]);
+    CHECK(connections.unproven() == 2);
+    CHECK_FALSE(shutDown(pairs[0][1]));
+    CHECK_FALSE(shutDown(pairs[1][1]));
+    connections.enter(pairs[3][0]);  // a third without the token: the oldest of them goes
+    CHECK(shutDown(pairs[1][1]));
+    CHECK_FALSE(shutDown(pairs[0][1]));
+    CHECK_FALSE(shutDown(pairs[2][1]));
+    CHECK_FALSE(shutDown(pairs[3][1]));
+    CHECK(connections.unproven() == 2);
+    connections.leave(second);
+    for (auto& pair : pairs) {
+        close(pair[0]);
+        close(pair[1]);
+    }
 }
 
 TEST_CASE("Loopback addresses are known as such", "[viewer][security]") {

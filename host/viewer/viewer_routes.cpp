@@ -10,6 +10,7 @@
 
 #include "core/message_text.h"
 #include "edit/edit_json.h"
+#include "viewer/connection_deadlines.h"
 #include "viewer/folder_files.h"
 #include "viewer/request_guard.h"
 #include "viewer/viewer_page.h"
@@ -73,25 +74,29 @@ void setProtectiveHeaders(httplib::Response& response) {
     response.set_header("Referrer-Policy", "no-referrer");
 }
 
+// What the guard is shown of a request.
+RequestFacts factsOf(const httplib::Request& request) {
+    return {request.method,
+            request.path,
+            request.get_header_value("Host"),
+            request.get_header_value("Origin"),
+            request.get_header_value("Sec-Fetch-Site"),
+            request.get_header_value("Sec-Fetch-Mode"),
+            request.get_header_value("Sec-Fetch-Dest"),
+            request.get_header_value("Content-Type"),
+            request.get_param_value("token"),
+            request.get_header_value("Authorization"),
+            request.get_header_value("Cookie"),
+            carriesBody(request)};
+}
+
 // The check every request passes first (viewer/request_guard.h). A first visit to the page
 // with the token in its query gets the cookie and is sent on to the bare URL.
 httplib::Server::HandlerResponse guardRequest(const httplib::Request& request, httplib::Response& response,
                                               const GuardPolicy& policy) {
     using Result = httplib::Server::HandlerResponse;
     setProtectiveHeaders(response);
-    const RequestFacts facts{request.method,
-                             request.path,
-                             request.get_header_value("Host"),
-                             request.get_header_value("Origin"),
-                             request.get_header_value("Sec-Fetch-Site"),
-                             request.get_header_value("Sec-Fetch-Mode"),
-                             request.get_header_value("Sec-Fetch-Dest"),
-                             request.get_header_value("Content-Type"),
-                             request.get_param_value("token"),
-                             request.get_header_value("Authorization"),
-                             request.get_header_value("Cookie"),
-                             carriesBody(request)};
-    const GuardVerdict verdict = checkRequest(facts, policy);
+    const GuardVerdict verdict = checkRequest(factsOf(request), policy);
     if (verdict.status != 0) {
         response.status = verdict.status;
         response.set_content(json{{"error", verdict.message}}.dump(), "application/json");
@@ -111,7 +116,11 @@ httplib::Server::HandlerResponse explainError(const httplib::Request&, httplib::
     if (!response.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
     std::string why = "the request was not understood (an HTTP request with a JSON body, and a Content-Length "
                       "for a POST)";
-    if (response.status == 413)
+    if (requestOutOfTime()) {
+        response.status = 408;
+        why = "the request did not arrive in time (its headers within " + std::to_string(kHeaderDeadline.count()) +
+              " s of its start, its body within " + std::to_string(kBodyDeadline.count()) + " s)";
+    } else if (response.status == 413)
         why = "the request's body is over the " + std::to_string(kMaxRequestBody / 1024) + " KiB limit";
     else if (response.status == 404)
         why = "there is no such route (the viewer serves /, /state, /settings, /fields, /outline, /node, /events, "
@@ -201,6 +210,10 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
             return session.stream(sink, *cursor);
         });
     });
+}
+
+bool passesGuard(const httplib::Request& request, const GuardPolicy& policy) {
+    return checkRequest(factsOf(request), policy).status == 0;
 }
 
 void guardRequests(httplib::Server& server, const GuardPolicy& policy) {

@@ -57,8 +57,8 @@ class Viewer:
         connection.close()
         return response.status, data
 
-    def json(self, method, path, body=None, headers=None):
-        status, data = self.request(method, path, body, headers=headers)
+    def json(self, method, path, body=None, headers=None, timeout=30):
+        status, data = self.request(method, path, body, timeout=timeout, headers=headers)
         return status, json.loads(data) if data else None
 
     def alive(self):
