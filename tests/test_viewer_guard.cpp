@@ -9,10 +9,13 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "core/message_text.h"
 #include "viewer/connection_deadlines.h"
 #include "viewer/folder_files.h"
 #include "viewer/request_guard.h"
+#include "viewer/view_request.h"
 #include "test_support.h"
 
 namespace {
@@ -140,6 +143,65 @@ TEST_CASE("A body must say it is JSON, which a form cannot", "[viewer][security]
     bodiless.contentType.clear();
     bodiless.hasBody = false;
     CHECK(statusOf(bodiless) == 0);
+}
+
+TEST_CASE("JSON is JSON whatever the case and spaces of its Content-Type", "[viewer][security]") {
+    for (const char* type : {"application/json ; charset=utf-8", "Application/JSON;charset=UTF-8", " application/json",
+                             "application/json\t; charset=utf-8"}) {
+        RequestFacts request = fromThePage("POST", "/op");
+        request.contentType = type;
+        CHECK(statusOf(request) == 0);
+    }
+    for (const char* type : {"application/jsonx", "application/js on", "application/json-seq"}) {
+        RequestFacts request = fromThePage("POST", "/op");
+        request.contentType = type;
+        CHECK(statusOf(request) == 415);
+    }
+}
+
+TEST_CASE("The token counts in the query only for the page's URL and the event stream", "[viewer][security]") {
+    for (const auto& [method, path] : {std::pair{"POST", "/op"}, {"POST", "/save"}, {"GET", "/state"}}) {
+        RequestFacts request = fromThePage(method, path);
+        request.authorization.clear();
+        request.queryToken = kToken;
+        const ray::GuardVerdict verdict = ray::checkRequest(request, kPolicy);
+        CHECK(verdict.status == 403);
+        CHECK_THAT(verdict.message, Catch::Contains("Authorization header"));
+    }
+    RequestFacts events = fromThePage("GET", "/events");
+    events.authorization.clear();
+    events.queryToken = kToken;
+    CHECK(statusOf(events) == 0);
+    RequestFacts page = fromThePage("GET", "/");
+    page.authorization.clear();
+    page.queryToken = kToken;
+    CHECK(statusOf(page) == 0);
+}
+
+TEST_CASE("A body that is not UTF-8 is named as such", "[viewer][security]") {
+    for (const std::string body : {"", "{\"name\": \"plain\"}", "{\"name\": \"é ✓ 𝄞\"}"})
+        CHECK_FALSE(ray::bodyEncodingProblem(body));
+    const std::pair<std::string, size_t> bad[] = {
+        {"{\"name\": \"\xff\"}", 10},  // never in UTF-8
+        {"ab\xc0\x80", 2},              // an overlong NUL
+        {"\xed\xa0\x80", 0},           // a surrogate
+        {"x\xe2\x82", 1},               // cut short
+        {"\x80", 0},                     // a lone continuation byte
+        {"\xf4\x90\x80\x80", 0},       // past U+10FFFF
+    };
+    for (const auto& [body, at] : bad) {
+        const std::optional<std::string> problem = ray::bodyEncodingProblem(body);
+        REQUIRE(problem);
+        CHECK_THAT(*problem, Catch::Contains("not UTF-8") && Catch::Contains("byte " + std::to_string(at) + " "));
+    }
+}
+
+TEST_CASE("Answers are valid UTF-8 whatever bytes a path holds", "[viewer]") {
+    const nlohmann::json answer{{"file", "/tmp/caf\xe9/scene.xml"}, {"error", "cannot open '\xff\xfe'"}};
+    std::string text;
+    REQUIRE_NOTHROW(text = ray::jsonText(answer));
+    CHECK_FALSE(ray::bodyEncodingProblem(text));
+    CHECK(nlohmann::json::parse(text)["file"] == "/tmp/caf\xef\xbf\xbd/scene.xml");  // U+FFFD for the byte
 }
 
 TEST_CASE("Connections without the token beyond the bound close the oldest", "[viewer][security]") {

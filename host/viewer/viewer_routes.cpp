@@ -22,16 +22,22 @@ using nlohmann::json;
 
 namespace {
 
+// Every JSON answer: its text as jsonText writes it (view_request.h: valid UTF-8 whatever
+// bytes a path held).
+void sendJson(httplib::Response& response, const json& answer) {
+    response.set_content(jsonText(answer), "application/json");
+}
+
 void badRequest(httplib::Response& response, const std::string& why) {
     response.status = 400;
-    response.set_content(json{{"error", why}}.dump(), "application/json");
+    sendJson(response, json{{"error", why}});
 }
 
 // An edit refused: 400 with the sentence, the field and the node it is about; 409 for a
 // name in use (docs/modeler-protocol.md).
 void refused(httplib::Response& response, const EditError& error) {
     response.status = error.kind == EditError::Kind::Exists ? 409 : 400;
-    response.set_content(edit::errorJson(error).dump(), "application/json");
+    sendJson(response, edit::errorJson(error));
 }
 
 // Answers with what `answer` returns, as JSON; a refused edit or a bad request (a missing or
@@ -39,7 +45,7 @@ void refused(httplib::Response& response, const EditError& error) {
 template <typename Answer>
 void answerJson(httplib::Response& response, Answer&& answer) {
     try {
-        response.set_content(answer().dump(), "application/json");
+        sendJson(response, answer());
     } catch (const EditError& e) {
         refused(response, e);
     } catch (const std::exception& e) {
@@ -57,6 +63,12 @@ int intParameter(const httplib::Request& request, const char* name) {
                                     (error == std::errc::result_out_of_range ? " in range" : "") + ", not '" +
                                     quotedForMessage(text, 40) + "'");
     return value;
+}
+
+// A body that is not UTF-8 is refused with a sentence of its own (request_guard.h) before a
+// parser sees it.
+void requireUtf8Body(const httplib::Request& request) {
+    if (std::optional<std::string> problem = bodyEncodingProblem(request.body)) throw std::invalid_argument(*problem);
 }
 
 // Whether a request comes with a body: the guard runs before cpp-httplib reads it, so its
@@ -99,7 +111,7 @@ httplib::Server::HandlerResponse guardRequest(const httplib::Request& request, h
     const GuardVerdict verdict = checkRequest(factsOf(request), policy);
     if (verdict.status != 0) {
         response.status = verdict.status;
-        response.set_content(json{{"error", verdict.message}}.dump(), "application/json");
+        sendJson(response, json{{"error", verdict.message}});
         return Result::Handled;
     }
     if (!verdict.setCookie.empty()) {
@@ -125,7 +137,7 @@ httplib::Server::HandlerResponse explainError(const httplib::Request&, httplib::
     else if (response.status == 404)
         why = "there is no such route (the viewer serves /, /state, /settings, /fields, /outline, /node, /events, "
               "/view, /pick, /object, /explain, /op, /edit, /undo, /redo and /save)";
-    response.set_content(json{{"error", why}}.dump(), "application/json");
+    sendJson(response, json{{"error", why}});
     return httplib::Server::HandlerResponse::Handled;
 }
 
@@ -148,23 +160,26 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
         response.set_content(page, "text/html; charset=utf-8");
     });
     server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {
-        response.set_content(settingControlsJson().dump(), "application/json");
+        sendJson(response, settingControlsJson());
     });
-    server.Get("/fields", [fields = edit::fieldTableJson().dump()](const httplib::Request&, httplib::Response& response) {
+    server.Get("/fields", [fields = jsonText(edit::fieldTableJson())](const httplib::Request&, httplib::Response& response) {
         response.set_content(fields, "application/json");
     });
     server.Get("/outline", [&](const httplib::Request&, httplib::Response& response) {
-        response.set_content(session.outline().dump(), "application/json");
+        sendJson(response, session.outline());
     });
     server.Get("/node", [&](const httplib::Request& request, httplib::Response& response) {
         answerJson(response, [&] { return session.node(request.get_param_value("id")); });
     });
     server.Get("/state", [&](const httplib::Request&, httplib::Response& response) {
-        response.set_content(session.state().dump(), "application/json");
+        sendJson(response, session.state());
     });
     server.Post("/view", [&](const httplib::Request& request, httplib::Response& response) {
         // The view's number: the page draws over a frame in the camera of the view it shows.
-        answerJson(response, [&] { return json{{"view", session.request(request.body)}}; });
+        answerJson(response, [&] {
+            requireUtf8Body(request);
+            return json{{"view", session.request(request.body)}};
+        });
     });
     server.Get("/explain", [&](const httplib::Request& request, httplib::Response& response) {
         answerJson(response, [&] { return session.explain(intParameter(request, "x"), intParameter(request, "y")); });
@@ -182,17 +197,16 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
                                                                                      httplib::Response& response) {
             if (!editable) {
                 response.status = 403;
-                response.set_content(json{{"error", "this viewer was started with --no-token: editing the scene "
-                                                    "needs the access token; start ray view without --no-token"}}
-                                         .dump(),
-                                     "application/json");
+                sendJson(response, json{{"error", "this viewer was started with --no-token: editing the scene "
+                                                  "needs the access token; start ray view without --no-token"}});
                 return;
             }
             try {
-                response.set_content(session.edit(action, request.body).dump(), "application/json");
+                requireUtf8Body(request);
+                sendJson(response, session.edit(action, request.body));
             } catch (const FileExists& e) {
                 response.status = 409;
-                response.set_content(json{{"error", e.what()}, {"exists", true}}.dump(), "application/json");
+                sendJson(response, json{{"error", e.what()}, {"exists", true}});
             } catch (const EditError& e) {
                 refused(response, e);
             } catch (const json::exception& e) {
