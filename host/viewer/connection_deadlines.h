@@ -11,7 +11,7 @@
 //  - a request's headers must have arrived within kHeaderDeadline of its first byte (a new
 //    connection: of its accept), its body within kBodyDeadline; a kept-alive connection waits
 //    for its next request as long as cpp-httplib's keep-alive timeout. A request out of time
-//    gets 408 and its connection is closed.
+//    is answered 408 (once its request line is in) and its connection closed.
 //  - at most kMaxUnproven connections that have not shown the token (UnprovenConnections) are
 //    kept: a new one beyond that closes the one that has waited longest. A connection that
 //    has shown the token in a request is not counted while it waits for its next one. The
