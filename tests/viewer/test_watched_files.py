@@ -95,13 +95,38 @@ try:
     assert red[0] > 2 * red[2], red
     print("texture painted red: centre", red)
 
+    # An edit first: reading the texture again keeps it and its history.
+    op = json.dumps({"op": "set", "node": "globals", "fields": {"diffusecoeff": 0.9}})
+    status, answer = viewer.json("POST", "/op", op)
+    assert status == 200, answer
+    edited = events.scene()["version"]
     time.sleep(0.5)
     write_paint((20, 20, 230))
     version = events.scene()["version"]  # read again
+    assert version > edited
     blue = events.final_centre(version)
     assert blue[2] > 2 * blue[0], blue
-    print("texture repainted blue on disk: centre", blue)
+    status, state = viewer.json("GET", "/state")
+    assert state["can_undo"] and state["modified"], state
+    print("texture repainted blue on disk: centre", blue, "(the edit kept, and its undo)")
     assert "read again paint.ppm" in viewer.log(), viewer.log()
+
+    # The texture replaced by a FIFO: not opened, said so; the last good pixels stay.
+    os.remove(paint)
+    os.mkfifo(paint)
+    error = events.scene()["error"]
+    while "FIFO" not in error:  # the deletion may be seen first
+        error = events.scene()["error"]
+    assert "paint.ppm" in error and "last good version stays" in error, error
+    status, state = viewer.json("GET", "/state", timeout=5)
+    assert status == 200 and "FIFO" in state["error"], state
+    print("texture replaced by a FIFO:", error.splitlines()[0])
+    os.remove(paint)
+    write_paint((20, 20, 230))
+    error = events.scene()["error"]
+    while error:
+        error = events.scene()["error"]
+    print("texture written again: the error gone")
 
     # The scene file replaced by a FIFO: not opened (which would wait for a writer), said so.
     os.remove(viewer.scene)
