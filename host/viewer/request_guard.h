@@ -23,6 +23,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace ray {
 
@@ -49,10 +50,16 @@ struct GuardVerdict {
     std::string setCookie;      // the page's first visit: the cookie to set (then a 303 to /)
 };
 
-// The route that serves the page (the one a cookie may open).
+// The route that serves the page (the one a cookie may open), and the event stream's.
 constexpr const char* kPagePath = "/";
+constexpr const char* kEventsPath = "/events";
 
 GuardVerdict checkRequest(const RequestFacts& request, const GuardPolicy& policy);
+
+// Why a request's body cannot be JSON text: bytes that are not UTF-8 (RFC 8259 requires it),
+// as a sentence naming the first; nullopt when it is UTF-8. The guard runs before the body is
+// read: the routes that take a body ask this first (a 400, not a parser's garbled message).
+std::optional<std::string> bodyEncodingProblem(std::string_view body);
 
 // Whether listening on `address` (--bind) reaches this machine only: 127.x.x.x, ::1, localhost.
 bool isLoopbackAddress(const std::string& address);

@@ -222,9 +222,10 @@ std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bo
     return target;
 }
 
-void SceneEditor::reload() {
-    SceneDocument document = loadSceneDocument(file_, options_);
-    session_.reload(std::move(document), Resources{});
+void SceneEditor::reload() { reload(loadSceneDocument(file_, options_), Resources{}); }
+
+void SceneEditor::reload(SceneDocument document, Resources resources) {
+    session_.reload(std::move(document), std::move(resources));
 }
 
 }  // namespace ray

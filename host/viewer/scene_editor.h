@@ -95,6 +95,13 @@ public:
     // The file changed on disk (not by save): loads it again; the history is cleared, as
     // the edits were made to another version. Throws InputError (the editor is unchanged).
     void reload();
+    // The same from a document and its resources read already (without the viewer's lock:
+    // scene_watch.cpp), which this only flattens. Throws InputError.
+    void reload(SceneDocument document, Resources resources);
+    // The images and meshes the scene uses, by file; the same read again (EditSession::
+    // refreshResources), the edits and their history kept. Throws InputError.
+    const Resources& resources() const { return session_.resources(); }
+    void refreshResources(Resources resources) { session_.refreshResources(std::move(resources)); }
     // How many edits, undos, redos and reloads have changed the scene so far.
     uint64_t version() const { return session_.version(); }
     // Whether the document differs from the file as last loaded or saved.

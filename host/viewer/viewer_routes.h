@@ -8,6 +8,7 @@
 
 namespace httplib {
 class Server;
+struct Request;
 }
 
 namespace ray {
@@ -26,5 +27,8 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
 // The guard before every route, the protective headers on every answer, and a JSON error
 // for the refusals cpp-httplib makes itself.
 void guardRequests(httplib::Server& server, const GuardPolicy& policy);
+
+// Whether the guard lets `request` through (its headers show the token, where one is needed).
+bool passesGuard(const httplib::Request& request, const GuardPolicy& policy);
 
 }  // namespace ray

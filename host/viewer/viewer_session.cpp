@@ -42,7 +42,8 @@ Session::Session(const ViewerOptions& options, std::unique_ptr<FrameSource> sour
     : options_(options), source_(std::move(source)), editor_(editorFor(options)),
       edited_(options.recovered.has_value()), offer_(withoutDocument(options.offer)) {
     scene_ = editor_.scene();
-    sceneTime_ = lastWrite();
+    sceneStamp_ = stampOf(options_.scene);
+    for (const std::filesystem::path& file : resourceFilesLocked()) fileStamps_[file] = stampOf(file);
     view_ = {scene_->camera, options.settings};
     if (!options.recoveryFolder.empty())
         keeper_ = std::make_unique<RecoveryKeeper>(options.recoveryFolder, options.scene,
@@ -143,7 +144,8 @@ json Session::edit(const std::string& action, const std::string& body) {
         const SaveRequest save = saveRequestFrom(request.value);
         const std::filesystem::path saved = editor_.save(save.as, save.replace);
         // Its own save is not a change on disk to reload (which would clear the history).
-        sceneTime_ = lastWrite();
+        sceneStamp_ = stampOf(options_.scene);
+        ++saves_;
         log("saved " + quotedForMessage(saved.string()));
         out["saved"] = saved.string();
         if (keeper_) keeper_->sceneRead();

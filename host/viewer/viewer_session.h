@@ -5,7 +5,8 @@
 //                       view when the view is slow to render), then its refinement once the
 //                       view rests; a new request cancels a refinement in flight, and lets
 //                       a preview finish
-//   scene_watch.cpp     the watch thread: the scene file changed on disk is loaded again
+//   scene_watch.cpp     the watch thread: the scene file changed on disk is loaded again, a
+//                       texture or mesh it uses read again; files are read outside the lock
 //   event_stream.cpp    the /events stream: frames, tiles and scene changes as they happen
 // The routes (viewer_routes.h) call it; runViewer (viewer_server.h) starts and stops it.
 #pragma once
@@ -15,6 +16,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -25,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/frame_source.h"
+#include "viewer/file_stamp.h"
 #include "viewer/preview_resolution.h"
 #include "viewer/recovery.h"
 #include "viewer/scene_editor.h"
@@ -113,8 +116,11 @@ private:
     void keepFinishedFrameLocked();
 
     // scene_watch.cpp
-    std::filesystem::file_time_type lastWrite() const;
     void watchLoop();
+    void reloadScene(const FileStamp& stamp, uint64_t saves);
+    void readChangedFiles(const std::map<std::filesystem::path, FileStamp>& stamps);
+    void showFileError(const std::string& message, const FileStamp& stamp, uint64_t saves);
+    std::vector<std::filesystem::path> resourceFilesLocked() const;
 
     const ViewerOptions& options_;
     std::unique_ptr<FrameSource> source_;
@@ -122,7 +128,12 @@ private:
     std::mutex mutex_;
     std::condition_variable changed_;
     std::shared_ptr<const Scene> scene_;
-    std::filesystem::file_time_type sceneTime_;
+    FileStamp sceneStamp_;  // the scene file as last read or saved
+    // The textures and meshes the scene uses as last read (scene_watch.cpp); files an edit
+    // named since are stamped by the next look.
+    std::map<std::filesystem::path, FileStamp> fileStamps_;
+    std::string filesError_;  // the textures' and meshes' that could not be read again, shown in sceneError_
+    uint64_t saves_ = 0;  // the editor's own saves: a look at the file that raced one is made again
     std::string sceneError_;      // shown in the page: a broken save, or a failed frame
     bool errorIsFrames_ = false;  // sceneError_ is a failed frame's
     View view_;
