@@ -43,6 +43,11 @@ options:
   --depth N                recursion depth (0..16; default 4)
   --device D               auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene
                            packed once; ref: the reference renderer
+  --frame-ancestors SOURCES
+                           the pages that may show the viewer inside a frame: a
+                           Content-Security-Policy source list such as http://localhost:*
+                           (cs123ray.view gives a notebook's); the frame opens the URL with
+                           its token. By default the page is never framed
   -h, --help               this text
 )";
 
@@ -85,6 +90,12 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
             throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
                              v + "'");
         c.device = v;
+    });
+    addValueOption(app, "--frame-ancestors", [&](const std::string& v) {
+        if (v.empty() || v.find_first_of(";,\r\n'\"") != std::string::npos)
+            throw UsageError("--frame-ancestors takes sources such as http://localhost:* (separated by spaces; no "
+                             "quotes, commas or semicolons), not '" + v + "'");
+        c.options.frameAncestors = v;
     });
     addRenderSettingOptions(app, s, c.searchPaths);
     app.add_option("scene", c.positionals);

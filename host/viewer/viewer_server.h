@@ -55,6 +55,8 @@ struct ViewerOptions {
     LoadOptions load;
     // The access token every request must present; empty: the viewer is open (--no-token).
     std::string token;
+    // --frame-ancestors: the pages that may show the viewer in a frame (request_guard.h).
+    std::string frameAncestors;
     // Called once the server listens, with the port it got.
     std::function<void(int port)> onListening;
     // The terminal's log: reloads, broken saves, failed frames (never the token).
