@@ -131,6 +131,13 @@ void finishOptions(ViewCommand& c) {
 
 }  // namespace
 
+CommandReference viewCommandReference() {
+    CLI::App app{"ray view", "ray view"};
+    ViewCommand command;
+    defineOptions(app, command);
+    return describeCommand("view", app, viewUsage());
+}
+
 int runViewCommand(const std::vector<std::string>& args) {
     CLI::App app{"ray view", "ray view"};
     ViewCommand command;
