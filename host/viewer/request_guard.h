@@ -46,7 +46,7 @@ struct GuardPolicy {
     // Content-Security-Policy source list, such as a notebook's origin); empty: none. Such a
     // frame must open the URL with the token in its query (the frame's navigation is
     // cross-site, and a SameSite cookie is not sent there): then the page is served at once.
-    std::string frameAncestors;
+    std::string frameAncestors = {};
 };
 
 struct GuardVerdict {
