@@ -133,6 +133,37 @@ TEST_CASE("Requests of another page are refused, even with the token", "[viewer]
     CHECK(statusOf(anonymous, open) == 403);
 }
 
+TEST_CASE("With --frame-ancestors the page opens in a frame when the frame's URL holds the token",
+          "[viewer][security]") {
+    const GuardPolicy framable{kToken, 8123, true, "http://localhost:* http://127.0.0.1:*"};
+    RequestFacts frame;  // a notebook's IFrame, at another port of the machine
+    frame.method = "GET";
+    frame.path = "/";
+    frame.host = "127.0.0.1:8123";
+    frame.fetchSite = "cross-site";
+    frame.fetchMode = "navigate";
+    frame.fetchDest = "iframe";
+    frame.queryToken = kToken;
+    const ray::GuardVerdict verdict = ray::checkRequest(frame, framable);
+    CHECK(verdict.status == 0);
+    CHECK(verdict.setCookie.empty());  // served at once: a cross-site frame sends no SameSite cookie back
+    CHECK(statusOf(frame) == 403);     // without --frame-ancestors: never framed
+    RequestFacts wrongToken = frame;
+    wrongToken.queryToken = std::string(kToken.size(), '0');
+    CHECK(statusOf(wrongToken, framable) == 403);
+    RequestFacts cookieOnly = frame;  // the cookie alone does not open a frame
+    cookieOnly.queryToken.clear();
+    cookieOnly.cookie = "ray_view_token_8123=" + kToken;
+    CHECK(statusOf(cookieOnly, framable) == 403);
+    RequestFacts otherRoute = frame;  // only the page may be framed
+    otherRoute.path = "/state";
+    CHECK(statusOf(otherRoute, framable) == 403);
+    RequestFacts post = fromThePage("POST", "/op");  // and the other page still cannot post
+    post.origin = "http://127.0.0.1:8888";
+    post.fetchSite = "same-site";
+    CHECK(statusOf(post, framable) == 403);
+}
+
 TEST_CASE("A body must say it is JSON, which a form cannot", "[viewer][security]") {
     for (const char* type : {"text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", ""}) {
         RequestFacts form = fromThePage("POST", "/save");

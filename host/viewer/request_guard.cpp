@@ -51,12 +51,22 @@ bool namesThisViewer(const std::string& host, int port) {
 
 bool isPage(const RequestFacts& request) { return request.method == "GET" && request.path == kPagePath; }
 
+// The page opened in a frame of a page --frame-ancestors names (a notebook's), the token in
+// its URL: the browser enforces the ancestors (the page's Content-Security-Policy), the token
+// is checked next.
+bool framedWithToken(const RequestFacts& request, const GuardPolicy& policy) {
+    const std::string dest = lowercase(request.fetchDest);
+    return !policy.frameAncestors.empty() && isPage(request) && request.fetchMode == "navigate" &&
+           (dest == "iframe" || dest == "frame") && !request.queryToken.empty();
+}
+
 // A request another page made: cross-origin by its Origin, or by Fetch Metadata (which
 // browsers send with every request, fetch and form alike). A top-level navigation to the
 // page (a link followed, the URL typed) is the user's own and is let through.
-std::optional<std::string> crossOriginReason(const RequestFacts& request) {
+std::optional<std::string> crossOriginReason(const RequestFacts& request, const GuardPolicy& policy) {
     if (!request.origin.empty() && request.origin != "http://" + request.host)
         return "it comes from another page (Origin " + quotedForMessage(request.origin) + ")";
+    if (framedWithToken(request, policy)) return std::nullopt;
     const std::string site = lowercase(request.fetchSite);
     const bool navigation = isPage(request) && request.fetchMode == "navigate";
     if (!site.empty() && site != "same-origin" && site != "none" && !navigation)
@@ -99,7 +109,7 @@ GuardVerdict checkRequest(const RequestFacts& request, const GuardPolicy& policy
     if (policy.loopbackOnly && !namesThisViewer(request.host, policy.port))
         return refused(403, "ray view answers only at 127.0.0.1:" + std::to_string(policy.port) + " or localhost:" +
                                 std::to_string(policy.port) + ", not at Host " + quotedForMessage(request.host));
-    if (std::optional<std::string> reason = crossOriginReason(request))
+    if (std::optional<std::string> reason = crossOriginReason(request, policy))
         return refused(403, "ray view refused the request: " + *reason + "; only its own page may use it");
     if (!policy.token.empty()) {
         if (!tokensMatch(presentedToken(request, policy), policy.token)) {
@@ -109,7 +119,7 @@ GuardVerdict checkRequest(const RequestFacts& request, const GuardPolicy& policy
             return refused(403, "ray view: this viewer needs its access token: open the URL that `ray view` printed "
                                 "(with ?token=...), or start it with --no-token");
         }
-        if (isPage(request) && !request.queryToken.empty())
+        if (isPage(request) && !request.queryToken.empty() && !framedWithToken(request, policy))
             return {0, "", accessCookieName(policy.port) + "=" + policy.token + "; Path=/; HttpOnly; SameSite=Strict"};
     }
     if (request.hasBody && !saysJson(request.contentType))

@@ -16,7 +16,8 @@
 //    listens on loopback: a DNS-rebound name is refused;
 //  - Origin, when sent, must be the viewer's own (http://<Host>);
 //  - Sec-Fetch-Site, when sent, must be same-origin or none (the user typed the URL), but
-//    for a top-level navigation to the page; the page is never framed (Sec-Fetch-Dest);
+//    for a top-level navigation to the page; the page is never framed (Sec-Fetch-Dest),
+//    unless ray view was started with --frame-ancestors and the frame's URL holds the token;
 //  - a body (POST) must say it is JSON, which a form cannot;
 //  - OPTIONS (a CORS preflight) is refused.
 #pragma once
@@ -42,6 +43,11 @@ struct GuardPolicy {
     std::string token;
     int port = 0;
     bool loopbackOnly = true;
+    // ray view --frame-ancestors: the pages that may show the viewer's page in a frame (a
+    // Content-Security-Policy source list, such as a notebook's origin); empty: none. Such a
+    // frame must open the URL with the token in its query (the frame's navigation is
+    // cross-site, and a SameSite cookie is not sent there): then the page is served at once.
+    std::string frameAncestors = {};
 };
 
 struct GuardVerdict {

@@ -53,6 +53,11 @@ options:
   --recover                open the scene with the unsaved edits a viewer of it left when it
                            was stopped (they are kept in ~/.local/state/ray/recovery/, or
                            $XDG_STATE_HOME/ray/recovery/): unsaved until saved
+  --frame-ancestors SOURCES
+                           the pages that may show the viewer inside a frame: a
+                           Content-Security-Policy source list such as http://localhost:*
+                           (cs123ray.view gives a notebook's); the frame opens the URL with
+                           its token. By default the page is never framed
   -h, --help               this text
 )";
 
@@ -98,6 +103,12 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
             throw UsageError("--device must be auto, cpu, gpu, all, ref, a device index or a list such as 0,2, not '" +
                              v + "'");
         c.device = v;
+    });
+    addValueOption(app, "--frame-ancestors", [&](const std::string& v) {
+        if (v.empty() || v.find_first_of(";,\r\n'\"") != std::string::npos)
+            throw UsageError("--frame-ancestors takes sources such as http://localhost:* (separated by spaces; no "
+                             "quotes, commas or semicolons), not '" + v + "'");
+        c.options.frameAncestors = v;
     });
     addRenderSettingOptions(app, s, c.searchPaths);
     app.add_option("scene", c.positionals);
@@ -219,6 +230,13 @@ void finishOptions(ViewCommand& c) {
 }
 
 }  // namespace
+
+CommandReference viewCommandReference() {
+    CLI::App app{"ray view", "ray view"};
+    ViewCommand command;
+    defineOptions(app, command);
+    return describeCommand("view", app, viewUsage());
+}
 
 int runViewCommand(const std::vector<std::string>& args) {
     CLI::App app{"ray view", "ray view"};

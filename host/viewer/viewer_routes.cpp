@@ -78,10 +78,11 @@ bool carriesBody(const httplib::Request& request) {
     return (!length.empty() && length != "0") || request.has_header("Transfer-Encoding");
 }
 
-// Headers every answer carries: it is never framed, read by another origin or sniffed.
-void setProtectiveHeaders(httplib::Response& response) {
+// Headers every answer carries: it is never framed (but by the pages of --frame-ancestors,
+// which the page's Content-Security-Policy names), read by another origin or sniffed.
+void setProtectiveHeaders(httplib::Response& response, const GuardPolicy& policy) {
     response.set_header("X-Content-Type-Options", "nosniff");
-    response.set_header("X-Frame-Options", "DENY");
+    if (policy.frameAncestors.empty()) response.set_header("X-Frame-Options", "DENY");
     response.set_header("Cross-Origin-Resource-Policy", "same-origin");
     response.set_header("Referrer-Policy", "no-referrer");
 }
@@ -107,7 +108,7 @@ RequestFacts factsOf(const httplib::Request& request) {
 httplib::Server::HandlerResponse guardRequest(const httplib::Request& request, httplib::Response& response,
                                               const GuardPolicy& policy) {
     using Result = httplib::Server::HandlerResponse;
-    setProtectiveHeaders(response);
+    setProtectiveHeaders(response, policy);
     const GuardVerdict verdict = checkRequest(factsOf(request), policy);
     if (verdict.status != 0) {
         response.status = verdict.status;
@@ -150,13 +151,25 @@ std::string pageWithToken(const std::string& token) {
     return page;
 }
 
+// The page's Content-Security-Policy, with the pages that may frame it (none by default).
+std::string pagePolicy(const std::string& frameAncestors) {
+    std::string policy = kViewerPagePolicy;
+    const std::string none = "frame-ancestors 'none'";
+    const size_t at = policy.find(none);
+    if (!frameAncestors.empty() && at != std::string::npos)
+        policy.replace(at, none.size(), "frame-ancestors " + frameAncestors);
+    return policy;
+}
+
 }  // namespace
 
-void defineRoutes(httplib::Server& server, Session& session, const std::string& token) {
+void defineRoutes(httplib::Server& server, Session& session, const std::string& token,
+                  const std::string& frameAncestors) {
     const bool editable = !token.empty();
-    server.Get(kPagePath, [page = pageWithToken(token)](const httplib::Request&, httplib::Response& response) {
+    server.Get(kPagePath, [page = pageWithToken(token), policy = pagePolicy(frameAncestors)](
+                              const httplib::Request&, httplib::Response& response) {
         response.set_header("Cache-Control", "no-store");
-        response.set_header("Content-Security-Policy", kViewerPagePolicy);
+        response.set_header("Content-Security-Policy", policy);
         response.set_content(page, "text/html; charset=utf-8");
     });
     server.Get("/settings", [](const httplib::Request&, httplib::Response& response) {

@@ -22,7 +22,9 @@ constexpr size_t kMaxRequestBody = 16 * 1024;
 
 // The routes of viewer_server.h, answered by `session`; `token` is written into the page
 // (empty with --no-token: the editing routes then answer 403).
-void defineRoutes(httplib::Server& server, Session& session, const std::string& token);
+// frameAncestors: ray view --frame-ancestors (GuardPolicy), written into the page's policy.
+void defineRoutes(httplib::Server& server, Session& session, const std::string& token,
+                  const std::string& frameAncestors);
 
 // The guard before every route, the protective headers on every answer, and a JSON error
 // for the refusals cpp-httplib makes itself.

@@ -80,13 +80,13 @@ void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source
     // 120 ms each from the page, 3 ms from a script that opened a connection each time).
     server.set_tcp_nodelay(true);
     server.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
-    defineRoutes(server, session, options.token);
+    defineRoutes(server, session, options.token, options.frameAncestors);
     int port = options.port;
     if (port == 0) port = server.bind_to_any_port(options.address);
     else if (!server.bind_to_port(options.address, port)) port = -1;
     if (port < 0) throwCannotListen(options.address, options.port);
     // The cookie's name and the Host check hold the port, known only now (--port 0).
-    const GuardPolicy policy{options.token, port, isLoopbackAddress(options.address)};
+    const GuardPolicy policy{options.token, port, isLoopbackAddress(options.address), options.frameAncestors};
     guardRequests(server, policy);
     server.setShowsToken([policy](const httplib::Request& request) { return passesGuard(request, policy); });
     session.start();

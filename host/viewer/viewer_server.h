@@ -66,6 +66,8 @@ struct ViewerOptions {
     // Stopped by SIGINT, SIGTERM or SIGHUP (viewer/stop_signals.h, made by the caller):
     // told the signal and what became of the unsaved edits, before the process exits.
     std::function<void(int signal, const RecoveryKeeper::Kept& kept)> onStopSignal;
+    // --frame-ancestors: the pages that may show the viewer in a frame (request_guard.h).
+    std::string frameAncestors;
     // Called once the server listens, with the port it got.
     std::function<void(int port)> onListening;
     // The terminal's log: reloads, broken saves, failed frames (never the token).
