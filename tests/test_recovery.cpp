@@ -69,13 +69,13 @@ TEST_CASE("a recovery is written private and read back whole, naming its scene; 
     CHECK(modeOf(keep) == 0700);
     const std::string document = "<scenefile>\n  <!-- an edit \xc3\xa9 -->\n</scenefile>\n";
     const fs::path file = keep / "k-1.ray-recovery";
-    ray::writeRecovery(file, scene, ray::stampOf(scene), document);
+    ray::writeRecovery(file, scene, ray::sceneFileStampOf(scene), document);
     CHECK(modeOf(file) == 0600);
 
     const Recovery read = ray::readRecovery(file);
     CHECK(read.document == document);
     CHECK(fs::path(read.scene) == fs::canonical(scene));
-    CHECK(read.sceneWhenRead == ray::stampOf(scene));
+    CHECK(read.sceneWhenRead == ray::sceneFileStampOf(scene));
     CHECK_FALSE(ray::sceneChangedSince(read, scene));
     std::ofstream(scene, std::ios::app) << "<!-- changed elsewhere -->\n";
     CHECK(ray::sceneChangedSince(read, scene));
@@ -126,7 +126,7 @@ TEST_CASE("the keeper writes the document's copy, replaces the one restored, set
     // Another viewer's copy, which this one restored.
     const fs::path restored = keep / "restored.ray-recovery";
     ray::prepareRecoveryFolder(keep);
-    ray::writeRecovery(restored, scene, ray::stampOf(scene), "<scenefile>restored</scenefile>");
+    ray::writeRecovery(restored, scene, ray::sceneFileStampOf(scene), "<scenefile>restored</scenefile>");
 
     RecoveryKeeper keeper(keep, scene, snapshot, nullptr);
     const fs::path own = keeper.file();

@@ -144,7 +144,7 @@ fs::path sceneIdentity(const fs::path& scene) {
     return ec ? fs::absolute(scene).lexically_normal() : path;
 }
 
-SceneFileStamp stampOf(const fs::path& scene) {
+SceneFileStamp sceneFileStampOf(const fs::path& scene) {
     SceneFileStamp stamp;
     // No link is followed past the scene's own, no FIFO waited on (O_NONBLOCK), no device read.
     Descriptor file(::open(scene.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
@@ -231,7 +231,7 @@ std::vector<Recovery> findRecoveries(const fs::path& folder, const fs::path& sce
 }
 
 bool sceneChangedSince(const Recovery& recovery, const fs::path& scene) {
-    return !(stampOf(scene) == recovery.sceneWhenRead);
+    return !(sceneFileStampOf(scene) == recovery.sceneWhenRead);
 }
 
 void removeRecovery(const fs::path& file) {
@@ -395,7 +395,7 @@ RecoveryKeeper::Kept RecoveryKeeper::settle() {
             replaced = replaced_;
         }
         if (text) {
-            if (stampDue) stamp_ = stampOf(scene_);
+            if (stampDue) stamp_ = sceneFileStampOf(scene_);
             prepareRecoveryFolder(folder_);
             writeRecovery(kept.file, scene_, stamp_, *text);
         } else {

@@ -59,7 +59,7 @@ struct SceneFileStamp {
     int64_t mtimeNs = 0;
     std::string hash;  // FNV-1a 64 of its bytes, hex
 };
-SceneFileStamp stampOf(const std::filesystem::path& scene);
+SceneFileStamp sceneFileStampOf(const std::filesystem::path& scene);
 bool operator==(const SceneFileStamp& a, const SceneFileStamp& b);
 
 // A recovery file's header, and its document once read whole.
