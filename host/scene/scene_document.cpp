@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/atomic_file.h"
+#include "scene/document_save.h"
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
 #include "scene/value_text.h"
@@ -329,7 +330,12 @@ std::string documentToText(const SceneDocument& document, const Resources& resou
 }
 
 void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target) {
-    writeFileAtomically(target, documentToText(document, resources, target));
+    saveDocument(document, resources, target, WriteOptions{});
+}
+
+void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target,
+                  const WriteOptions& options) {
+    writeFileAtomically(target, documentToText(document, resources, target), options);
 }
 
 }  // namespace ray
