@@ -64,15 +64,27 @@ namespace {
 constexpr InputLimit kTextureFileLimit{"an image", kMaxTexturePixels * 16 + (uint64_t(64) << 20),
                                        "2^25 pixels of 4 floats, a texture's budget, and metadata"};
 
+// A TGA header's fields in their ranges: a colour map type of 0 or 1, a known image type,
+// a known pixel depth and both sides non-zero (text fails the first test).
+bool looksLikeTga(const std::string& h) {
+    if (h.size() < 18) return false;
+    const auto byte = [&](size_t i) { return static_cast<unsigned char>(h[i]); };
+    const bool colorMap = byte(1) <= 1;
+    const bool imageType = std::string_view("\x01\x02\x03\x09\x0a\x0b").find(char(byte(2))) != std::string_view::npos;
+    const bool depth = byte(16) == 8 || byte(16) == 15 || byte(16) == 16 || byte(16) == 24 || byte(16) == 32;
+    const bool sides = (byte(12) | byte(13)) != 0 && (byte(14) | byte(15)) != 0;
+    return colorMap && imageType && depth && sides;
+}
+
 bool startsWith(const std::string& header, std::string_view prefix) {
     return header.size() >= prefix.size() && header.compare(0, prefix.size(), prefix) == 0;
 }
 
 // Whether the first bytes are those of an image format (PNG, JPEG, OpenEXR, Radiance HDR,
 // TIFF, PNM and PFM, BMP, GIF, WebP, SGI, DDS, PSD, ICO, JPEG 2000, DPX, Cineon, FITS, IFF,
-// Softimage PIC, HEIF/AVIF). TGA has no signature and is known by its extension. Anything
-// else is refused at once: OpenImageIO would try every reader it has on it (a 128 MiB file
-// of text took 18 s).
+// Softimage PIC, HEIF/AVIF), or a plausible TGA header (TGA has no signature; ray reads one
+// by content whatever its name, as it does the others). Anything else is refused at once:
+// OpenImageIO would try every reader it has on it (a 128 MiB file of text took 18 s).
 bool looksLikeAnImage(const std::string& h, const fs::path& file) {
     using namespace std::string_view_literals;
     static const std::string_view kSignatures[] = {
@@ -85,8 +97,7 @@ bool looksLikeAnImage(const std::string& h, const fs::path& file) {
     if (h.size() >= 2 && h[0] == 'P' && std::string_view("1234567Ff").find(h[1]) != std::string_view::npos) return true;
     if (startsWith(h, "RIFF") && h.size() >= 12 && h.compare(8, 4, "WEBP") == 0) return true;
     if (h.size() >= 8 && h.compare(4, 4, "ftyp") == 0) return true;
-    const std::string ext = lowerExtension(file);
-    return ext == ".tga" || ext == ".tpic";
+    return looksLikeTga(h) || lowerExtension(file) == ".tga";
 }
 
 std::string firstBytes(const fs::path& file, size_t count) {
@@ -106,7 +117,7 @@ void checkImageFile(const fs::path& file) {
     } catch (const InputFileError& e) {
         throw ImageError(e.what());
     }
-    if (!looksLikeAnImage(firstBytes(file, 16), file))
+    if (!looksLikeAnImage(firstBytes(file, 18), file))
         throw ImageError(file.string() + ": cannot read image: its first bytes are those of no image format ray reads; "
                          "give a PNG, JPEG, OpenEXR, HDR, TIFF, PPM, BMP or TGA file");
 }
