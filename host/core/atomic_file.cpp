@@ -359,10 +359,10 @@ void copyInto(int out, const fs::path& from, const fs::path& given) {
 
 void writeFileAtomically(const fs::path& given, std::string_view bytes, const WriteOptions& options) {
     const Target target = resolveTarget(given);
-    prepare(given, target, options);
     if (isFile(target)) {
-        TemporaryFile tmp;
+        TemporaryFile tmp;  // first: a folder ray cannot write to is the failure to report
         createTemporaryBeside(target.path, given, temporaryMode(target), tmp);
+        prepare(given, target, options);
         writeInHalves(tmp.fd, bytes, given, tmp.path.string());
         syncCloseAndRename(given, target, tmp);
         return;
@@ -376,12 +376,12 @@ void writeFileAtomically(const fs::path& given, std::string_view bytes, const Wr
 void writeFileAtomicallyVia(const fs::path& given, const std::function<void(const fs::path&)>& writeTemporary,
                             const WriteOptions& options) {
     const Target target = resolveTarget(given);
-    prepare(given, target, options);
     TemporaryFile tmp;
     // A stream's encoder writes to a temporary file in the temporary folder (a device's
     // folder is no place for files), copied into the stream once it is whole.
     const fs::path beside = isFile(target) ? target.path : fs::temp_directory_path() / ("ray" + given.filename().string());
     createTemporaryBeside(beside, given, temporaryMode(target), tmp);  // reserves the name; the encoder rewrites it
+    prepare(given, target, options);
     writeTemporary(tmp.path);
     pauseForTestHook();
     // The encoder closed its own handle; fsync needs one that sees the same file.
@@ -401,9 +401,9 @@ void writeFileAtomicallyVia(const fs::path& given, const std::function<void(cons
 void checkCanWrite(const fs::path& given, const WriteOptions& options) {
     const Target target = resolveTarget(given);
     if (!isFile(target)) return;  // opening a FIFO now would end its reader's input
-    if (target.kind == TargetKind::RegularFile) refuseReadOnly(given, target, options);
-    TemporaryFile tmp;
+    TemporaryFile tmp;  // first: a folder ray cannot write to is the failure to report
     createTemporaryBeside(target.path, given, 0600, tmp);
+    if (target.kind == TargetKind::RegularFile) refuseReadOnly(given, target, options);
 }
 
 void refuseWritingOverInput(const fs::path& output, const std::string& option, const fs::path& input,
