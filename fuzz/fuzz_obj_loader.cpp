@@ -28,7 +28,7 @@ namespace {
 // The folder the fuzzed OBJ is "in", made once a process.
 std::filesystem::path scratchFolder() {
     static const std::filesystem::path folder = [] {
-        char pattern[] = "/tmp/ray_fuzz_obj_XXXXXX";
+        static char pattern[] = "/tmp/ray_fuzz_obj_XXXXXX";  // no destructor: read at exit
         const char* made = ::mkdtemp(pattern);
         if (!made) std::abort();
         const std::filesystem::path dir = made;
@@ -38,6 +38,10 @@ std::filesystem::path scratchFolder() {
         std::filesystem::create_symlink("/etc/hostname", dir / "out.mtl");
         std::filesystem::create_directories(dir / "sub");
         std::ofstream(dir / "sub" / "inner.mtl") << "newmtl blue\nKd 0 0 1\n";
+        std::atexit([] {
+            std::error_code ignored;
+            std::filesystem::remove_all(pattern, ignored);
+        });
         return dir;
     }();
     return folder;
