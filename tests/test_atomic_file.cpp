@@ -9,7 +9,9 @@
 #include <sstream>
 #include <thread>
 
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <sys/sysmacros.h>
 #include <unistd.h>
 
@@ -254,6 +256,22 @@ TEST_CASE("a folder is refused with a sentence, before and at the write", "[atom
     CHECK_THROWS_WITH(ray::checkCanWrite(dir / "out.png"), Contains("is a folder") && Contains("name a file in it"));
     CHECK_THROWS_AS(ray::writeFileAtomically(dir / "out.png", "x"), ray::OutputRefused);
     CHECK(fs::is_directory(dir / "out.png"));
+}
+
+TEST_CASE("a socket is refused with a sentence, and stays a socket", "[atomic_file][writer]") {
+    const fs::path socketPath = freshFolder("writer_socket") / "s.json";
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    const std::string path = socketPath.string();
+    REQUIRE(path.size() < sizeof address.sun_path);
+    std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+    REQUIRE(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0);
+    CHECK_THROWS_WITH(ray::writeFileAtomically(socketPath, "x"), Contains("is a socket, not a file ray can write"));
+    CHECK_THROWS_AS(ray::checkCanWrite(socketPath), ray::OutputRefused);
+    CHECK(fs::is_socket(fs::symlink_status(socketPath)));
+    ::close(fd);
 }
 
 TEST_CASE("the process's own descriptors are written through, not reopened", "[atomic_file][writer]") {
