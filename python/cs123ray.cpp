@@ -353,7 +353,11 @@ void checkImageArray(const py::array& image, const char* what) {
 template <class T>
 std::vector<T> valuesOf(const py::array& image) {
     auto contiguous = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(image);
-    if (!contiguous) throw py::error_already_set();
+    if (!contiguous) {  // ensure() cleared the error it met; pybind11 would say "Internal error"
+        PyErr_Clear();
+        throw py::type_error("the image's values cannot be read as numbers (" +
+                             std::string(py::str(image.dtype())) + "); give a float or uint8 array");
+    }
     return std::vector<T>(contiguous.data(), contiguous.data() + contiguous.size());
 }
 
@@ -366,11 +370,39 @@ std::vector<float> linearPixels(const py::array& image) {
     return rgb;
 }
 
-void saveArray(const py::array& image, const std::filesystem::path& file) {
+// The pixel budget of an image array, checked before its values are copied (the copy of a
+// 50,000 x 100,000 array took 15 GB before MemoryError): a texture gets a texture file's
+// budget, an image to save a render's largest. InputError, as for a file.
+void checkArrayPixels(const py::array& image, const char* what, uint64_t maxPixels, int64_t maxSide,
+                      const std::string& budget) {
+    const int64_t height = image.shape(0), width = image.shape(1);
+    if (width > 0 && height > 0 && width <= maxSide && height <= maxSide && uint64_t(width) * uint64_t(height) <= maxPixels)
+        return;
+    throw api::InputError("error: " + std::string(what) + " of " + std::to_string(width) + " x " +
+                              std::to_string(height) + " pixels is " + (width > 0 && height > 0 ? "more than " + budget + "; scale it down" : "empty"),
+                          "", 0);
+}
+
+void saveArray(const py::array& image, const std::filesystem::path& file, bool replaceReadOnly) {
     checkImageArray(image, "an image");
+    checkArrayPixels(image, "an image", uint64_t(api::kMaxImageSide) * api::kMaxImageSide, api::kMaxImageSide,
+                     "the largest image ray renders, " + std::to_string(api::kMaxImageSide) + " a side");
     const int width = int(image.shape(1)), height = int(image.shape(0));
-    if (isBytes(image)) api::saveImage(valuesOf<uint8_t>(image), width, height, file);
-    else api::saveImage(valuesOf<float>(image), width, height, file);
+    const api::WriteOptions options{replaceReadOnly};
+    if (isBytes(image)) api::saveImage(valuesOf<uint8_t>(image), width, height, file, options);
+    else api::saveImage(valuesOf<float>(image), width, height, file, options);
+}
+
+// Text from C++ as Python's str: messages and warnings hold file names, which need not be
+// UTF-8 (a folder named in Latin-1); their stray bytes become \xNN escapes rather than a
+// UnicodeDecodeError in place of the error that was meant.
+py::str textOf(const std::string& text) {
+    return py::reinterpret_steal<py::str>(PyUnicode_DecodeUTF8(text.data(), py::ssize_t(text.size()), "backslashreplace"));
+}
+
+// A file name from C++ as os.fsdecode gives it: os.fsencode of it is the file's bytes.
+py::object fileNameOf(const std::string& name) {
+    return py::reinterpret_steal<py::object>(PyUnicode_DecodeFSDefaultAndSize(name.data(), py::ssize_t(name.size())));
 }
 
 // The message without the C++ API's "error: " where it names no file: Python prints the
@@ -395,14 +427,14 @@ void registerErrors(py::module_& m) {
         try {
             if (thrown) std::rethrow_exception(thrown);
         } catch (const api::InputError& e) {
-            py::object instance = py::reinterpret_borrow<py::object>(inputError.ptr())(plainMessage(e));
-            instance.attr("file") = e.file();
+            py::object instance = py::reinterpret_borrow<py::object>(inputError.ptr())(textOf(plainMessage(e)));
+            instance.attr("file") = fileNameOf(e.file());
             instance.attr("line") = e.line();
             PyErr_SetObject(inputError.ptr(), instance.ptr());
         } catch (const api::DeviceError& e) {
-            deviceError(e.what());
+            PyErr_SetObject(deviceError.ptr(), textOf(e.what()).ptr());
         } catch (const api::Error& e) {
-            error(e.what());
+            PyErr_SetObject(error.ptr(), textOf(e.what()).ptr());
         }
     });
 }
@@ -555,7 +587,14 @@ const api::FieldInfo& fieldNamed(const std::string& owner, const std::string& ke
         known += (known.empty() ? "" : ", ") + field.keyword;
     }
     if (known.empty()) throw py::value_error("a " + owner + " has no fields to set");
-    throw py::value_error("a " + owner + " has no field '" + shortRepr(py::str(keyword)) + "' (its fields: " + known + ")");
+    py::list keywords;
+    for (const api::FieldInfo& field : fieldTable())
+        if (field.owner == owner) keywords.append(field.keyword);
+    py::list close = py::module_::import("difflib").attr("get_close_matches")(keyword, keywords, 1);
+    const std::string hint = close.empty() ? "" : "; did you mean '" + std::string(py::str(close[0])) + "'?";
+    const std::string article = std::string("aeiou").find(owner[0]) != std::string::npos ? "an " : "a ";
+    throw py::value_error(article + owner + " has no field " + shortRepr(py::str(keyword)) + hint +
+                          " (its fields: " + known + ")");
 }
 
 std::vector<api::TransformStep> transformSteps(const std::string& name, const py::handle& value) {
@@ -757,7 +796,11 @@ std::string pickRepr(const api::Pick& p, const std::string& path) {
 
 void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
     scene.def(py::init<>(), "An empty scene: the default camera, no lights, no primitives.")
-        .def_readonly("warnings", &PyScene::warnings, "The loader's warnings, complete ('scene.xml:7: warning: ...').")
+        .def_property_readonly("warnings", [](const PyScene& s) {
+            py::list warnings;
+            for (const std::string& warning : s.warnings) warnings.append(textOf(warning));
+            return warnings;
+        }, "The loader's warnings, complete ('scene.xml:7: warning: ...').")
         .def("set_camera", [](PyScene& s, const py::handle& position, const py::handle& look, const py::handle& up,
                               const py::handle& heightAngle, const py::handle& aperture, const py::handle& focalLength) {
             s.scene.setCamera({vec3Arg("position", position), vec3Arg("look", look), vec3Arg("up", up),
@@ -828,6 +871,8 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
         }, py::arg("file"), "A texture from an image file (png, jpg, ...); returns its handle.")
         .def("add_texture", [](PyScene& s, const py::array& pixels) {
             checkImageArray(pixels, "a texture");
+            checkArrayPixels(pixels, "a texture", api::kMaxTexturePixels, int64_t(api::kMaxTexturePixels),
+                             "a texture file's budget of 2^25 pixels (8192 x 4096)");
             return s.scene.addTextureFromPixels(int(pixels.shape(1)), int(pixels.shape(0)), linearPixels(pixels));
         }, py::arg("pixels"),
            "A texture from an H x W x 3 array, row 0 at the top: floats (1.0 is full) or uint8 (255 is full). "
@@ -942,9 +987,12 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
         .def("make_unique", [](PyScene& s, const py::handle& placement) {
             return resultDict(s.scene.makeUnique(nodeArg("placement", placement)));
         }, py::arg("placement"), "Gives a placement of a master a copy of the master of its own.")
-        .def("save", [](const PyScene& s, const std::filesystem::path& file) { s.scene.save(file); }, py::arg("file"),
+        .def("save", [](const PyScene& s, const std::filesystem::path& file, bool replaceReadOnly) {
+            s.scene.save(file, api::WriteOptions{replaceReadOnly});
+        }, py::arg("file"), py::kw_only(), py::arg("replace_read_only") = false,
              "Writes the scene as a CS123 scenefile (whole or not at all) that loads back to the same render, "
-             "masters kept as masters, texture and mesh paths relative to `file`.")
+             "masters kept as masters, texture and mesh paths relative to `file`. A link is written through to "
+             "its file, which keeps its mode; a read-only file raises InputError unless replace_read_only=True.")
         .def("to_text", [](const PyScene& s) { return s.scene.toText(); },
              "The scene as CS123 scenefile text (what save writes).")
         .def("_assign", [](PyScene& s, const PyScene& other) {
@@ -1089,10 +1137,97 @@ void bindRendering(py::module_& m) {
        "float32 linear, or uint8 as ray's PNGs). device and the options (keywords) as Renderer and "
        "Renderer.set_options take them.");
 
-    m.def("save_image", &saveArray, py::arg("image"), py::arg("file"),
+    m.def("save_image", &saveArray, py::arg("image"), py::arg("file"), py::kw_only(), py::arg("replace_read_only") = false,
           "Writes an H x W x 3 array, floats (linear, 1.0 is full) or uint8 (as render(dtype='uint8') makes), in "
-          "the format the extension names (png, jpg, ppm, tif: 8-bit; exr, hdr: floats). The file is replaced "
-          "whole or not at all.");
+          "the format the extension names (png, jpg, ppm, tif: 8-bit; exr, hdr: floats), at most 16384 pixels a "
+          "side. The file is replaced whole or not at all; a read-only file raises InputError unless "
+          "replace_read_only=True.");
+}
+
+// ---------------------------------------------------------------------------------------
+// pybind11's own argument errors in plain words. When no overload takes the arguments,
+// pybind11 raises a TypeError listing C++ signatures ("incompatible function arguments. The
+// following argument types are supported: 1. (self: cs123ray.Scene, ...) Invoked with:
+// ..."), and a few of its failures say "Internal error: ...". Each function of the module
+// is wrapped so that these become a sentence: an unknown keyword with the closest one
+// ("did you mean 'diffuse'?"), or what the function takes.
+
+// The parameter names in a pybind11 docstring's signature lines ("add_material(self:
+// cs123ray.Scene, diffuse: object = None, ...) -> int"), self left out.
+py::list parameterNames(const py::handle& function) {
+    const py::object doc = py::getattr(function, "__doc__", py::none());
+    py::list names;
+    if (doc.is_none()) return names;
+    py::list found = py::module_::import("re").attr("findall")(R"([(,]\s*(\w+)\s*:)", doc);
+    for (const py::handle& name : found)
+        if (std::string(py::str(name)) != "self" && !names.contains(name)) names.append(name);
+    return names;
+}
+
+std::string joined(const py::list& names) {
+    std::string text;
+    for (const py::handle& name : names) text += (text.empty() ? "" : ", ") + std::string(py::str(name));
+    return text;
+}
+
+// The sentence for pybind11's message about a call of `name` with `kwargs`; empty when the
+// message is none of pybind11's own.
+std::string plainArgumentError(const std::string& message, const std::string& name, const py::handle& function,
+                               const py::kwargs& kwargs) {
+    const bool mismatch = message.find("incompatible function arguments") != std::string::npos ||
+                          message.find("incompatible constructor arguments") != std::string::npos;
+    if (!mismatch && message.rfind("Internal error", 0) != 0 && message.find("Unable to cast") == std::string::npos)
+        return "";
+    const py::list names = parameterNames(function);
+    for (const auto& [key, value] : kwargs) {
+        if (names.contains(key)) continue;
+        py::list close = py::module_::import("difflib").attr("get_close_matches")(key, names, 1);
+        return name + "() has no argument '" + std::string(py::str(key)) + "'" +
+               (close.empty() ? "" : "; did you mean '" + std::string(py::str(close[0])) + "'?") +
+               (names.empty() ? "" : " (it takes " + joined(names) + ")");
+    }
+    return name + "() cannot take these arguments (a missing one, or one of the wrong type)" +
+           (names.empty() ? "" : "; it takes " + joined(names)) + ": see help(cs123ray)";
+}
+
+py::cpp_function withPlainArgumentErrors(const py::object& function, const std::string& name,
+                                         const py::object& scope, bool method) {
+    auto call = [function, name](const py::args& args, const py::kwargs& kwargs) -> py::object {
+        try {
+            return function(*args, **kwargs);
+        } catch (py::error_already_set& e) {
+            if (!e.matches(PyExc_TypeError) && !e.matches(PyExc_RuntimeError)) throw;
+            const std::string plain = plainArgumentError(py::str(e.value()), name, function, kwargs);
+            if (plain.empty()) throw;
+            throw py::type_error(plain);
+        }
+    };
+    const std::string doc = py::str(py::getattr(function, "__doc__", py::str("")));
+    if (method) return py::cpp_function(call, py::name(name.c_str()), py::is_method(scope), py::doc(doc.c_str()));
+    return py::cpp_function(call, py::name(name.c_str()), py::scope(scope), py::doc(doc.c_str()));
+}
+
+// Every function of the module and method of its classes (not their dunders: pybind11 keeps
+// __init__ for itself), wrapped.
+void plainArgumentErrors(py::module_& m) {
+    const py::dict names = py::module_::import("builtins").attr("dict")(m.attr("__dict__"));  // a copy: m changes
+    for (const auto& [key, value] : names) {
+        const std::string name = py::str(key);
+        if (name.rfind("__", 0) == 0) continue;
+        if (PyCFunction_Check(value.ptr())) {
+            m.attr(key) = withPlainArgumentErrors(py::reinterpret_borrow<py::object>(value), name, m, false);
+        } else if (PyType_Check(value.ptr()) && !PyType_IsSubtype(reinterpret_cast<PyTypeObject*>(value.ptr()),
+                                                                  reinterpret_cast<PyTypeObject*>(PyExc_BaseException))) {
+            const py::object cls = py::reinterpret_borrow<py::object>(value);
+            const py::dict members = py::module_::import("builtins").attr("dict")(cls.attr("__dict__"));
+            for (const auto& [memberKey, member] : members) {
+                const std::string memberName = py::str(memberKey);
+                if (memberName.rfind("__", 0) == 0 || !PyInstanceMethod_Check(member.ptr())) continue;
+                const py::object function = py::reinterpret_borrow<py::object>(PyInstanceMethod_GET_FUNCTION(member.ptr()));
+                py::setattr(cls, memberKey, withPlainArgumentErrors(function, memberName, cls, true));
+            }
+        }
+    }
 }
 
 }  // namespace
@@ -1110,6 +1245,9 @@ PYBIND11_MODULE(cs123ray, m) {
     bindSceneObject(m);
     bindLoading(m);
     bindRendering(m);
+    // Plain argument errors wrap the C++ functions first; the notebook's Python (its studios'
+    // synchronization) then wraps those.
+    plainArgumentErrors(m);
     py::exec(kNotebookPython, m.attr("__dict__"));
     renderedImageType() = m.attr("RenderedImage");
 }

@@ -398,3 +398,97 @@ TEST_CASE("the option --dof picks the lens: course by default, or disk", "[cli][
     CHECK_THROWS_WITH(parseCommandLine({"a.xml", "--dof", "pinhole"}), "--dof must be course or disk, not 'pinhole'");
     CHECK(std::string(kUsageText).find("--dof MODE") != std::string::npos);
 }
+
+// ---------------------------------------------------------------------------------------
+// Outputs written by the one writer (core/atomic_file.h; issue 49): never over the scene,
+// never into a folder, through links, keeping modes; refusals exit 2 before the render.
+
+namespace {
+
+fs::path scratchCopyOfScene(const std::string& folder, const std::string& name) {
+    const fs::path dir = ray::test::outputDir() / "cli" / folder;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::copy_file(ray::test::scenesDir() / name, dir / name);
+    return dir / name;
+}
+
+}  // namespace
+
+TEST_CASE("an output naming the scene is refused before rendering, the scene unchanged", "[cli][writer]") {
+    const fs::path s = scratchCopyOfScene("output_is_scene", "shadows.xml");
+    const std::string before = readText(s);
+    fs::create_symlink(s.filename(), s.parent_path() / "link.json");
+    // A size that would render for minutes on the reference renderer: a refusal after the
+    // render would time out here.
+    for (const std::vector<std::string>& args :
+         {std::vector<std::string>{s.string(), "8000", "6000", "--device", "ref", "--stats-json", s.string()},
+          std::vector<std::string>{s.string(), "8000", "6000", "--device", "ref", "--stats-json",
+                                   (s.parent_path() / "link.json").string()},
+          std::vector<std::string>{s.string(), "8000", "6000", "--device", "ref", "-o", s.string()},
+          std::vector<std::string>{"explain", s.string(), "1", "1", "--json", s.string()}}) {
+        auto r = runRay(args, 60);
+        INFO(r.output);
+        CHECK(r.exitCode == 2);
+        CHECK_THAT(r.output, Contains(s.parent_path().string()) && Contains("is the scene") &&
+                                 Contains("Name another file"));
+        CHECK(readText(s) == before);
+        CHECK(fs::is_symlink(s.parent_path() / "link.json"));
+    }
+}
+
+TEST_CASE("a folder as the output image is refused before rendering", "[cli][writer]") {
+    const fs::path folder = freshOutput("folder.png");
+    fs::create_directories(folder);
+    auto r = runRay({scene("shadows.xml"), "8000", "6000", "--device", "ref", "-o", folder.string()}, 60);
+    INFO(r.output);
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains(folder.string() + ": is a folder") && Contains("name a file in it"));
+    CHECK(fs::is_directory(folder));
+    r = runRay({scene("shadows.xml"), "8000", "6000", "--device", "ref", "--stats-json", folder.string()}, 60);
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("is a folder"));
+}
+
+TEST_CASE("a read-only output is refused unless --replace-read-only; modes and links are kept", "[cli][writer]") {
+    const fs::path dir = ray::test::outputDir() / "cli" / "read_only_output";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "real");
+    const fs::path json = dir / "real" / "stats.json";
+    std::ofstream(json) << "old";
+    fs::permissions(json, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    fs::create_symlink("real/stats.json", dir / "stats.json");
+    const std::vector<std::string> render = {scene("shadows.xml"), "8", "6", "--device", "ref", "--quiet",
+                                             "-o", (dir / "out.png").string(), "--stats-json",
+                                             (dir / "stats.json").string()};
+    auto r = runRay(render);
+    INFO(r.output);
+    CHECK(r.exitCode == 2);
+    CHECK_THAT(r.output, Contains("is read-only") && Contains("--replace-read-only"));
+    CHECK(readText(json) == "old");
+    CHECK_FALSE(fs::exists(dir / "out.png"));  // refused before the render
+
+    std::vector<std::string> replace = render;
+    replace.push_back("--replace-read-only");
+    r = runRay(replace);
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(readText(json), Contains("\"width\": 8"));
+    CHECK(fs::is_symlink(dir / "stats.json"));
+    CHECK((fs::status(json).permissions() & fs::perms::all) ==
+          (fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read));
+
+    // A private file stays private.
+    fs::permissions(dir / "out.png", fs::perms::owner_read | fs::perms::owner_write);
+    r = runRay({scene("shadows.xml"), "8", "6", "--device", "ref", "--quiet", "-o", (dir / "out.png").string()});
+    CHECK(r.exitCode == 0);
+    CHECK((fs::status(dir / "out.png").permissions() & fs::perms::all) ==
+          (fs::perms::owner_read | fs::perms::owner_write));
+}
+
+TEST_CASE("--stats-json /dev/stdout prints the statistics", "[cli][writer]") {
+    auto r = runRay({scene("shadows.xml"), "8", "6", "--device", "ref", "--quiet", "-o",
+                     freshOutput("stdout_stats.png").string(), "--stats-json", "/dev/stdout"});
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK_THAT(r.output, Contains("\"width\": 8"));
+}

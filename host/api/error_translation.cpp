@@ -4,6 +4,7 @@
 #include <new>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "edit/edit_error.h"
 #include "image/image.h"
 #include "ray/errors.h"
@@ -44,6 +45,9 @@ void rethrowAsPublic() {
         throw inputErrorFrom(e.what());
     } catch (const ray::edit::EditError& e) {
         throw InputError(std::string("error: ") + e.what(), "", 0);
+    } catch (const ray::OutputRefused& e) {  // a folder, a read-only file: the path given is the problem
+        const std::string message = e.what();
+        throw InputError(message, message.substr(0, message.find(": ")), 0);
     } catch (const ray::DeviceError& e) {
         throw DeviceError(e.what());
     } catch (const ray::ImageError& e) {

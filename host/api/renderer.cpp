@@ -10,6 +10,7 @@
 #include "api/settings_conversion.h"
 #include "devices/renderer.h"
 #include "image/image.h"
+#include "image/image_write.h"
 #include "opencl/opencl_device.h"
 #include "reference/reference_bvh.h"
 #include "reference/reference_renderer.h"
@@ -170,7 +171,8 @@ namespace {
 // Refuses, before anything is written, pixels that do not make the image or a format
 // that cannot be written.
 void checkImageToSave(size_t values, int width, int height, const std::filesystem::path& file) {
-    if (width <= 0 || height <= 0 || values != size_t(width) * size_t(height) * 3)
+    detail::checkImageToSaveSize(width, height, file.string());
+    if (values != size_t(width) * size_t(height) * 3)
         throw InputError("error: an image of " + std::to_string(width) + "x" + std::to_string(height) +
                              " needs width*height*3 values, not " + std::to_string(values),
                          file.string(), 0);
@@ -183,23 +185,33 @@ void checkImageToSave(size_t values, int width, int height, const std::filesyste
 }  // namespace
 
 void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file) {
+    saveImage(rgb, width, height, file, WriteOptions{});
+}
+
+void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file,
+               const WriteOptions& options) {
     checkImageToSave(rgb.size(), width, height, file);
     ray::Image image(width, height);
     image.rgb = rgb;
-    detail::translatingErrors([&] { ray::writeImage(image, file); });
+    detail::translatingErrors([&] { ray::writeImage(image, file, detail::writeOptionsOf(options)); });
 }
 
 void saveImage(const std::vector<uint8_t>& rgb, int width, int height, const std::filesystem::path& file) {
+    saveImage(rgb, width, height, file, WriteOptions{});
+}
+
+void saveImage(const std::vector<uint8_t>& rgb, int width, int height, const std::filesystem::path& file,
+               const WriteOptions& options) {
     checkImageToSave(rgb.size(), width, height, file);
     if (ray::isFloatFormat(file)) {
         std::vector<float> floats(rgb.size());
         std::transform(rgb.begin(), rgb.end(), floats.begin(), [](uint8_t v) { return float(v) / 255.0f; });
-        saveImage(floats, width, height, file);
+        saveImage(floats, width, height, file, options);
         return;
     }
     ray::ByteImage image(width, height);
     image.rgb = rgb;
-    detail::translatingErrors([&] { ray::writeImage(image, file); });
+    detail::translatingErrors([&] { ray::writeImage(image, file, detail::writeOptionsOf(options)); });
 }
 
 uint8_t toByte(float channel) { return uint8_t(ray::quantize8(channel)); }

@@ -15,6 +15,7 @@
 #include "api/edit_conversion.h"
 #include "api/error_translation.h"
 #include "api/input_checks.h"
+#include "scene/document_save.h"
 #include "api/scene_impl.h"
 #include "core/math.h"
 #include "core/message_text.h"
@@ -286,6 +287,7 @@ int Scene::addTextureFromFile(const std::filesystem::path& file) {
 }
 
 int Scene::addTextureFromPixels(int width, int height, const std::vector<float>& rgb) {
+    detail::checkTextureSize(width, height);
     if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
         badInput("a texture of " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
                  "width*height*3 floats, not " + std::to_string(rgb.size()));
@@ -438,8 +440,12 @@ std::string Scene::toText() const {
         [&] { return ray::documentToText(document, impl_->session.resources(), anchor); });
 }
 
-void Scene::save(const std::filesystem::path& file) const {
-    detail::translatingErrors([&] { ray::saveDocument(impl_->document(), impl_->session.resources(), file); });
+void Scene::save(const std::filesystem::path& file) const { save(file, WriteOptions{}); }
+
+void Scene::save(const std::filesystem::path& file, const WriteOptions& options) const {
+    detail::translatingErrors([&] {
+        ray::saveDocument(impl_->document(), impl_->session.resources(), file, detail::writeOptionsOf(options));
+    });
 }
 
 // ---------------------------------------------------------------------------------------

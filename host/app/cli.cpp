@@ -31,6 +31,9 @@ const char* const kRenderOptionsHelp = R"(  -o, --output FILE        output imag
   --quiet                  no progress and no warnings
   --stats                  print rays traced, Mrays/s and timings on stderr
   --stats-json FILE        write the same statistics as JSON (with every render setting)
+  --replace-read-only      replace an output file that is read-only (refused without it);
+                           outputs are written through symbolic links, into devices and
+                           FIFOs, and never over the scene (docs/user-guide.md)
   --max-primitives N       refuse scenes that flatten to more than N primitive
                            instances (default 50000000; memory is checked as well)
   --partial                on Ctrl-C (SIGINT) or SIGTERM, write the part rendered so far
@@ -303,6 +306,7 @@ void addOptions(CLI::App& app, CliOptions& options) {
     addSwitch(app, "-q,--quiet", set(options.quiet));
     addSwitch(app, "--stats", set(options.stats));
     addValueOption(app, "--stats-json", [&](const std::string& v) { options.statsJson = v; });
+    addSwitch(app, "--replace-read-only", set(options.replaceReadOnly));
     addSwitch(app, "--partial", set(options.partial));
     addValueOption(app, "--max-primitives", [&](const std::string& v) {
         options.maxPrimitives = size_t(parseInt(v, "--max-primitives", 1, 2147483647));

@@ -29,6 +29,8 @@ struct CliOptions {
     bool quiet = false;
     bool stats = false;
     std::filesystem::path statsJson;
+    // Replace an output (image, --stats-json) that is a read-only file (--replace-read-only).
+    bool replaceReadOnly = false;
     // On SIGINT/SIGTERM, write what was rendered so far instead of nothing (--partial).
     bool partial = false;
     // Refuse scenes that flatten to more primitive instances (--max-primitives).

@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/memory_limits.h"
 #include "image/image.h"
+#include "image/image_write.h"
 #include "reference/reference_renderer.h"
 #include "render/render_stats.h"
 #include "scene/file_search.h"
@@ -36,6 +37,8 @@ Failure describeFailure(std::exception_ptr error) {
         return {kExitBadInput, std::string("ray: ") + e.what() + "\n(see ray --help)"};
     } catch (const InputError& e) {
         return {kExitBadInput, e.what()};  // "file:line: what is wrong"
+    } catch (const OutputRefused& e) {  // a folder, a read-only file, the scene itself as an output
+        return {kExitBadInput, std::string("ray: ") + e.what()};
     } catch (const std::bad_alloc&) {
         return {kExitRuntime, "ray: out of memory; try a smaller image, fewer samples or a smaller scene"};
     } catch (const std::exception& e) {  // DeviceError, ImageError, FileWriteError and the rest
@@ -66,16 +69,34 @@ const std::atomic<bool>* interruptFlag() { return &gInterrupted; }
 
 int interruptExitCode() { return 128 + (gSignal ? int(gSignal) : SIGINT); }
 
+namespace {
+
+// How the command's outputs are written (core/atomic_file.h).
+WriteOptions writeOptionsFor(const CliOptions& options) {
+    WriteOptions write;
+    write.replaceReadOnly = options.replaceReadOnly;
+    return write;
+}
+
+}  // namespace
+
 std::filesystem::path checkOutputs(const CliOptions& options) {
     const std::filesystem::path output = outputPathFor(options);
+    refuseWritingOverInput(output, options.output.empty() ? "the output image" : "-o", options.scene, "the scene");
     if (!canWriteImageFormat(output))
         throw UsageError("cannot write an image in the format of '" + output.string() + "' (its extension names none " +
                          "this build of OpenImageIO can write); " + kOutputFormatAdvice);
     std::filesystem::path folder = output.parent_path();
     if (!folder.empty() && !std::filesystem::is_directory(folder))
         throw UsageError("the output folder '" + folder.string() + "' does not exist");
-    checkCanWriteBeside(output);  // an unwritable folder: exit 3 now, not after the render
-    if (!options.statsJson.empty()) checkCanWriteBeside(options.statsJson);
+    // A folder, a read-only file: exit 2 now, not after the render; an unwritable folder:
+    // exit 3 now.
+    checkCanWrite(output, writeOptionsFor(options));
+    if (!options.statsJson.empty()) {
+        refuseWritingOverInput(options.statsJson, "--stats-json", options.scene, "the scene");
+        refuseWritingOverInput(options.statsJson, "--stats-json", output, "the output image");
+        checkCanWrite(options.statsJson, writeOptionsFor(options));
+    }
     return output;
 }
 
@@ -103,11 +124,11 @@ void checkImageFitsInMemory(const CliOptions& options) {
 namespace {
 
 // The image of a render: 8-bit when the render kept it so (RenderJob::eightBit).
-void writeRendered(const RenderedFrame& result, const std::filesystem::path& output) {
+void writeRendered(const RenderedFrame& result, const std::filesystem::path& output, const CliOptions& options) {
     if (!result.bytes.empty())
-        writeImage(result.bytes, output);
+        writeImage(result.bytes, output, writeOptionsFor(options));
     else
-        writeImage(result.image, output);
+        writeImage(result.image, output, writeOptionsFor(options));
 }
 
 }  // namespace
@@ -118,7 +139,7 @@ int finishRender(const RenderedFrame& result, const std::filesystem::path& outpu
         // The output file is left as it was, or with --partial gets what was rendered
         // (unrendered pixels black).
         if (options.partial) {
-            writeRendered(result, output);
+            writeRendered(result, output, options);
             std::cerr << "ray: interrupted; wrote the partial image to " << output.string() << "\n";
         } else {
             std::cerr << "ray: interrupted; " << output.string()
@@ -126,10 +147,11 @@ int finishRender(const RenderedFrame& result, const std::filesystem::path& outpu
         }
         return interruptExitCode();
     }
-    writeRendered(result, output);
+    writeRendered(result, output, options);
     if (!options.quiet) std::cerr << "wrote " << output.string() << "\n";
     if (options.stats) printStats(result.stats, std::cerr);
-    if (!options.statsJson.empty()) writeStatsJson(result.stats, options.settings, options.statsJson);
+    if (!options.statsJson.empty())
+        writeFileAtomically(options.statsJson, statsToJson(result.stats, options.settings), writeOptionsFor(options));
     return 0;
 }
 

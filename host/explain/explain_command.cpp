@@ -23,7 +23,8 @@ arguments (the same defaults; a lone number after the pixel is the depth) and th
 render settings.
 
 options:
-  --json FILE              also write the tree as JSON to FILE
+  --json FILE              also write the tree as JSON to FILE (never over the scene)
+  --replace-read-only      replace FILE even when it is read-only
   -h, --help               this text
 )";
 
@@ -36,6 +37,7 @@ struct ExplainOptions {
     int x = 0, y = 0;
     std::vector<std::string> positionals;  // <scene.xml> <x> <y> [w h] [depth]
     std::filesystem::path json;
+    bool replaceReadOnly = false;  // --replace-read-only
     std::vector<std::filesystem::path> searchPaths;
     RenderSettings settings;
     bool help = false;
@@ -48,6 +50,7 @@ void defineOptions(CLI::App& app, ExplainOptions& o) {
         if (v.empty()) throw UsageError("--json needs a file name");
         o.json = v;
     });
+    addSwitch(app, "--replace-read-only", [&] { o.replaceReadOnly = true; });
     addRenderSettingOptions(app, o.settings, o.searchPaths);
     app.add_option("positionals", o.positionals);
 }
@@ -64,7 +67,21 @@ void finishSettings(ExplainOptions& o) {
     o.y = parseInt(p[2], "the pixel's y", 0, s.height - 1);
 }
 
+WriteOptions jsonWriteOptions(const ExplainOptions& o) {
+    WriteOptions write;
+    write.replaceReadOnly = o.replaceReadOnly;
+    return write;
+}
+
+// --json naming the scene, a folder or a read-only file: refused before the scene is traced.
+void checkJsonOutput(const ExplainOptions& o) {
+    if (o.json.empty()) return;
+    refuseWritingOverInput(o.json, "--json", o.scene, "the scene");
+    checkCanWrite(o.json, jsonWriteOptions(o));
+}
+
 int explain(const ExplainOptions& o) {
+    checkJsonOutput(o);
     LoadOptions load;
     load.searchPaths = o.searchPaths;
     for (auto& p : searchPathsFromEnvironment()) load.searchPaths.push_back(p);
@@ -73,7 +90,8 @@ int explain(const ExplainOptions& o) {
     Scene scene = loadScene(o.scene, load);
     PixelExplanation explanation = explainPixel(scene, o.settings, o.x, o.y);
     printExplanation(explanation, scene, std::cout);
-    if (!o.json.empty()) writeFileAtomically(o.json, explanationJson(explanation, scene).dump(2) + "\n");
+    if (!o.json.empty())
+        writeFileAtomically(o.json, explanationJson(explanation, scene).dump(2) + "\n", jsonWriteOptions(o));
     return 0;
 }
 
@@ -105,6 +123,9 @@ int runExplainCommand(const std::vector<std::string>& args) {
         return explain(options);
     } catch (const InputError& e) {
         std::cerr << e.what() << "\n";
+        return 2;
+    } catch (const OutputRefused& e) {
+        std::cerr << "ray explain: " << e.what() << "\n";
         return 2;
     } catch (const std::exception& e) {
         std::cerr << "ray explain: " << e.what() << "\n";

@@ -14,8 +14,8 @@ void checkDecodedImageSize(const std::filesystem::path& file, uint64_t width, ui
     // Each side is below 2^32 (the formats' own fields), so the product cannot overflow.
     if (width * height > kMaxTexturePixels)
         throw ImageError(file.string() + ": the image claims " + size +
-                         " pixels, more than a texture's budget of 2^25 (8192 × 4096); scale it down to at "
-                         "most 8192 × 4096");
+                         " pixels, more than a texture's budget of " + kTextureBudgetText +
+                         "; scale it down to at most 8192 × 4096");
     if (auto shortfall = hostMemoryShortfall(width * height * bytesPerPixel))
         throw ImageError(file.string() + ": a " + size + " image " + *shortfall);
 }

@@ -15,6 +15,8 @@ namespace ray {
 // At most 2^25 pixels a texture: 8192 × 4096, an 8K equirectangular environment; 16 times
 // the course's largest (earth.png, 2000 × 1000).
 constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 25;
+// The budget as messages say it.
+inline constexpr const char* kTextureBudgetText = "2^25 (8192 × 4096)";
 
 // The most one decode may hold at once, at the budget: the float image (12 bytes a pixel)
 // and the decoder's own rows (at most 6 bytes a pixel: 16-bit RGB; OpenImageIO converts

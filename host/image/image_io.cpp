@@ -6,10 +6,14 @@
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 
 #include "image/image.h"
+#include "image/image_write.h"
 #include "core/atomic_file.h"
+#include "core/input_file.h"
+#include "image/decode_limits.h"
 #include "image/jpeg_codec.h"
 #include "image/oiio_module.h"
 #include "image/png_codec.h"
@@ -53,20 +57,75 @@ void checkPngChunkLengths(const fs::path& file) {
 
 }  // namespace
 
-// Only regular files are read: opening a FIFO blocks until someone writes to it, and a
-// device such as /dev/zero never ends.
-static void checkRegularFile(const fs::path& file) {
-    std::error_code ec;
-    const fs::file_status status = fs::status(file, ec);
-    if (ec) throw ImageError(file.string() + ": cannot read image: " + ec.message());
-    if (!fs::is_regular_file(status))
-        throw ImageError(file.string() + ": cannot read image: not a regular file (" +
-                         (fs::is_fifo(status) ? "a FIFO" : fs::is_directory(status) ? "a folder" : "a device or socket") +
-                         "); give an image file");
+namespace {
+
+// A texture file holds at most its budget of pixels (image/decode_limits.h), 4 floats each
+// at the most (an uncompressed RGBA float TIFF or EXR), and its metadata.
+constexpr InputLimit kTextureFileLimit{"an image", kMaxTexturePixels * 16 + (uint64_t(64) << 20),
+                                       "2^25 pixels of 4 floats, a texture's budget, and metadata"};
+
+// A TGA header's fields in their ranges: a colour map type of 0 or 1, a known image type,
+// a known pixel depth and both sides non-zero (text fails the first test).
+bool looksLikeTga(const std::string& h) {
+    if (h.size() < 18) return false;
+    const auto byte = [&](size_t i) { return static_cast<unsigned char>(h[i]); };
+    const bool colorMap = byte(1) <= 1;
+    const bool imageType = std::string_view("\x01\x02\x03\x09\x0a\x0b").find(char(byte(2))) != std::string_view::npos;
+    const bool depth = byte(16) == 8 || byte(16) == 15 || byte(16) == 16 || byte(16) == 24 || byte(16) == 32;
+    const bool sides = (byte(12) | byte(13)) != 0 && (byte(14) | byte(15)) != 0;
+    return colorMap && imageType && depth && sides;
 }
 
+bool startsWith(const std::string& header, std::string_view prefix) {
+    return header.size() >= prefix.size() && header.compare(0, prefix.size(), prefix) == 0;
+}
+
+// Whether the first bytes are those of an image format (PNG, JPEG, OpenEXR, Radiance HDR,
+// TIFF, PNM and PFM, BMP, GIF, WebP, SGI, DDS, PSD, ICO, JPEG 2000, DPX, Cineon, FITS, IFF,
+// Softimage PIC, HEIF/AVIF), or a plausible TGA header (TGA has no signature; ray reads one
+// by content whatever its name, as it does the others). Anything else is refused at once:
+// OpenImageIO would try every reader it has on it (a 128 MiB file of text took 18 s).
+bool looksLikeAnImage(const std::string& h, const fs::path& file) {
+    using namespace std::string_view_literals;
+    static const std::string_view kSignatures[] = {
+        "\x89PNG"sv, "\xff\xd8\xff"sv, "\x76\x2f\x31\x01"sv, "#?"sv, "II*\0"sv, "MM\0*"sv, "II+\0"sv,
+        "MM\0+"sv, "BM"sv, "GIF8"sv, "\x01\xda"sv, "DDS "sv, "8BPS"sv, "\0\0\1\0"sv,
+        "\0\0\0\x0cjP  "sv, "\xff\x4f\xff\x51"sv, "SDPX"sv, "XPDS"sv, "\x80\x2a\x5f\xd7"sv, "SIMPLE"sv,
+        "FORM"sv, "\x53\x80\xf6\x34"sv};
+    for (std::string_view signature : kSignatures)
+        if (startsWith(h, signature)) return true;
+    if (h.size() >= 2 && h[0] == 'P' && std::string_view("1234567Ff").find(h[1]) != std::string_view::npos) return true;
+    if (startsWith(h, "RIFF") && h.size() >= 12 && h.compare(8, 4, "WEBP") == 0) return true;
+    if (h.size() >= 8 && h.compare(4, 4, "ftyp") == 0) return true;
+    return looksLikeTga(h) || lowerExtension(file) == ".tga";
+}
+
+std::string firstBytes(const fs::path& file, size_t count) {
+    std::ifstream in(file, std::ios::binary);
+    std::string header(count, '\0');
+    in.read(header.data(), std::streamsize(count));
+    header.resize(size_t(in.gcount()));
+    return header;
+}
+
+// Only a regular file of a size a texture can need, holding an image format's signature, is
+// decoded: opening a FIFO blocks until someone writes to it, a device such as /dev/zero
+// never ends, and a large file of anything else kept OpenImageIO busy for seconds.
+void checkImageFile(const fs::path& file) {
+    try {
+        checkInputFile(file, kTextureFileLimit);
+    } catch (const InputFileError& e) {
+        throw ImageError(e.what());
+    }
+    if (!looksLikeAnImage(firstBytes(file, 18), file))
+        throw ImageError(file.string() + ": cannot read image: its first bytes are those of no image format ray reads; "
+                         "give a PNG, JPEG, OpenEXR, HDR, TIFF, PPM, BMP or TGA file");
+}
+
+}  // namespace
+
 Image readImage(const fs::path& file) {
-    checkRegularFile(file);
+    checkImageFile(file);
     checkPngChunkLengths(file);
     // By content, not by extension: a texture named .png may hold a JPEG.
     if (hasPngSignature(file)) return readPng(file);
@@ -92,7 +151,7 @@ namespace {
 // float format, else 3 bytes. The module writes the temporary file itself, which is then
 // decoded again before the rename, so a write the encoder did not notice failing (a full
 // disk once left a truncated image and "wrote out.png") cannot pass.
-void writeWithOiio(const fs::path& file, int width, int height, const void* samples) {
+void writeWithOiio(const fs::path& file, int width, int height, const void* samples, const WriteOptions& options) {
     if (!oiioCanWrite(file))
         throw ImageError(file.string() + ": cannot write the output format '" + file.extension().string() + "'; " +
                          kOutputFormatAdvice);
@@ -105,7 +164,7 @@ void writeWithOiio(const fs::path& file, int width, int height, const void* samp
             throw ImageError(file.string() + ": cannot write image: the written file does not decode (" + e.what() +
                              "); is the disk full?");
         }
-    });
+    }, options);
 }
 
 void refuseEmpty(bool empty, const fs::path& file) {
@@ -122,24 +181,28 @@ ByteImage quantize8(const Image& image) {
     return bytes;
 }
 
-void writeImage(const Image& image, const fs::path& file) {
+void writeImage(const Image& image, const fs::path& file) { writeImage(image, file, WriteOptions{}); }
+
+void writeImage(const ByteImage& image, const fs::path& file) { writeImage(image, file, WriteOptions{}); }
+
+void writeImage(const Image& image, const fs::path& file, const WriteOptions& options) {
     refuseEmpty(image.empty(), file);
     if (isFloatFormat(file))
-        writeWithOiio(file, image.width, image.height, image.rgb.data());
+        writeWithOiio(file, image.width, image.height, image.rgb.data(), options);
     else
-        writeImage(quantize8(image), file);
+        writeImage(quantize8(image), file, options);
 }
 
-void writeImage(const ByteImage& image, const fs::path& file) {
+void writeImage(const ByteImage& image, const fs::path& file, const WriteOptions& options) {
     refuseEmpty(image.empty(), file);
     if (isFloatFormat(file))
         throw ImageError(file.string() + ": an 8-bit image cannot be written as floats; " + kOutputFormatAdvice);
     if (lowerExtension(file) == ".png") {
         // Encoded in memory by libpng, so every byte reaches the disk through checked writes.
         const std::vector<uint8_t> png = encodePng(image);
-        writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+        writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()), options);
     } else {
-        writeWithOiio(file, image.width, image.height, image.rgb.data());
+        writeWithOiio(file, image.width, image.height, image.rgb.data(), options);
     }
 }
 

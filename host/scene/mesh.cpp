@@ -1,11 +1,13 @@
 #include "scene/mesh.h"
 
 #include <cctype>
+#include <map>
 #include <optional>
 #include <sstream>
 
 #include <tiny_obj_loader.h>
 
+#include "core/input_file.h"
 #include "scene/scene.h"
 
 namespace ray {
@@ -42,9 +44,18 @@ std::string describeObjErrors(const std::string& errors, const std::string& name
     return out + "\n(check that " + name + " is a Wavefront OBJ file)";
 }
 
-TriangleMesh fromReader(const tinyobj::ObjReader& reader, const std::string& name) {
-    if (!reader.Valid()) throw InputError(describeObjErrors(reader.Error(), name));
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+// What tinyobjloader made of an OBJ's text.
+struct ParsedObj {
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;  // read (so that a bad library is found), not used
+    std::string warnings, errors;
+    bool valid = false;
+};
+
+TriangleMesh fromParsed(const ParsedObj& parsed, const std::string& name) {
+    if (!parsed.valid) throw InputError(describeObjErrors(parsed.errors, name));
+    const tinyobj::attrib_t& attrib = parsed.attrib;
     TriangleMesh mesh;
     mesh.positions.reserve(attrib.vertices.size() / 3);
     for (size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
@@ -54,7 +65,7 @@ TriangleMesh fromReader(const tinyobj::ObjReader& reader, const std::string& nam
     for (size_t i = 0; i + 1 < attrib.texcoords.size(); i += 2)
         mesh.texCoords.push_back({attrib.texcoords[i], attrib.texcoords[i + 1]});
 
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    for (const tinyobj::shape_t& shape : parsed.shapes) {
         const std::vector<tinyobj::index_t>& indices = shape.mesh.indices;
         // Triangulated by the reader: three indices a face.
         for (size_t i = 0; i + 2 < indices.size(); i += 3) {
@@ -81,11 +92,64 @@ TriangleMesh fromReader(const tinyobj::ObjReader& reader, const std::string& nam
     return mesh;
 }
 
-tinyobj::ObjReaderConfig readerConfig() {
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;  // polygons become fans of triangles
-    config.vertex_color = false;
-    return config;
+// An OBJ is text: a line or two a vertex or face, so 1 GiB is tens of millions of
+// triangles, more than a scene's memory check lets one mesh have.
+constexpr InputLimit kObjFileLimit{"a mesh (OBJ)", uint64_t(1) << 30, "tens of millions of triangles of text"};
+// A material library is a few lines a material.
+constexpr InputLimit kMaterialLibraryLimit{"a material library (mtllib)", uint64_t(16) << 20,
+                                           "the text of thousands of materials"};
+
+// An OBJ's `mtllib` names, read from the OBJ's own folder and nowhere else: an OBJ comes from
+// anywhere, and its library could name /dev/zero, a FIFO or another user's files. ray takes
+// no material from a library (the scene gives the material), so one that is missing is
+// passed over as before; one outside the folder, or not a regular file of a library's
+// size, is refused with the reason (the mesh is refused with it).
+class ConfinedMaterialReader : public tinyobj::MaterialReader {
+public:
+    explicit ConfinedMaterialReader(std::filesystem::path folder) : folder_(std::move(folder)) {}
+
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* materialMap, std::string* warn, std::string* err) override {
+        if (refusal_) return false;
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        const fs::path folder = fs::weakly_canonical(folder_, ec);
+        const fs::path candidate = folder_ / fs::path(name);
+        const fs::path real = fs::weakly_canonical(candidate, ec);
+        const fs::path inside = real.lexically_relative(folder);
+        if (fs::path(name).is_absolute() || ec || inside.empty() || *inside.begin() == "..") {
+            refusal_ = "mtllib '" + name + "' is outside the OBJ's folder; ray reads a material library only from the " +
+                       "OBJ's own folder (and uses none of its materials): remove the mtllib line or move the file";
+            return false;
+        }
+        if (!fs::exists(fs::symlink_status(candidate, ec))) return false;  // missing: no materials, as ever
+        try {
+            std::istringstream text(readInputFile(candidate, kMaterialLibraryLimit));
+            tinyobj::LoadMtl(materialMap, materials, &text, warn, err);
+        } catch (const InputFileError& e) {
+            refusal_ = "mtllib '" + name + "' (" + candidate.string() + "): " + e.reason();
+            return false;
+        }
+        return true;
+    }
+
+    // Why a library was refused, if one was.
+    const std::optional<std::string>& refusal() const { return refusal_; }
+
+private:
+    std::filesystem::path folder_;
+    std::optional<std::string> refusal_;
+};
+
+// The OBJ text parsed, polygons triangulated (fans); `materials` reads its mtllib lines, or
+// nothing reads them (nullptr).
+ParsedObj parseObj(const std::string& text, tinyobj::MaterialReader* materials) {
+    ParsedObj parsed;
+    std::istringstream in(text);
+    parsed.valid = tinyobj::LoadObj(&parsed.attrib, &parsed.shapes, &parsed.materials, &parsed.warnings,
+                                    &parsed.errors, &in, materials, /*triangulate=*/true,
+                                    /*default_vcols_fallback=*/false);
+    return parsed;
 }
 
 }  // namespace
@@ -162,15 +226,22 @@ void TriangleMesh::computeBounds() {
 }
 
 TriangleMesh loadObjMesh(const std::filesystem::path& file) {
-    tinyobj::ObjReader reader;
-    reader.ParseFromFile(file.string(), readerConfig());
-    return fromReader(reader, file.string());
+    std::string text;
+    try {
+        text = readInputFile(file, kObjFileLimit);
+    } catch (const InputFileError& e) {
+        throw InputError(file.string() + ": error: " + e.reason());
+    }
+    return parseObjMesh(text, file.string(), file.parent_path().empty() ? "." : file.parent_path());
 }
 
-TriangleMesh parseObjMesh(const std::string& objText, const std::string& nameForErrors) {
-    tinyobj::ObjReader reader;
-    reader.ParseFromString(objText, "", readerConfig());
-    return fromReader(reader, nameForErrors);
+TriangleMesh parseObjMesh(const std::string& objText, const std::string& nameForErrors,
+                          const std::optional<std::filesystem::path>& folder) {
+    if (!folder) return fromParsed(parseObj(objText, nullptr), nameForErrors);
+    ConfinedMaterialReader materials(*folder);
+    ParsedObj parsed = parseObj(objText, &materials);
+    if (materials.refusal()) throw InputError(nameForErrors + ": error: " + *materials.refusal());
+    return fromParsed(parsed, nameForErrors);
 }
 
 }  // namespace ray

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,10 +51,14 @@ struct TriangleMesh {
     void computeBounds();
 };
 
-// Reads an OBJ file; InputError ("file: error: what") when it cannot be read or holds no
-// triangles. Materials (.mtl) are ignored: the scene file gives the material.
+// Reads an OBJ file through core/input_file.h (a regular file of at most 1 GiB);
+// InputError ("file: error: what") when it cannot be read or holds no triangles. Materials
+// are ignored (the scene file gives the material), but an `mtllib` is read, from the OBJ's
+// folder only: one outside it, or not a regular file of a library's size, is an InputError.
 TriangleMesh loadObjMesh(const std::filesystem::path& file);
-// The same from text, for tests.
-TriangleMesh parseObjMesh(const std::string& objText, const std::string& nameForErrors);
+// The same from text (tests, fuzzing). With `folder`, mtllib lines are read as an OBJ in
+// that folder would have them read; without, they are passed over.
+TriangleMesh parseObjMesh(const std::string& objText, const std::string& nameForErrors,
+                          const std::optional<std::filesystem::path>& folder = std::nullopt);
 
 }  // namespace ray

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/atomic_file.h"
+#include "scene/document_save.h"
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
 #include "scene/scene_loader.h"
@@ -397,9 +398,14 @@ void checkLoadsBack(const SceneDocument& document, const std::string& bytes, con
 }  // namespace
 
 void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target) {
+    saveDocument(document, resources, target, WriteOptions{});
+}
+
+void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target,
+                  const WriteOptions& options) {
     const std::string bytes = documentFileBytes(document, resources, target);
     checkLoadsBack(document, bytes, target);
-    writeFileAtomically(target, bytes);
+    writeFileAtomically(target, bytes, options);
 }
 
 }  // namespace ray

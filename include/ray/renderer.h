@@ -223,14 +223,25 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// The longest side of an image ray renders or saves.
+constexpr int kMaxImageSide = 16384;
+
 /// Writes width × height × 3 floats as an image whose format follows the extension (png,
 /// jpg, ppm, tif: 8-bit, clamped and truncated as the course does; exr, hdr: floats).
-/// The file is replaced whole or not at all. Throws InputError, DeviceError.
+/// The file is replaced whole or not at all (WriteOptions says what happens to links,
+/// devices and read-only files). At most 16384 pixels a side, as a render. Throws
+/// InputError, DeviceError.
 void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file);
+/// saveImage(), with how a read-only file is treated (WriteOptions).
+void saveImage(const std::vector<float>& rgb, int width, int height, const std::filesystem::path& file,
+               const WriteOptions& options);
 
 /// The same from 8-bit values (what toByte gives; a frame's bytes): written unchanged to
 /// 8-bit formats, as v / 255 to float ones.
 void saveImage(const std::vector<uint8_t>& rgb, int width, int height, const std::filesystem::path& file);
+/// The same from 8-bit values, with how a read-only file is treated (WriteOptions).
+void saveImage(const std::vector<uint8_t>& rgb, int width, int height, const std::filesystem::path& file,
+               const WriteOptions& options);
 
 /// The 8-bit value ray writes for a channel: floor(255 · clamp(c, 0, 1)), as in its PNGs.
 uint8_t toByte(float channel);

@@ -209,6 +209,17 @@ struct LoadOptions {
     bool loadTextures = true;                        ///< false: skip reading image files
 };
 
+/// The most pixels a texture may have, from a file or from memory (8192 × 4096).
+constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 25;
+
+/// How Scene::save and saveImage treat what is at the file they write. A regular file is
+/// replaced whole, keeping its mode; a symbolic link is written through to its target; a
+/// character device or FIFO is written into; a folder, block device or socket is refused
+/// (InputError), and so is a read-only file unless replaceReadOnly says to replace it.
+struct WriteOptions {
+    bool replaceReadOnly = false;  ///< replace a read-only file (refused otherwise)
+};
+
 struct LoadResult;
 
 /// A scene: what a Renderer renders. Copyable (a copy is independent) and movable.
@@ -315,6 +326,8 @@ public:
     /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
     /// cannot be written.
     void save(const std::filesystem::path& file) const;
+    /// save(), with how a read-only file is treated (WriteOptions).
+    void save(const std::filesystem::path& file, const WriteOptions& options) const;
     ///@}
 
     /// \name The one edit model (docs/modeler-protocol.md)
