@@ -4,6 +4,7 @@
 
 #include "core/message_text.h"
 #include "edit/edit_error.h"
+#include "edit/node_matching.h"
 
 namespace ray::edit {
 
@@ -251,6 +252,7 @@ void EditSession::saved() {
 
 void EditSession::reload(SceneDocument document, Resources resources) {
     assignNodeIds(document);
+    keepIdsAcrossReload(document_, document);
     auto scene = std::make_shared<Scene>(flattenDocument(document, resources, options_.load));
     document_ = std::move(document);
     resources_ = std::move(resources);

@@ -20,7 +20,10 @@
 // the document; a front end says which one an edit was made against, so that one made
 // against an older one (another page edited, the file was reloaded) is refused rather than
 // applied to what the user did not see (viewer/scene_editor.h).
-
+//
+// Ids across a reload: the document read again keeps the ids of the elements that are the
+// same as before (edit/node_matching.h); what is new gets ids never used before, so that a
+// stale id names nothing rather than another element.
 #pragma once
 
 #include <cstdint>
@@ -96,6 +99,7 @@ public:
 
     // The document read again (its file changed on disk): the history goes, as its steps
     // were made to another version; the scene has a lineage of its own (a renderer compares).
+    // Elements that are the same keep their ids (edit/node_matching.h).
     void reload(SceneDocument document, Resources resources);
 
     // The outline of the document, and one node's fields (node_views.h; EditError for a
