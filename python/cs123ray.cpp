@@ -926,9 +926,13 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
         .def("make_unique", [](PyScene& s, const py::handle& placement) {
             return resultDict(s.scene.makeUnique(nodeArg("placement", placement)));
         }, py::arg("placement"), "Gives a placement of a master a copy of the master of its own.")
-        .def("save", [](const PyScene& s, const std::filesystem::path& file) { s.scene.save(file); }, py::arg("file"),
+        .def("save", [](const PyScene& s, const std::filesystem::path& file, bool overwriteChanges) {
+            s.scene.save(file, overwriteChanges);
+        }, py::arg("file"), py::kw_only(), py::arg("overwrite_changes") = false,
              "Writes the scene as a CS123 scenefile (whole or not at all) that loads back to the same render, "
-             "masters kept as masters, texture and mesh paths relative to `file`.")
+             "masters kept as masters, texture and mesh paths relative to `file`. A file this scene was loaded "
+             "from or saved to that another program has changed since is not replaced (InputError) unless "
+             "overwrite_changes=True.")
         .def("to_text", [](const PyScene& s) { return s.scene.toText(); },
              "The scene as CS123 scenefile text (what save writes).")
         .def("__repr__", &sceneRepr);

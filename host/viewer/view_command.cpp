@@ -43,6 +43,8 @@ options:
   --depth N                recursion depth (0..16; default 4)
   --device D               auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene
                            packed once; ref: the reference renderer
+  --undo-memory MIB        the most memory the undo history holds (1..65536; default 64);
+                           past it the oldest steps are dropped
   -h, --help               this text
 )";
 
@@ -71,6 +73,9 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
         c.options.address = v;
     });
     addSwitch(app, "--no-token", [&] { c.noToken = true; });
+    addValueOption(app, "--undo-memory", [&](const std::string& v) {
+        c.options.historyLimit = size_t(parseInt(v, "--undo-memory", 1, 65536)) << 20;
+    });
     addValueOption(app, "--width", [&](const std::string& v) {
         s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide);
         c.options.fitWindow = false;

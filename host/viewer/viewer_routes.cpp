@@ -168,7 +168,7 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     });
     // Editing: only with the access token (a viewer started with --no-token shows the scene
     // and does not change it or its file).
-    for (const char* action : {"op", "edit", "undo", "redo", "save"}) {
+    for (const char* action : {"op", "edit", "undo", "redo", "save", "reload"}) {
         server.Post(std::string("/") + action, [&session, action, editable = editable](const httplib::Request& request,
                                                                                      httplib::Response& response) {
             if (!editable) {
@@ -184,6 +184,15 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
             } catch (const FileExists& e) {
                 response.status = 409;
                 response.set_content(json{{"error", e.what()}, {"exists", true}}.dump(), "application/json");
+            } catch (const StaleRevision& e) {
+                // With the scene's state, which the page shows before the user acts again.
+                response.status = 409;
+                response.set_content(json{{"error", e.what()}, {"stale", true}, {"revision", e.current},
+                                          {"state", session.state()}}.dump(),
+                                     "application/json");
+            } catch (const ChangedOnDisk& e) {
+                response.status = 409;
+                response.set_content(json{{"error", e.what()}, {"changed_on_disk", true}}.dump(), "application/json");
             } catch (const EditError& e) {
                 refused(response, e);
             } catch (const json::exception& e) {

@@ -14,8 +14,8 @@ namespace {
 
 // The editor of the scene file, or of a new scene to be written there.
 SceneEditor editorFor(const ViewerOptions& options) {
-    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load);
-    return SceneEditor(options.scene, options.load);
+    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load, options.historyLimit);
+    return SceneEditor(options.scene, options.load, options.historyLimit);
 }
 
 }  // namespace
@@ -65,7 +65,8 @@ json Session::editorStateLocked() {
     return {{"file", std::filesystem::absolute(editor_.file()).lexically_normal().string()},
             {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
             {"can_redo", editor_.canRedo()}, {"lights", editor_.lightsJson()},
-            {"editable", !options_.token.empty()}, {"scene_version", sceneVersion_}};
+            {"editable", !options_.token.empty()}, {"scene_version", sceneVersion_},
+            {"revision", editor_.version()}, {"history", editor_.historyJson()}};
 }
 
 json Session::pick(int x, int y) {
@@ -93,6 +94,7 @@ json Session::node(const std::string& id) {
 json Session::edit(const std::string& action, const std::string& body) {
     std::lock_guard lock(mutex_);
     const edit::TypedJson request = edit::parseTypedJson(body);
+    editor_.checkRevision(request.value);
     json out = json::object();
     if (action == "op") {
         out = editor_.operate(request, view_.camera);
@@ -105,11 +107,18 @@ json Session::edit(const std::string& action, const std::string& body) {
         out = editor_.redo();
     } else if (action == "save") {
         const SaveRequest save = saveRequestFrom(request.value);
-        const std::filesystem::path saved = editor_.save(save.as, save.replace);
+        const std::filesystem::path saved = editor_.save(save.as, save.replace, save.overwrite);
         // Its own save is not a change on disk to reload (which would clear the history).
         sceneTime_ = lastWrite();
         log("saved " + quotedForMessage(saved.string()));
         out["saved"] = saved.string();
+    } else if (action == "reload") {
+        // The user chose the file as it is on disk over the unsaved edits (a save refused
+        // as the file changed there).
+        sceneTime_ = lastWrite();
+        editor_.reload();
+        sceneError_.clear();
+        log("reloaded " + quotedForMessage(editor_.file().filename().string()) + " (the unsaved edits were dropped)");
     }
     if (editor_.scene() != scene_) {
         scene_ = editor_.scene();

@@ -314,7 +314,12 @@ public:
     /// folder, relative to `file`'s folder otherwise. Loading it renders the same
     /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
     /// cannot be written.
-    void save(const std::filesystem::path& file) const;
+    ///
+    /// A file this scene was loaded from or saved to is not replaced when another program
+    /// changed it since (its size or bytes differ from what this scene read or wrote):
+    /// InputError says so, and nothing is written, so that their change is not lost.
+    /// `overwriteChanges` true replaces it all the same.
+    void save(const std::filesystem::path& file, bool overwriteChanges = false) const;
     ///@}
 
     /// \name The one edit model (docs/modeler-protocol.md)
