@@ -93,8 +93,9 @@ json Session::node(const std::string& id) {
 
 json Session::edit(const std::string& action, const std::string& body) {
     std::lock_guard lock(mutex_);
-    const edit::TypedJson request = edit::parseTypedJson(body);
+    edit::TypedJson request = edit::parseTypedJson(body);
     editor_.checkRevision(request.value);
+    if (request.value.is_object()) request.value.erase("revision");  // checked; no part of the edit itself
     json out = json::object();
     if (action == "op") {
         out = editor_.operate(request, view_.camera);
