@@ -31,7 +31,6 @@ FileStamp stampOf(const std::filesystem::path& file) {
     stamp.regular = std::filesystem::is_regular_file(status);
     if (!stamp.regular) return stamp;  // a FIFO is never read here: it could block
     stamp.size = std::filesystem::file_size(file, ec);
-    stamp.time = std::filesystem::last_write_time(file, ec);
     stamp.hash = hashOf(file).value_or(0);
     return stamp;
 }

@@ -1,5 +1,6 @@
-// What a scene file was when it was read or written: its size, modification time and a
-// hash of its bytes. A save compares the file on disk with it, and does not replace a file
+// What a scene file was when it was read or written: its size and a hash of its bytes (its
+// modification time says nothing a save needs: touched, its bytes are the same, and two
+// writes within the clock's step leave it as it was). A save compares the file on disk with it, and does not replace a file
 // that another program changed since (docs/modeler-protocol.md, POST /save; the C++ API's
 // and Python's save), unless the user says to: their change would be lost without a word.
 #pragma once
@@ -15,7 +16,6 @@ struct FileStamp {
     bool exists = false;
     bool regular = false;
     uintmax_t size = 0;
-    std::filesystem::file_time_type time{};
     uint64_t hash = 0;  // FNV-1a, 64 bits, of the bytes
 };
 
