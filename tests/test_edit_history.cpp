@@ -149,7 +149,7 @@ TEST_CASE("Undo history of 20,000 spheres and 200 colour edits stays small, and 
     CHECK(session.historyBytes() < size_t(2) << 20);
 }
 
-TEST_CASE("A colour picked in many moves is one step; the history's limit drops the oldest steps first",
+TEST_CASE("A colour picked in many moves is one step, and the history's limit drops the oldest steps first",
           "[edit-history]") {
     const fs::path file = scratchFolder("limit") / "spheres.xml";
     writeFile(file, sceneOf(spheres(50)));
@@ -236,7 +236,7 @@ TEST_CASE("Undo and redo of every kind of operation give back the very documents
     }
 }
 
-TEST_CASE("A reload keeps the ids of the elements that are the same; new ones get ids never used", "[edit-history]") {
+TEST_CASE("A reload keeps the ids of the elements that are the same, and new ones get ids never used", "[edit-history]") {
     const fs::path file = scratchFolder("reload") / "scene.xml";
     std::string blocks;
     for (int i = 0; i < 6; ++i) blocks += sphereBlock(i * 10);
@@ -275,7 +275,7 @@ TEST_CASE("A reload keeps the ids of the elements that are the same; new ones ge
     CHECK(added.added.at(0).number != after.at(-10));
 }
 
-TEST_CASE("The viewer's editor: a save does not replace a file changed on disk since it was read; a stale revision "
+TEST_CASE("The viewer's editor: a save does not replace a file changed on disk since it was read, and a stale revision "
           "is refused",
           "[edit-history]") {
     const fs::path file = scratchFolder("editor") / "scene.xml";
