@@ -57,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string saved;
     try {
         first = load(text, file);
-        if (first.document.source->canSplice() && ray::documentToText(first.document, first.resources, file) != text)
+        if (ray::documentFileBytes(first.document, first.resources, file) != text)
             ray::fuzz::fail("the unedited save is not the file", "", text);
         saved = ray::CanonicalWriter(first.document, first.resources, file).document();
     } catch (const ray::InputError&) {

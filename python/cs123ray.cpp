@@ -3,6 +3,7 @@
 // Named cs123ray, not ray: `import ray` is the widely installed distributed-computing
 // package on PyPI, and the course's scenefile format (CS123) names what this one renders.
 #include <pybind11/functional.h>
+#include <pybind11/eval.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -24,7 +25,18 @@ namespace py = pybind11;
 using namespace pybind11::literals;  // "name"_a
 namespace api = ray::api;
 
+// python/notebook.py, embedded at build time (python/CMakeLists.txt): run in the module's
+// namespace at import.
+extern const char* const kNotebookPython;
+
 namespace {
+
+// cs123ray.RenderedImage (python/notebook.py), the ndarray subclass renders are returned as.
+// Never destroyed: Python may be gone when static objects are.
+py::object& renderedImageType() {
+    static py::object* type = new py::object();
+    return *type;
+}
 
 // A scene with the warnings of its loading.
 struct PyScene {
@@ -311,10 +323,14 @@ py::array renderArray(api::Renderer& renderer, const py::object& dtype, const py
     py::array_t<float> rgb({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
     api::FrameStats frame = renderWatched(renderer, rgb.mutable_data(), size_t(rgb.size()), progress);
     if (stats) *stats = frame;
-    if (name == "float32") return rgb;
-    py::array_t<uint8_t> bytes({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
-    std::transform(rgb.data(), rgb.data() + rgb.size(), bytes.mutable_data(), api::toByte);
-    return bytes;
+    py::array image = rgb;
+    if (name == "uint8") {
+        py::array_t<uint8_t> bytes({py::ssize_t(s.height), py::ssize_t(s.width), py::ssize_t(3)});
+        std::transform(rgb.data(), rgb.data() + rgb.size(), bytes.mutable_data(), api::toByte);
+        image = bytes;
+    }
+    // A view of the same pixels as a RenderedImage, which shows itself in a notebook.
+    return py::reinterpret_borrow<py::array>(image.attr("view")(renderedImageType()));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -935,6 +951,11 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
              "overwrite_changes=True.")
         .def("to_text", [](const PyScene& s) { return s.scene.toText(); },
              "The scene as CS123 scenefile text (what save writes).")
+        .def("_assign", [](PyScene& s, const PyScene& other) {
+            s.scene = other.scene;
+            s.warnings = other.warnings;
+        }, py::arg("other"),
+           "Makes this scene a copy of `other`, in place (a studio's edits read into the notebook's scene).")
         .def("__repr__", &sceneRepr);
 }
 
@@ -1057,8 +1078,9 @@ void bindRendering(py::module_& m) {
             r.stats = stats;
             return image;
         }, py::arg("dtype") = "float32", py::arg("progress") = py::none(),
-           "Renders a frame: an H x W x 3 array, float32 (linear, unclamped) or uint8 (the bytes of ray's 8-bit "
-           "images). progress(fraction) is called now and then; Ctrl-C raises KeyboardInterrupt within a second.")
+           "Renders a frame: an H x W x 3 array (a RenderedImage, which a notebook shows as a picture), float32 "
+           "(linear, unclamped) or uint8 (the bytes of ray's 8-bit images). progress(fraction) is called now and "
+           "then; Ctrl-C raises KeyboardInterrupt within a second.")
         .def("__repr__", [](const PyRenderer& r) { return rendererRepr(*r.renderer); });
 
     m.def("render", [](const PyScene& s, const std::string& device, const py::object& dtype,
@@ -1067,8 +1089,9 @@ void bindRendering(py::module_& m) {
         renderer.setSettings(settingsFrom(options, renderer.settings()));
         return renderArray(renderer, dtype, progress);
     }, py::arg("scene"), py::arg("device") = "auto", py::arg("dtype") = "float32", py::arg("progress") = py::none(),
-       "Renders the scene once: an H x W x 3 array (float32 linear, or uint8 as ray's PNGs). device and the "
-       "options (keywords) as Renderer and Renderer.set_options take them.");
+       "Renders the scene once: an H x W x 3 array (a RenderedImage, which a notebook shows as a picture; "
+       "float32 linear, or uint8 as ray's PNGs). device and the options (keywords) as Renderer and "
+       "Renderer.set_options take them.");
 
     m.def("save_image", &saveArray, py::arg("image"), py::arg("file"),
           "Writes an H x W x 3 array, floats (linear, 1.0 is full) or uint8 (as render(dtype='uint8') makes), in "
@@ -1080,7 +1103,9 @@ void bindRendering(py::module_& m) {
 
 PYBIND11_MODULE(cs123ray, m) {
     requireNumpy();
-    m.doc() = "ray, the CS123 scenefile ray tracer: load or build a scene, render it to a NumPy array.";
+    m.doc() = "ray, the CS123 scenefile ray tracer: load or build a scene, render it to a NumPy array. In Jupyter "
+              "a render shows itself as a picture, a scene as a small picture and its outline, and view(scene) "
+              "opens the studio (ray view) on the scene inside the notebook.";
     m.attr("__version__") = api::version();
     registerErrors(m);
     bindTransform(m);
@@ -1089,4 +1114,6 @@ PYBIND11_MODULE(cs123ray, m) {
     bindSceneObject(m);
     bindLoading(m);
     bindRendering(m);
+    py::exec(kNotebookPython, m.attr("__dict__"));
+    renderedImageType() = m.attr("RenderedImage");
 }

@@ -17,6 +17,10 @@ packages=(cmake make g++ pkg-config
           patchelf          # scripts/gpu_bundle.sh: the bundle's $ORIGIN rpaths
           libcpp-httplib-dev chromium chromium-driver python3-selenium
           nodejs npm   # the viewer's page is bundled at build time from locked npm packages
+          # docs/notebook.ipynb run headless (tests/notebook.py); ray(1) and the completions
+          # as a user meets them (tests/reference_pages.py, the Debian package)
+          jupyter-nbconvert python3-nbconvert python3-ipykernel python3-jupyter-client
+          man-db bash-completion zsh
           libopenmpi-dev openmpi-bin   # mpirun -n N ray: tests/mpi.sh
           # the kernel as GPU drivers build it: scripts/kernel_resources.py (clang-15 and
           # libclc for AMD and NVIDIA), tests/rusticl.sh (Mesa's OpenCL), tests/oclgrind.sh

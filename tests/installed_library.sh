@@ -2,6 +2,8 @@
 # The installed library as a user meets it (docs/embedding.md, "Embedding ray: the C++ API"):
 #   - cmake --install into a fresh prefix;
 #   - libray.so's dynamic symbols are ray::api's only (nm -D --defined-only);
+#   - the manual page, the completions and the Python module with its stubs are installed
+#     beside it (cmake/Packaging.cmake, python/CMakeLists.txt), the module importable there;
 #   - the C++ examples of docs/embedding.md, taken from it, build with
 #     `pkg-config --cflags --libs ray` and run with no LD_LIBRARY_PATH, in a folder where
 #     the examples' relative paths (scenes/...) lead to the repository's scenes.
@@ -17,6 +19,17 @@ prefix=$work/prefix
 cmake --install "$build" --prefix "$prefix" > "$work/install.log" || { cat "$work/install.log"; exit 1; }
 library=$(ls "$prefix"/lib*/libray.so 2>/dev/null | head -1)
 [ -n "$library" ] || { echo "FAIL: cmake --install installed no libray.so"; exit 1; }
+
+# What the Debian package holds beside the library, under the prefix as under /usr.
+for file in share/man/man1/ray.1.gz share/bash-completion/completions/ray share/zsh/vendor-completions/_ray; do
+    [ -f "$prefix/$file" ] || fail "cmake --install put no $file in the prefix"
+done
+if ls "$build"/python/cs123ray*.so > /dev/null 2>&1; then  # built with pybind11
+    site=$prefix/lib/python3/dist-packages
+    [ -f "$site/cs123ray.pyi" ] || fail "cmake --install put no cs123ray.pyi beside the module"
+    where=$(cd "$work" && PYTHONPATH=$site PYTHONNOUSERSITE=1 /usr/bin/python3 -c 'import cs123ray; print(cs123ray.__file__)') &&
+        [ "${where#"$site"/}" != "$where" ] || fail "cs123ray does not import from $site: $where"
+fi
 
 # Every defined dynamic symbol is ray::api's (its functions, its classes' typeinfo and
 # vtables), none of ray::api::detail's; and the API is there.

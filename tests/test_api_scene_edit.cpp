@@ -160,6 +160,19 @@ TEST_CASE("API: bad edits are refused and change nothing", "[api][scene_edit]") 
     CHECK_THROWS_AS(scene.object(sphere), api::InputError);
 }
 
+TEST_CASE("API: a name XML cannot hold is refused with the edit model's sentence, and changes nothing",
+          "[api][scene_edit]") {
+    api::Scene scene = api::Scene::fromString(kTable, "table.xml").scene;
+    const std::string text = scene.toText();
+    try {
+        scene.rename("tree-0", "ab\xEF\xBF\xBF");
+        FAIL("a name with U+FFFF was accepted");
+    } catch (const api::InputError& e) {
+        CHECK_THAT(e.what(), Catch::Matchers::Contains("name: U+FFFF at character 3 cannot be written in an XML file"));
+    }
+    CHECK(scene.toText() == text);
+}
+
 TEST_CASE("API: a csg operand left empty is refused", "[api][scene_edit]") {
     api::Scene scene = api::Scene::fromString(R"(<scenefile><object type="tree" name="root"><transblock>
         <object type="csg" operation="difference">

@@ -35,7 +35,13 @@ set(RAY_TEST_COSTS
   [=[gpu_bundle]=] 18
   [=[concurrency]=] 16
   [=[the reference renderer matches the course's renders]=] 14
+  [=[viewer_recovery]=] 23
+  [=[viewer_browser_recovery]=] 21
   [=[viewer_browser]=] 13
+  # cpack -G DEB and dpkg-shlibdeps over the package's files (34 s alone); nbconvert's kernel
+  # and its renders (18 s)
+  [=[debian_package]=] 35
+  [=[notebook]=] 18
   [=[A hung device is dropped, the frames stay whole, and the engine goes without waiting for it]=] 13
   [=[kernel_short_stack]=] 10
   [=[oclgrind]=] 9

@@ -12,6 +12,7 @@
 #include "scene/document_edits.h"
 #include "scene/scene_document.h"
 #include "scene/scene_loader.h"
+#include "scene/text_encoding.h"
 #include "scene/value_text.h"
 #include "scene_comparison.h"
 #include "test_support.h"
@@ -557,16 +558,21 @@ TEST_CASE("ray's own scenes save unedited to their own bytes, and a csg operand'
     checkEdit(csg, operand->source);
 }
 
-TEST_CASE("a file in UTF-16, which ASCII cannot be spliced into, is written afresh", "[document][text]") {
+TEST_CASE("a file in UTF-16 is spliced as its text in UTF-8, and saved in UTF-16", "[document][text]") {
     const std::string ascii = "<scenefile><object type=\"tree\" name=\"root\"><transblock><object "
                               "type=\"primitive\" name=\"cube\"/></transblock></object></scenefile>";
     std::string utf16 = "\xFF\xFE";
     for (char c : ascii) utf16 += std::string{c, '\0'};
     SceneDocument document = loadSceneDocumentFromText(utf16, "utf16.xml", quiet());
     REQUIRE(document.source);
-    CHECK_FALSE(document.source->canSplice());
+    CHECK(document.source->encoding() == TextEncoding::Utf16LE);
     Resources resources;
+    CHECK(documentFileBytes(document, resources, "utf16.xml") == utf16);
+    CHECK(documentToText(document, resources, "utf16.xml") == "\xEF\xBB\xBF" + ascii);  // the mark as U+FEFF
+    document.trees["root"].tree.blocks[0].transforms.push_back(TransformOp{});
+    composeBlock(document.trees["root"].tree.blocks[0]);
     const std::string text = documentToText(document, resources, "utf16.xml");
-    CHECK(text.rfind("<scenefile>\n", 0) == 0);
+    CHECK(text.find("<translate x=\"0\" y=\"0\" z=\"0\"/>") != std::string::npos);
     checkReloads(document, text);
+    CHECK(documentFileBytes(document, resources, "utf16.xml") == fromUtf8(text, TextEncoding::Utf16LE));
 }

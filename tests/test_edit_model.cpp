@@ -20,6 +20,7 @@
 #include "scene/document_fields.h"
 #include "scene/scene_difference.h"
 #include "scene/scene_loader.h"
+#include "scene/xml_characters.h"
 #include "test_support.h"
 
 namespace {
@@ -244,6 +245,77 @@ TEST_CASE("Bad edits are refused with a sentence naming the field, and change no
     refusedJson(R"({"op": "rename", "node": "tree-0", "name": "other"})", "the tree named root is the scene", "name");
     CHECK_THROWS_WITH(op(R"({"op": "set", "node": "object-0", "fields": {"glow": 1}})"), Catch::Matchers::Contains("no field 'glow'"));
     CHECK_THROWS_WITH(parseTypedJson("{\"op\": "), Catch::Matchers::Contains("not JSON"));
+}
+
+TEST_CASE("Names and files an edit writes are what XML can hold, counted and cut in characters", "[edit]") {
+    const fs::path folder = scratchCopy("shadows.xml", "writable").parent_path();
+    std::string master = "a";
+    for (int i = 0; i < 200; ++i) master += "\xC3\xA9";  // a name of 201 characters, 401 bytes, in the file
+    const fs::path file = folder / "masters.xml";
+    std::ofstream(file) << "<scenefile>\n  <object type=\"tree\" name=\"" << master << "\">\n"
+                        << "    <transblock><object type=\"primitive\" name=\"sphere\"/></transblock>\n  </object>\n"
+                        << "  <object type=\"tree\" name=\"root\">\n"
+                        << "    <transblock><object type=\"master\" name=\"" << master << "\"/></transblock>\n"
+                        << "    <transblock><translate x=\"2\" y=\"0\" z=\"0\"/><object type=\"master\" name=\""
+                        << master << "\"/></transblock>\n  </object>\n</scenefile>\n";
+    EditSession session = sessionOf(file);
+    const std::string tree = firstOf(session, "tree");  // the master, first in the file
+
+    SECTION("make-unique cuts a long name between characters, and the save reloads") {
+        session.apply(op(R"({"op": "make-unique", "node": ")" + firstOf(session, "placement") + R"("})"));
+        std::string made;
+        for (const auto& [name, named] : session.document().trees)
+            if (name != master && name != "root") made = name;
+        INFO(made);
+        CHECK_FALSE(firstUnwritableCharacter(made));
+        CHECK(characterCount(made) == kMaxTreeName);
+        CHECK(made.ends_with("\xC3\xA9_2"));
+        CHECK(made.starts_with("a\xC3\xA9"));
+        CHECK_NOTHROW(outlineJson(session.outline()).dump());  // the viewer's /outline
+        saveDocument(session.document(), session.resources(), file);
+        SceneDocument reloaded = loadSceneDocument(file, quiet());
+        CHECK(reloaded.trees.count(made) == 1);
+        checkSavesAsShown(session);
+    }
+    SECTION("a name's length is counted in characters") {
+        std::string hundred;
+        for (int i = 0; i < 100; ++i) hundred += "\xC3\xA9";
+        session.apply(op(R"({"op": "rename", "node": ")" + tree + R"(", "name": ")" + hundred + R"("})"));
+        CHECK(session.document().trees.count(hundred) == 1);
+        checkSavesAsShown(session);
+        const std::string tooLong = hundred + hundred;
+        CHECK_THROWS_WITH(session.apply(op(R"({"op": "rename", "node": ")" + tree + R"(", "name": ")" + tooLong + R"("})")),
+                          Catch::Matchers::Contains("name is 200 characters long; at most 128 are allowed"));
+    }
+    SECTION("U+FFFE, U+FFFF and bytes not UTF-8 are refused at the edit, naming the field and the character") {
+        const std::string text = textOf(session);
+        const uint64_t version = session.version();
+        auto refused = [&](const Operation& operation, const std::string& sentence, const std::string& field) {
+            INFO(sentence);
+            try {
+                session.apply(operation);
+                FAIL("accepted");
+            } catch (const EditError& e) {
+                CHECK(std::string(e.what()) == sentence);
+                CHECK(e.field == field);
+            }
+            CHECK(session.version() == version);
+            CHECK(textOf(session) == text);
+        };
+        refused(op(R"({"op": "rename", "node": ")" + tree + R"(", "name": "ab\uFFFF"})"),
+                "name: U+FFFF at character 3 cannot be written in an XML file", "name");
+        refused(op(R"({"op": "set", "node": "object-0", "fields": {"texture": "wood\uFFFE.png"}})"),
+                "texture: U+FFFE at character 5 cannot be written in an XML file", "texture");
+        refused(op(R"({"op": "set", "node": "object-0", "fields": {"bumpmap": "\uFFFFwood.png"}})"),
+                "bumpmap: U+FFFF at character 1 cannot be written in an XML file", "bumpmap");
+        refused(op(R"({"op": "add-primitive", "shape": "mesh", "file": "v\uFFFF.obj"})"),
+                "file: U+FFFF at character 2 cannot be written in an XML file", "file");
+        const EditField* name = findField(FieldOwner::Tree, "name");
+        refused(SetFields{NodeId::parse(tree).value(), {{name, std::string("ab\xC3")}}},
+                "name: byte 0xC3 (not UTF-8) at character 3 cannot be written in an XML file", "name");
+        refused(SetFields{NodeId::parse(tree).value(), {{name, std::string("x\xED\xA0\x80")}}},
+                "name: byte 0xED (not UTF-8) at character 2 cannot be written in an XML file", "name");
+    }
 }
 
 TEST_CASE("One user action is one undo step: a drag's requests share an action id; undo and redo are unlimited",

@@ -1,15 +1,21 @@
-// Who ray view answers (viewer/request_guard.h), the files a request may name
+// Who ray view answers (viewer/request_guard.h) and how many connections without the token it
+// keeps (viewer/connection_deadlines.h), the files a request may name
 // (viewer/folder_files.h) and text from outside quoted in messages (core/message_text.h).
 #include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <fstream>
 
+#include <sys/socket.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "core/message_text.h"
+#include "viewer/connection_deadlines.h"
 #include "viewer/folder_files.h"
 #include "viewer/request_guard.h"
+#include "viewer/view_request.h"
 #include "test_support.h"
 
 namespace {
@@ -127,6 +133,37 @@ TEST_CASE("Requests of another page are refused, even with the token", "[viewer]
     CHECK(statusOf(anonymous, open) == 403);
 }
 
+TEST_CASE("With --frame-ancestors the page opens in a frame when the frame's URL holds the token",
+          "[viewer][security]") {
+    const GuardPolicy framable{kToken, 8123, true, "http://localhost:* http://127.0.0.1:*"};
+    RequestFacts frame;  // a notebook's IFrame, at another port of the machine
+    frame.method = "GET";
+    frame.path = "/";
+    frame.host = "127.0.0.1:8123";
+    frame.fetchSite = "cross-site";
+    frame.fetchMode = "navigate";
+    frame.fetchDest = "iframe";
+    frame.queryToken = kToken;
+    const ray::GuardVerdict verdict = ray::checkRequest(frame, framable);
+    CHECK(verdict.status == 0);
+    CHECK(verdict.setCookie.empty());  // served at once: a cross-site frame sends no SameSite cookie back
+    CHECK(statusOf(frame) == 403);     // without --frame-ancestors: never framed
+    RequestFacts wrongToken = frame;
+    wrongToken.queryToken = std::string(kToken.size(), '0');
+    CHECK(statusOf(wrongToken, framable) == 403);
+    RequestFacts cookieOnly = frame;  // the cookie alone does not open a frame
+    cookieOnly.queryToken.clear();
+    cookieOnly.cookie = "ray_view_token_8123=" + kToken;
+    CHECK(statusOf(cookieOnly, framable) == 403);
+    RequestFacts otherRoute = frame;  // only the page may be framed
+    otherRoute.path = "/state";
+    CHECK(statusOf(otherRoute, framable) == 403);
+    RequestFacts post = fromThePage("POST", "/op");  // and the other page still cannot post
+    post.origin = "http://127.0.0.1:8888";
+    post.fetchSite = "same-site";
+    CHECK(statusOf(post, framable) == 403);
+}
+
 TEST_CASE("A body must say it is JSON, which a form cannot", "[viewer][security]") {
     for (const char* type : {"text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", ""}) {
         RequestFacts form = fromThePage("POST", "/save");
@@ -137,6 +174,94 @@ TEST_CASE("A body must say it is JSON, which a form cannot", "[viewer][security]
     bodiless.contentType.clear();
     bodiless.hasBody = false;
     CHECK(statusOf(bodiless) == 0);
+}
+
+TEST_CASE("JSON is JSON whatever the case and spaces of its Content-Type", "[viewer][security]") {
+    for (const char* type : {"application/json ; charset=utf-8", "Application/JSON;charset=UTF-8", " application/json",
+                             "application/json\t; charset=utf-8"}) {
+        RequestFacts request = fromThePage("POST", "/op");
+        request.contentType = type;
+        CHECK(statusOf(request) == 0);
+    }
+    for (const char* type : {"application/jsonx", "application/js on", "application/json-seq"}) {
+        RequestFacts request = fromThePage("POST", "/op");
+        request.contentType = type;
+        CHECK(statusOf(request) == 415);
+    }
+}
+
+TEST_CASE("The token counts in the query only for the page's URL and the event stream", "[viewer][security]") {
+    for (const auto& [method, path] : {std::pair{"POST", "/op"}, {"POST", "/save"}, {"GET", "/state"}}) {
+        RequestFacts request = fromThePage(method, path);
+        request.authorization.clear();
+        request.queryToken = kToken;
+        const ray::GuardVerdict verdict = ray::checkRequest(request, kPolicy);
+        CHECK(verdict.status == 403);
+        CHECK_THAT(verdict.message, Catch::Contains("Authorization header"));
+    }
+    RequestFacts events = fromThePage("GET", "/events");
+    events.authorization.clear();
+    events.queryToken = kToken;
+    CHECK(statusOf(events) == 0);
+    RequestFacts page = fromThePage("GET", "/");
+    page.authorization.clear();
+    page.queryToken = kToken;
+    CHECK(statusOf(page) == 0);
+}
+
+TEST_CASE("A body that is not UTF-8 is named as such", "[viewer][security]") {
+    for (const std::string body : {"", "{\"name\": \"plain\"}", "{\"name\": \"é ✓ 𝄞\"}"})
+        CHECK_FALSE(ray::bodyEncodingProblem(body));
+    const std::pair<std::string, size_t> bad[] = {
+        {"{\"name\": \"\xff\"}", 10},  // never in UTF-8
+        {"ab\xc0\x80", 2},              // an overlong NUL
+        {"\xed\xa0\x80", 0},           // a surrogate
+        {"x\xe2\x82", 1},               // cut short
+        {"\x80", 0},                     // a lone continuation byte
+        {"\xf4\x90\x80\x80", 0},       // past U+10FFFF
+    };
+    for (const auto& [body, at] : bad) {
+        const std::optional<std::string> problem = ray::bodyEncodingProblem(body);
+        REQUIRE(problem);
+        CHECK_THAT(*problem, Catch::Contains("not UTF-8") && Catch::Contains("byte " + std::to_string(at) + " "));
+    }
+}
+
+TEST_CASE("Answers are valid UTF-8 whatever bytes a path holds", "[viewer]") {
+    const nlohmann::json answer{{"file", "/tmp/caf\xe9/scene.xml"}, {"error", "cannot open '\xff\xfe'"}};
+    std::string text;
+    REQUIRE_NOTHROW(text = ray::jsonText(answer));
+    CHECK_FALSE(ray::bodyEncodingProblem(text));
+    CHECK(nlohmann::json::parse(text)["file"] == "/tmp/caf\xef\xbf\xbd/scene.xml");  // U+FFFD for the byte
+}
+
+TEST_CASE("Connections without the token beyond the bound close the oldest", "[viewer][security]") {
+    ray::UnprovenConnections connections(2);
+    int pairs[4][2];
+    for (auto& pair : pairs) REQUIRE(socketpair(AF_UNIX, SOCK_STREAM, 0, pair) == 0);
+    // The peer of a connection shut down reads its end at once; another's has nothing to read.
+    auto shutDown = [](int peer) {
+        char byte;
+        return recv(peer, &byte, 1, MSG_DONTWAIT) == 0;
+    };
+    const uint64_t first = connections.enter(pairs[0][0]);
+    const uint64_t second = connections.enter(pairs[1][0]);
+    connections.prove(first);  // it showed the token: no longer counted
+    connections.enter(pairs[2][0]);
+    CHECK(connections.unproven() == 2);
+    CHECK_FALSE(shutDown(pairs[0][1]));
+    CHECK_FALSE(shutDown(pairs[1][1]));
+    connections.enter(pairs[3][0]);  // a third without the token: the oldest of them goes
+    CHECK(shutDown(pairs[1][1]));
+    CHECK_FALSE(shutDown(pairs[0][1]));
+    CHECK_FALSE(shutDown(pairs[2][1]));
+    CHECK_FALSE(shutDown(pairs[3][1]));
+    CHECK(connections.unproven() == 2);
+    connections.leave(second);
+    for (auto& pair : pairs) {
+        close(pair[0]);
+        close(pair[1]);
+    }
 }
 
 TEST_CASE("Loopback addresses are known as such", "[viewer][security]") {

@@ -407,13 +407,17 @@ void parseArguments(CLI::App& app, const std::vector<std::string>& args) {
     }
 }
 
+void defineRenderCommand(CLI::App& app, CliOptions& options, std::vector<std::string>& positionals) {
+    app.set_help_flag();  // ray prints its own kUsageText for -h/--help
+    addOptions(app, options);
+    app.add_option("positionals", positionals);  // <scene.xml> [<width> <height>] [<depth>]
+}
+
 CliOptions parseCommandLine(const std::vector<std::string>& args) {
     CliOptions options;
     std::vector<std::string> positionals;
     CLI::App app("ray", "ray");
-    app.set_help_flag();  // ray prints its own kUsageText for -h/--help
-    addOptions(app, options);
-    app.add_option("positionals", positionals);  // <scene.xml> [<width> <height>] [<depth>]
+    defineRenderCommand(app, options, positionals);
     parseArguments(app, args);
     if (options.help || options.version || options.listDevices) {
         if (!positionals.empty()) applyPositionals(positionals, options);

@@ -43,6 +43,12 @@ struct CliOptions {
 // Parses argv (argv[0] excluded). Throws UsageError.
 CliOptions parseCommandLine(const std::vector<std::string>& args);
 
+// The render command's parser, as parseCommandLine builds it: its options write to
+// `options`, its positionals (<scene.xml> [<width> <height>] [<depth>]) to `positionals`.
+// The manual page and the shell completion read the options' names off it
+// (app/command_reference.h).
+void defineRenderCommand(CLI::App& app, CliOptions& options, std::vector<std::string>& positionals);
+
 // The output file for the options: --output, or the scene's name with .png here.
 std::filesystem::path outputPathFor(const CliOptions& options);
 

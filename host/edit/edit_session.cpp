@@ -262,4 +262,11 @@ void EditSession::reload(SceneDocument document, Resources resources) {
     ++version_;
 }
 
+void EditSession::refreshResources(Resources resources) {
+    auto scene = std::make_shared<Scene>(flattenDocument(document_, resources, options_.load));
+    resources_ = std::move(resources);
+    scene_ = std::move(scene);
+    ++version_;
+}
+
 }  // namespace ray::edit

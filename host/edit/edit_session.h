@@ -101,6 +101,9 @@ public:
     // were made to another version; the scene has a lineage of its own (a renderer compares).
     // Elements that are the same keep their ids (edit/node_matching.h).
     void reload(SceneDocument document, Resources resources);
+    // Images or meshes read again (their files changed on disk), at the indices they had: the
+    // document flattened with them; its history and ids kept. Throws InputError.
+    void refreshResources(Resources resources);
 
     // The outline of the document, and one node's fields (node_views.h; EditError for a
     // node that does not exist).

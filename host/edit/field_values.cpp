@@ -8,6 +8,7 @@
 #include "image/image.h"
 #include "scene/document_edits.h"
 #include "scene/mesh.h"
+#include "scene/xml_characters.h"
 
 namespace ray::edit {
 
@@ -91,8 +92,9 @@ void checkTransforms(const EditField& field, const std::vector<TransformOp>& ops
 
 void checkText(const EditField& field, const std::string& text, const std::string& node) {
     if (text.empty()) refuse(std::string(field.name) + " must not be empty", field, node);
-    if (text.size() > field.maxLength)
-        refuse(std::string(field.name) + " is " + std::to_string(text.size()) + " characters long; at most " +
+    checkWritable(field.name, text, node);
+    if (const size_t characters = characterCount(text); characters > field.maxLength)
+        refuse(std::string(field.name) + " is " + std::to_string(characters) + " characters long; at most " +
                    std::to_string(field.maxLength) + " are allowed ('" + quotedForMessage(text, 40) + "')",
                field, node);
     for (unsigned char c : text)
@@ -113,8 +115,7 @@ bool sameExtension(const std::string& name, std::string_view extension) {
 void checkFile(const EditField& field, const FieldValue& value, const std::string& node) {
     const auto* name = std::get_if<std::string>(&value);
     if (!name || name->empty()) return;  // a handle (checked where it is used) or none
-    if (name->find('\0') != std::string::npos)
-        refuse(std::string(field.name) + ": a file name holds no NUL character", field, node);
+    checkWritable(field.name, *name, node);
     for (std::string_view extension : field.extensions)
         if (sameExtension(*name, extension)) return;
     std::string list;
@@ -263,6 +264,11 @@ SceneChanges setImage(PrimitiveNode& object, const FieldInput& input, const Fiel
             refuse(std::string(field.name) + ": texture " + std::to_string(handle->index) +
                        " does not exist; use a handle returned by its add function",
                    field, node);
+        // An image read from a file is saved as its path (relative to the saved file: a part
+        // of this one), which must be text XML can hold.
+        const std::vector<fs::path>& files = context.resources.imageFiles;
+        if (size_t(handle->index) < files.size() && files[size_t(handle->index)] != "<memory>")
+            checkWritable(field.name, files[size_t(handle->index)].string(), node);
         if (object.files) {
             referenceOf(*object.files, field.special).reset();
             missingOf(*object.files, field.special).clear();
@@ -302,6 +308,11 @@ FieldValue memberValue(const Owner& owner, Member member) {
 }
 
 }  // namespace
+
+void checkWritable(std::string_view field, const std::string& text, const std::string& node) {
+    if (const std::optional<UnwritableCharacter> found = firstUnwritableCharacter(text))
+        throw EditError(unwritableSentence(field, *found), EditError::Kind::Value, std::string(field), node);
+}
 
 std::optional<FieldOwner> fieldOwner(NodeKind kind) {
     switch (kind) {

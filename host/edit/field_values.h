@@ -8,6 +8,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "edit/field_table.h"
@@ -38,6 +39,12 @@ FieldValue fieldValue(const SceneDocument& document, const Scene& scene, const N
 // The value's kind and range, by the table: EditError (Type for a wrong kind, Value for a
 // value out of range, naming the field) when it is refused.
 void checkFieldValue(const FieldInput& input, const std::string& node);
+
+// Text an edit writes into the document (a name, a file name) checked against what the
+// scene file can hold (XML 1.0's characters, valid UTF-8: scene/xml_characters.h):
+// EditError naming `field` and the character ("name: U+FFFF at character 4 cannot be
+// written in an XML file") otherwise, before anything changes.
+void checkWritable(std::string_view field, const std::string& text, const std::string& node);
 
 // What setting a field needs besides the document: the files it may read (textures,
 // meshes), into `resources`, and the flattened scene as it is (an object's world matrix).

@@ -5,9 +5,11 @@
 
 #include "core/message_text.h"
 #include "edit/edit_error.h"
+#include "edit/field_values.h"
 #include "edit/node_places.h"
 #include "scene/document_edits.h"
 #include "scene/parameter_rules.h"
+#include "scene/xml_characters.h"
 
 namespace ray::edit {
 
@@ -92,6 +94,7 @@ PrimitiveNode newPrimitive(SceneDocument& document, const AddPrimitive& add, con
         return node;
     }
     if (add.meshFile.empty()) throw EditError("a mesh needs its file, an .obj in the scene's folder", EditError::Kind::Value, "file");
+    checkWritable("file", add.meshFile, "");
     std::filesystem::path file;
     try {
         file = context.resolveFile(add.meshFile, FileUse::Mesh);
@@ -308,11 +311,12 @@ Outcome groupNodes(SceneDocument& document, const GroupNodes& group) {
     return outcome;
 }
 
-// The first name `base`_2, `base`_3, ... that no tree has.
+// The first name `base`_2, `base`_3, ... that no tree has, of at most kMaxTreeName
+// characters: a long base is cut to fit, between two characters.
 std::string freeName(const SceneDocument& document, const std::string& base) {
     for (int n = 2;; ++n) {
-        std::string name = base + "_" + std::to_string(n);
-        if (name.size() > kMaxTreeName) name = base.substr(0, kMaxTreeName / 2) + "_" + std::to_string(n);
+        const std::string suffix = "_" + std::to_string(n);
+        const std::string name = std::string(firstCharacters(base, kMaxTreeName - suffix.size())) + suffix;
         if (!document.trees.count(name)) return name;
     }
 }

@@ -79,6 +79,13 @@ int explain(const ExplainOptions& o) {
 
 }  // namespace
 
+CommandReference explainCommandReference() {
+    CLI::App app{"ray explain", "ray explain"};
+    ExplainOptions options;
+    defineOptions(app, options);
+    return describeCommand("explain", app, explainUsage());
+}
+
 int runExplainCommand(const std::vector<std::string>& args) {
     CLI::App app{"ray explain", "ray explain"};
     ExplainOptions options;

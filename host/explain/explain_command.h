@@ -5,7 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "app/command_reference.h"
+
 namespace ray {
+
+// Its parser and --help, for the manual page and the shell completions.
+CommandReference explainCommandReference();
 
 // args: everything after "explain". Returns the exit status (0, 2 for bad input).
 int runExplainCommand(const std::vector<std::string>& args);

@@ -1,8 +1,10 @@
 // The canonical text of a scene document (canonical_writer.h).
 #include "scene/canonical_writer.h"
 
+#include "core/message_text.h"
 #include "scene/document_fields.h"
 #include "scene/value_text.h"
+#include "scene/xml_characters.h"
 
 namespace fs = std::filesystem;
 
@@ -28,7 +30,11 @@ std::string attribute(const char* name, const std::string& value) {
 
 }  // namespace
 
-std::string escapedAttribute(const std::string& text) {
+std::string escapedAttribute(const std::string& text, std::string_view what) {
+    if (const std::optional<UnwritableCharacter> found = firstUnwritableCharacter(text)) {
+        const std::string quoted = std::string(what) + " '" + quotedForMessage(shownAsUtf8(text), 60) + "'";
+        throw InputError("error: " + unwritableSentence(quoted, *found) + "; rename it to save the scene");
+    }
     std::string out;
     for (char c : text) {
         switch (c) {
@@ -36,6 +42,11 @@ std::string escapedAttribute(const std::string& text) {
             case '<': out += "&lt;"; break;
             case '>': out += "&gt;"; break;
             case '"': out += "&quot;"; break;
+            // Written as themselves, a reader would take them for blanks (attribute-value
+            // normalization): as references they read back as they are.
+            case '\t': out += "&#9;"; break;
+            case '\n': out += "&#10;"; break;
+            case '\r': out += "&#13;"; break;
             default: out += c;
         }
     }
@@ -185,7 +196,7 @@ std::string CanonicalWriter::light(size_t index, const std::string& indent) {
 }
 
 std::string CanonicalWriter::namedTree(const NamedTree& named, const std::string& indent) {
-    const std::string open = "<object type=\"tree\" name=\"" + escapedAttribute(named.name) + "\">";
+    const std::string open = "<object type=\"tree\" name=\"" + escapedAttribute(named.name, "tree name") + "\">";
     return tree(named.tree, open.c_str(), indent);
 }
 
@@ -246,7 +257,7 @@ std::string CanonicalWriter::item(const SceneItem& i, const std::string& indent)
     if (const auto* primitiveNode = std::get_if<PrimitiveNode>(&i)) return primitive(*primitiveNode, indent);
     if (const auto* subtree = std::get_if<Box<TreeNode>>(&i)) return tree(**subtree, "<object type=\"tree\">", indent);
     if (const auto* master = std::get_if<MasterReference>(&i))
-        return "<object type=\"master\" name=\"" + escapedAttribute(master->name) + "\"/>";
+        return "<object type=\"master\" name=\"" + escapedAttribute(master->name, "master name") + "\"/>";
     return csg(*std::get<Box<CsgNode>>(i), indent);
 }
 
@@ -282,7 +293,8 @@ std::string CanonicalWriter::mapElement(const PrimitiveNode& node, bool bumpMap)
     const char* name = bumpMap ? "bumpmap" : "texture";
     const TextureMap& map = bumpMap ? node.material.bumpMap : node.material.texture;
     const std::string owner = "object " + std::to_string(node.id);
-    return std::string("<") + name + attribute("file", escapedAttribute(file)) +
+    const std::string written = escapedAttribute(file, bumpMap ? "bump map file" : "texture file");
+    return std::string("<") + name + attribute("file", written) +
            attribute("u", number(numberKey(owner, name, 0), map.repeatU)) +
            attribute("v", number(numberKey(owner, name, 1), map.repeatV)) + "/>";
 }
@@ -291,7 +303,7 @@ std::string CanonicalWriter::mapElement(const PrimitiveNode& node, bool bumpMap)
 std::string CanonicalWriter::primitive(const PrimitiveNode& node, const std::string& indent) {
     std::string out = std::string("<object type=\"primitive\" name=\"") + primitiveTypeName(node.type) + "\"";
     if (node.type == PrimitiveType::Mesh)
-        out += attribute("meshfile", escapedAttribute(meshFileOf(node, resources_, references_)));
+        out += attribute("meshfile", escapedAttribute(meshFileOf(node, resources_, references_), "mesh file"));
     std::string fields;
     const Material& m = node.material;
     const Material defaults;

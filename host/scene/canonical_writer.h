@@ -8,6 +8,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "scene/scene_document.h"
 
@@ -32,8 +33,10 @@ private:
     std::filesystem::path folder_;
 };
 
-// A value as XML writes it in an attribute between double quotes.
-std::string escapedAttribute(const std::string& text);
+// A value as XML writes it in an attribute between double quotes. Throws InputError, naming
+// `what` the value is ("tree name", "texture file"), for text XML cannot hold
+// (xml_characters.h).
+std::string escapedAttribute(const std::string& text, std::string_view what);
 
 // What a primitive's texture or bump map names, unescaped: the file's reference as it
 // was resolved, as written when it was not found, an image loaded from a file in code;

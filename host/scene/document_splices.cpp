@@ -417,7 +417,7 @@ private:
         const SourceId id = named.tree.source;
         const XmlElement e = source_.element(id);
         if (e.attributeCount() > 1 && named.name != e.attributeValue(1))
-            setAttribute(id, 1, escapedAttribute(named.name));
+            setAttribute(id, 1, escapedAttribute(named.name, "tree name"));
         blocksInPlace(id, named.tree.blocks);
     }
 
@@ -519,7 +519,7 @@ private:
         if (const auto* master = std::get_if<MasterReference>(&item)) {
             const XmlElement e = source_.element(master->source);
             if (e.attributeCount() > 1 && master->name != e.attributeValue(1))
-                setAttribute(master->source, 1, escapedAttribute(master->name));
+                setAttribute(master->source, 1, escapedAttribute(master->name, "master name"));
             return;
         }
         const CsgNode& csg = *std::get<Box<CsgNode>>(item);
@@ -555,8 +555,8 @@ private:
                                    e.attributeCount() > 2 && node.files->meshWritten == e.attributeValue(2);
             const std::string file = meshFileOf(node, resources_, canonical_.references());
             if (!asWritten && (e.attributeCount() <= 2 || file != e.attributeValue(2))) {
-                if (e.attributeCount() > 2) setAttribute(id, 2, escapedAttribute(file));
-                else appendAttribute(id, "meshfile", escapedAttribute(file));
+                if (e.attributeCount() > 2) setAttribute(id, 2, escapedAttribute(file, "mesh file"));
+                else appendAttribute(id, "meshfile", escapedAttribute(file, "mesh file"));
             }
         }
         const std::string owner = "object " + std::to_string(node.id);
@@ -584,7 +584,7 @@ private:
             return;
         }
         if (!file.empty() && !namesAsWritten(node, bumpMap, written) && file != written)
-            setAttribute(id, 0, escapedAttribute(file));
+            setAttribute(id, 0, escapedAttribute(file, bumpMap ? "bump map file" : "texture file"));
         const TextureMap& map = bumpMap ? node.material.bumpMap : node.material.texture;
         const double repeats[] = {map.repeatU, map.repeatV}, defaults[] = {1, 1};
         static const char* const kNames[] = {"u", "v"};

@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
+#include "scene/scene_loader.h"
 #include "scene/value_text.h"
 
 namespace fs = std::filesystem;
@@ -321,15 +322,84 @@ void removeLight(SceneDocument& document, size_t index) {
 // Text
 
 std::string documentToText(const SceneDocument& document, const Resources& resources, const fs::path& target) {
-    if (document.source && document.source->canSplice()) {
+    if (document.source) {
         const std::vector<Splice> splices = documentSplices(document, resources, target);
         return applySplices(document.source->bytes(), splices);
     }
     return CanonicalWriter(document, resources, target).document();
 }
 
+std::string documentFileBytes(const SceneDocument& document, const Resources& resources, const fs::path& target) {
+    std::string text = documentToText(document, resources, target);
+    return document.source ? document.source->fileBytes(text) : text;
+}
+
+namespace {
+
+// The names of the document's trees (sorted: a std::map's keys).
+std::vector<std::string> treeNames(const SceneDocument& document) {
+    std::vector<std::string> names;
+    for (const auto& [name, tree] : document.trees) names.push_back(name);
+    return names;
+}
+
+// The primitive elements in `node`, inline trees and csg operands included.
+size_t objectCount(const TreeNode& node) {
+    size_t count = 0;
+    for (const Block& block : node.blocks)
+        for (const SceneItem& item : block.items) {
+            if (std::holds_alternative<PrimitiveNode>(item)) ++count;
+            else if (const auto* subtree = std::get_if<Box<TreeNode>>(&item)) count += objectCount(**subtree);
+            else if (const auto* csg = std::get_if<Box<CsgNode>>(&item))
+                for (const TreeNode& operand : (*csg)->operands) count += objectCount(operand);
+        }
+    return count;
+}
+
+size_t objectCount(const SceneDocument& document) {
+    size_t count = 0;
+    for (const auto& [name, tree] : document.trees) count += objectCount(tree.tree);
+    return count;
+}
+
+// What of `saved` its text, read back as `reread`, says otherwise (the trees' names, the
+// number of objects and lights); nullopt when it says the same.
+std::optional<std::string> readsOtherwise(const SceneDocument& saved, const SceneDocument& reread) {
+    if (treeNames(saved) != treeNames(reread)) return std::string("its trees' names read back otherwise");
+    if (objectCount(saved) != objectCount(reread))
+        return "it reads back as " + std::to_string(objectCount(reread)) + " objects, not " +
+               std::to_string(objectCount(saved));
+    if (saved.lights.size() != reread.lights.size())
+        return "it reads back as " + std::to_string(reread.lights.size()) + " lights, not " +
+               std::to_string(saved.lights.size());
+    return std::nullopt;
+}
+
+// `bytes`, about to be written to `target`, read as a fresh load of `target` would read
+// them (pass 1 of the loader, every rule of the format checked; files named are resolved
+// but not read). Throws InputError, with the reason, when they would not load, or load as
+// another scene.
+void checkLoadsBack(const SceneDocument& document, const std::string& bytes, const fs::path& target) {
+    LoadOptions quiet;
+    quiet.loadImages = false;
+    quiet.warn = [](const std::string&) {};  // a texture not found reads with a warning: the loader's concern
+    const std::string refused = "error: the scene is not saved, " + target.string() + " is kept as it was: ";
+    SceneDocument reread;
+    try {
+        reread = loadSceneDocumentFromText(bytes, target, quiet);
+    } catch (const InputError& e) {
+        throw InputError(refused + "the text to be written would not load: " + e.what());
+    }
+    if (std::optional<std::string> why = readsOtherwise(document, reread))
+        throw InputError(refused + "the text to be written would not load as this scene: " + *why);
+}
+
+}  // namespace
+
 void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target) {
-    writeFileAtomically(target, documentToText(document, resources, target));
+    const std::string bytes = documentFileBytes(document, resources, target);
+    checkLoadsBack(document, bytes, target);
+    writeFileAtomically(target, bytes);
 }
 
 }  // namespace ray

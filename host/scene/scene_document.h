@@ -293,18 +293,30 @@ void removeLight(SceneDocument& document, size_t index);
 // the value `text` reads as. Throws InputError when `text` is not a plain finite number.
 void setTypedNumber(SceneDocument& document, const std::string& key, const std::string& text);
 
-// The scenefile text of the document (SPEC §1), which loads back to the same scene. A
-// document that keeps its file's text is that text with splices for what it now says
-// differently (document_splices.h): unedited, the file byte for byte. One made in code is
-// written whole (canonical_writer.h). Texture and mesh paths the document changed, and all
-// of them when `target` is in another folder than the file, are written relative to
-// `target`'s folder. Throws InputError for what a file cannot hold (a texture or mesh made
-// in memory).
+// The scenefile text of the document (SPEC §1), in UTF-8, which loads back to the same
+// scene. A document that keeps its file's text is that text with splices for what it now
+// says differently (document_splices.h): unedited, the file byte for byte (for a file in
+// UTF-8; a file in another encoding is its text in UTF-8, its declaration kept: see
+// documentFileBytes). One made in code is written whole (canonical_writer.h). Texture and
+// mesh paths the document changed, and all of them when `target` is in another folder than
+// the file, are written relative to `target`'s folder. Throws InputError for what a file
+// cannot hold (a texture or mesh made in memory, a name with a character XML cannot hold:
+// scene/xml_characters.h).
 std::string documentToText(const SceneDocument& document, const Resources& resources,
                            const std::filesystem::path& target);
 
-// documentToText, written to `target` atomically (core/atomic_file.h). Throws InputError,
-// or FileWriteError.
+// The bytes of the file documentToText's text makes: in the encoding of the file the
+// document was read from (scene/text_encoding.h: ISO-8859-1, US-ASCII and UTF-16 files stay
+// so, a character the encoding lacks written as a reference &#x...;), the file's very bytes
+// when nothing changed. Throws as documentToText.
+std::string documentFileBytes(const SceneDocument& document, const Resources& resources,
+                              const std::filesystem::path& target);
+
+// documentFileBytes, read back as a fresh load of `target` would read them (the loader's
+// every rule) and then written to `target` atomically (core/atomic_file.h). Bytes that would
+// not load, or load as another scene (its trees' names, its objects or lights), are
+// refused with the reason, and `target` is left as it was. Throws InputError, or
+// FileWriteError.
 void saveDocument(const SceneDocument& document, const Resources& resources, const std::filesystem::path& target);
 
 }  // namespace ray

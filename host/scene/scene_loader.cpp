@@ -121,11 +121,23 @@ Scene loadSceneFromTree(XmlTree tree, const fs::path& file, const LoadOptions& o
     return scene;
 }
 
+// The text of a file read as `bytes` and parsed as `tree` (with spans): in UTF-8, as a
+// save splices it (source_text.h). A file in another encoding is turned into UTF-8 and
+// parsed again from that, its elements' places being those of the UTF-8 text.
+std::shared_ptr<const SourceText> sourceTextOf(std::string bytes, XmlTree tree, const Diagnostics& diagnostics) {
+    const TextEncoding encoding = encodingOf(bytes);
+    if (encoding == TextEncoding::Utf8) return std::make_shared<const SourceText>(std::move(bytes), std::move(tree));
+    tree.clear();
+    std::string text = toUtf8(bytes, encoding);
+    XmlTree utf8 = parseXml(diagnostics, [&] { return XmlTree::parseUtf8(text, kMaxElementDepth, true); });
+    return std::make_shared<const SourceText>(std::move(text), std::move(utf8), encoding, std::move(bytes));
+}
+
 // A document that keeps its text (scene_document.h): pass 1 over `bytes`, parsed with the
 // place of every element.
 SceneDocument documentWithText(std::string bytes, XmlTree tree, const fs::path& file, const LoadOptions& options,
                                const Diagnostics& diagnostics) {
-    auto source = std::make_shared<const SourceText>(std::move(bytes), std::move(tree));
+    auto source = sourceTextOf(std::move(bytes), std::move(tree), diagnostics);
     SceneDocument document = documentFromRoot(source->tree().root(), file, options, diagnostics);
     document.source = std::move(source);
     assignNodeIds(document);  // the editor's names for trees, placements, csg objects and lights

@@ -10,14 +10,6 @@ namespace {
 bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 bool isNameEnd(char c) { return isBlank(c) || c == '=' || c == '/' || c == '>'; }
 
-// UTF-16 and UTF-32 files (a byte-order mark, or NULs among the first bytes) hold ASCII as
-// several bytes a character: ASCII text spliced in would not be their text.
-bool asciiCompatible(std::string_view bytes) {
-    if (bytes.size() >= 2 && ((bytes[0] == '\xFE' && bytes[1] == '\xFF') || (bytes[0] == '\xFF' && bytes[1] == '\xFE')))
-        return false;
-    return bytes.substr(0, 4).find('\0') == std::string_view::npos;
-}
-
 }  // namespace
 
 std::string applySplices(std::string_view original, std::vector<Splice> splices) {
@@ -40,9 +32,9 @@ std::string applySplices(std::string_view original, std::vector<Splice> splices)
     return out;
 }
 
-SourceText::SourceText(std::string bytes, XmlTree tree) : bytes_(std::move(bytes)), tree_(std::move(tree)) {
+SourceText::SourceText(std::string text, XmlTree tree, TextEncoding encoding, std::string fileBytes)
+    : bytes_(std::move(text)), tree_(std::move(tree)), encoding_(encoding), fileBytes_(std::move(fileBytes)) {
     if (!tree_.hasSpans()) throw std::logic_error("SourceText needs a tree parsed with spans");
-    canSplice_ = asciiCompatible(bytes_);
     parents_.assign(tree_.elementCount(), kNoSource);
     bool unitFound = false;
     // Elements come in document order: every parent before its children.
@@ -57,6 +49,12 @@ SourceText::SourceText(std::string bytes, XmlTree tree) : bytes_(std::move(bytes
             }
         }
     if (bytes_.find("\r\n") != std::string::npos) newline_ = "\r\n";
+}
+
+std::string SourceText::fileBytes(const std::string& text) const {
+    if (encoding_ == TextEncoding::Utf8) return text;
+    if (text == bytes_) return fileBytes_;
+    return fromUtf8(text, encoding_);
 }
 
 std::optional<std::string_view> SourceText::indentation(SourceId id) const {

@@ -10,9 +10,10 @@
 //
 // The places come from expat's byte offsets (xml_tree.h, XmlSpan): the start tag's first
 // byte and length, the end tag's end. Attributes are found by scanning the start tag,
-// which expat has already checked. The offsets are those of the bytes read, so a file in
-// an encoding that is not ASCII-compatible (UTF-16) cannot take spliced ASCII text:
-// canSplice() is false for it and the document is written afresh.
+// which expat has already checked. The text is UTF-8, as the splices are: a file in
+// another encoding (ISO-8859-1, US-ASCII, UTF-16) is held as its text in UTF-8, parsed
+// again from that, and a save's text is turned back into the file's encoding
+// (text_encoding.h; fileBytes), so that it stays in it and keeps what no edit touched.
 #pragma once
 
 #include <cstddef>
@@ -24,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene/text_encoding.h"
 #include "scene/xml_tree.h"
 
 namespace ray {
@@ -44,10 +46,17 @@ std::string applySplices(std::string_view original, std::vector<Splice> splices)
 
 class SourceText {
 public:
-    // `tree` must have been parsed from `bytes` with spans (XmlTree::hasSpans).
-    SourceText(std::string bytes, XmlTree tree);
+    // `tree` must have been parsed from `text`, UTF-8, with spans (XmlTree::hasSpans). A
+    // file in another `encoding` gives its own bytes too (`fileBytes`): a save that
+    // changes nothing writes them as they were.
+    SourceText(std::string text, XmlTree tree, TextEncoding encoding = TextEncoding::Utf8, std::string fileBytes = {});
 
+    // The text, in UTF-8 (for a file in UTF-8, its bytes).
     const std::string& bytes() const { return bytes_; }
+    // The file's encoding, and `text` (this text with splices applied) as the file's bytes:
+    // in its encoding, its own bytes when `text` is its text.
+    TextEncoding encoding() const { return encoding_; }
+    std::string fileBytes(const std::string& text) const;
     const XmlTree& tree() const { return tree_; }
     size_t elementCount() const { return tree_.elementCount(); }
     XmlElement element(SourceId id) const { return tree_.element(id); }
@@ -55,8 +64,6 @@ public:
     SourceId parent(SourceId id) const { return parents_[id]; }  // kNoSource for the root
     bool selfClosing(SourceId id) const { return span(id).startTagEnd == span(id).end; }
 
-    // Whether ASCII text may be spliced into the bytes (not for UTF-16 or UTF-32 files).
-    bool canSplice() const { return canSplice_; }
     // The line break the file uses ("\r\n" or "\n"), and one step of its indentation (the
     // first found between an element and its parent's; two blanks when none is).
     const std::string& newline() const { return newline_; }
@@ -84,7 +91,8 @@ private:
     std::string bytes_;
     XmlTree tree_;
     std::vector<SourceId> parents_;
-    bool canSplice_ = true;
+    TextEncoding encoding_ = TextEncoding::Utf8;
+    std::string fileBytes_;  // a file not in UTF-8: its bytes as read
     std::string newline_ = "\n", indentUnit_ = "  ";
 };
 

@@ -149,8 +149,10 @@ bool isNameByte(unsigned char c) {
 // Builds an XmlTree from expat's start and end events.
 class XmlTreeBuilder {
 public:
-    XmlTreeBuilder(int maxDepth, size_t expectedBytes, bool recordSpans)
-        : maxDepth_(maxDepth), recordSpans_(recordSpans), parser_(XML_ParserCreate(nullptr)) {
+    // `encoding`: the one to read the text in whatever its declaration says; null: expat's
+    // own detection (a byte-order mark, the declaration).
+    XmlTreeBuilder(int maxDepth, size_t expectedBytes, bool recordSpans, const char* encoding = nullptr)
+        : maxDepth_(maxDepth), recordSpans_(recordSpans), parser_(XML_ParserCreate(encoding)) {
         if (!parser_) throw std::bad_alloc();
         reserveFor(expectedBytes);
         XML_SetUserData(parser_, this);
@@ -414,16 +416,25 @@ XmlTree XmlTree::parse(const XmlSource& source, int maxDepth, size_t expectedByt
     return XmlTreeBuilder(maxDepth, expectedBytes, recordSpans).build(source);
 }
 
+namespace {
+
+XmlSource readingFrom(std::string_view text) {
+    return [text, at = size_t(0)](char* buffer, size_t capacity) mutable {
+        const size_t n = std::min(capacity, text.size() - at);
+        std::memcpy(buffer, text.data() + at, n);
+        at += n;
+        return n;
+    };
+}
+
+}  // namespace
+
 XmlTree XmlTree::parse(std::string_view text, int maxDepth, bool recordSpans) {
-    size_t at = 0;
-    return parse(
-        [&](char* buffer, size_t capacity) {
-            const size_t n = std::min(capacity, text.size() - at);
-            std::memcpy(buffer, text.data() + at, n);
-            at += n;
-            return n;
-        },
-        maxDepth, text.size(), recordSpans);
+    return parse(readingFrom(text), maxDepth, text.size(), recordSpans);
+}
+
+XmlTree XmlTree::parseUtf8(std::string_view text, int maxDepth, bool recordSpans) {
+    return XmlTreeBuilder(maxDepth, text.size(), recordSpans, "UTF-8").build(readingFrom(text));
 }
 
 size_t XmlTree::bytes() const {

@@ -87,6 +87,9 @@ public:
     // With `recordSpans`, each element's place in the bytes read is kept too (XmlSpan).
     static XmlTree parse(const XmlSource& source, int maxDepth, size_t expectedBytes = 0, bool recordSpans = false);
     static XmlTree parse(std::string_view text, int maxDepth, bool recordSpans = false);
+    // `text` read as UTF-8 whatever encoding its XML declaration names: a file's text turned
+    // into UTF-8 (scene/text_encoding.h), its declaration kept as the file has it.
+    static XmlTree parseUtf8(std::string_view text, int maxDepth, bool recordSpans);
 
     XmlTree() = default;
     XmlTree(XmlTree&&) = default;

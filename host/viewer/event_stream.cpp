@@ -39,7 +39,7 @@ std::string base64(const std::vector<uint8_t>& bytes) {
 
 std::string tileEvent(uint64_t frame, const FrameTile& t) {
     return "event: tile\ndata: " +
-           json{{"frame", frame}, {"x", t.x}, {"y", t.y}, {"w", t.width}, {"h", t.height}, {"rgb", base64(t.rgb)}}.dump() +
+           jsonText(json{{"frame", frame}, {"x", t.x}, {"y", t.y}, {"w", t.width}, {"h", t.height}, {"rgb", base64(t.rgb)}}) +
            "\n\n";
 }
 
@@ -70,13 +70,13 @@ bool Session::stream(httplib::DataSink& sink, Cursor& cursor) {
         if (error != sceneError_ || sceneVersion != sceneVersion_) {
             error = sceneError_;
             sceneVersion = sceneVersion_;
-            out += "event: scene\ndata: " + json{{"error", error}, {"version", sceneVersion}}.dump() + "\n\n";
+            out += "event: scene\ndata: " + jsonText(json{{"error", error}, {"version", sceneVersion}}) + "\n\n";
         }
         if (frame != 0 && frame != frame_ && frame == finishedFrame_ && !doneSent) {
             // The frame this client was sent is complete, and the next has begun: the rest
             // of it first, so that every complete frame arrives complete.
             for (; sent < finishedTiles_.size(); ++sent) out += tileEvent(frame, finishedTiles_[sent]);
-            out += "event: done\ndata: " + finishedDone_.dump() + "\n\n";
+            out += "event: done\ndata: " + jsonText(finishedDone_) + "\n\n";
             doneSent = true;
         }
         if (frame != frame_) {
@@ -86,12 +86,12 @@ bool Session::stream(httplib::DataSink& sink, Cursor& cursor) {
             json event{{"frame", frame_},          {"width", frameWidth_},          {"height", frameHeight_},
                        {"view_width", viewWidth_}, {"view_height", viewHeight_}};
             event.update(frameKindJson(frameKind_));
-            out += "event: frame\ndata: " + event.dump() + "\n\n";
+            out += "event: frame\ndata: " + jsonText(event) + "\n\n";
         }
         for (; sent < tiles_.size(); ++sent) out += tileEvent(frame_, tiles_[sent]);
         if (frameDone_ && sent == tiles_.size() && !doneSent) {
             doneSent = true;
-            out += "event: done\ndata: " + doneJson_.dump() + "\n\n";
+            out += "event: done\ndata: " + jsonText(doneJson_) + "\n\n";
         }
     }
     if (out.empty()) out = ": keep-alive\n\n";  // notices a client that has gone

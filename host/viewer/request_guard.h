@@ -16,13 +16,15 @@
 //    listens on loopback: a DNS-rebound name is refused;
 //  - Origin, when sent, must be the viewer's own (http://<Host>);
 //  - Sec-Fetch-Site, when sent, must be same-origin or none (the user typed the URL), but
-//    for a top-level navigation to the page; the page is never framed (Sec-Fetch-Dest);
+//    for a top-level navigation to the page; the page is never framed (Sec-Fetch-Dest),
+//    unless ray view was started with --frame-ancestors and the frame's URL holds the token;
 //  - a body (POST) must say it is JSON, which a form cannot;
 //  - OPTIONS (a CORS preflight) is refused.
 #pragma once
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace ray {
 
@@ -41,6 +43,11 @@ struct GuardPolicy {
     std::string token;
     int port = 0;
     bool loopbackOnly = true;
+    // ray view --frame-ancestors: the pages that may show the viewer's page in a frame (a
+    // Content-Security-Policy source list, such as a notebook's origin); empty: none. Such a
+    // frame must open the URL with the token in its query (the frame's navigation is
+    // cross-site, and a SameSite cookie is not sent there): then the page is served at once.
+    std::string frameAncestors = {};
 };
 
 struct GuardVerdict {
@@ -49,10 +56,16 @@ struct GuardVerdict {
     std::string setCookie;      // the page's first visit: the cookie to set (then a 303 to /)
 };
 
-// The route that serves the page (the one a cookie may open).
+// The route that serves the page (the one a cookie may open), and the event stream's.
 constexpr const char* kPagePath = "/";
+constexpr const char* kEventsPath = "/events";
 
 GuardVerdict checkRequest(const RequestFacts& request, const GuardPolicy& policy);
+
+// Why a request's body cannot be JSON text: bytes that are not UTF-8 (RFC 8259 requires it),
+// as a sentence naming the first; nullopt when it is UTF-8. The guard runs before the body is
+// read: the routes that take a body ask this first (a 400, not a parser's garbled message).
+std::optional<std::string> bodyEncodingProblem(std::string_view body);
 
 // Whether listening on `address` (--bind) reaches this machine only: 127.x.x.x, ::1, localhost.
 bool isLoopbackAddress(const std::string& address);

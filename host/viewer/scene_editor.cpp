@@ -260,8 +260,11 @@ std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bo
 
 void SceneEditor::reload() {
     const edit::FileStamp stamp = edit::stampOf(file_);
-    SceneDocument document = loadSceneDocument(file_, options_);
-    session_.reload(std::move(document), Resources{});
+    reload(loadSceneDocument(file_, options_), Resources{}, stamp);
+}
+
+void SceneEditor::reload(SceneDocument document, Resources resources, const edit::FileStamp& stamp) {
+    session_.reload(std::move(document), std::move(resources));
     stamp_ = stamp;
 }
 

@@ -113,10 +113,21 @@ public:
     // ChangedOnDisk, EditError or std::runtime_error (the write failed; nothing replaced).
     std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false,
                                bool overwrite = false);
+    // The text a save to the file would write now (what a recovery copy keeps: viewer/recovery.h).
+    // Throws InputError.
+    std::string documentText() const { return documentToText(session_.document(), session_.resources(), file_); }
     // The file changed on disk (not by save): loads it again; the history is cleared, as
     // the edits were made to another version; the elements that are the same keep their
     // ids. Throws InputError (the editor is unchanged).
     void reload();
+    // The same from a document and its resources read already (without the viewer's lock:
+    // scene_watch.cpp), which this only flattens; `stamp`: the file's, taken before it was
+    // read. Throws InputError.
+    void reload(SceneDocument document, Resources resources, const edit::FileStamp& stamp);
+    // The images and meshes the scene uses, by file; the same read again (EditSession::
+    // refreshResources), the edits and their history kept. Throws InputError.
+    const Resources& resources() const { return session_.resources(); }
+    void refreshResources(Resources resources) { session_.refreshResources(std::move(resources)); }
     // The scene's revision: how many edits, undos, redos and reloads have changed it so far.
     uint64_t version() const { return session_.version(); }
     // Throws StaleRevision when `request` (a POST body) carries a "revision" other than the

@@ -5,7 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "app/command_reference.h"
+
 namespace ray {
+
+// Its parser and --help, for the manual page and the shell completions.
+CommandReference viewCommandReference();
 
 // args: everything after "view". Returns the exit status (2 for bad input, 3 when the
 // server cannot start).

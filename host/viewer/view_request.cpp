@@ -117,6 +117,10 @@ json frameKindJson(const FrameKind& kind) {
             {"divisor", kind.divisor}};
 }
 
+std::string jsonText(const json& value) {
+    return value.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 json viewJson(const View& view) {
     json state{{"position", vecJson(view.camera.position)}, {"look", vecJson(view.camera.look)},
                {"up", vecJson(view.camera.up)},         {"height_angle", view.camera.heightAngleDegrees},

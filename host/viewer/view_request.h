@@ -51,4 +51,10 @@ struct FrameKind {
 
 nlohmann::json frameKindJson(const FrameKind& kind);
 
+// The text of every JSON answer and event the page is sent. Paths and the messages that
+// quote them may hold bytes that are not UTF-8 (a folder named in another encoding), which
+// JSON cannot carry: each such byte is written as U+FFFD, here alone, so that no answer fails
+// on them (a /state that answered 500, an edit applied and answered 400).
+std::string jsonText(const nlohmann::json& value);
+
 }  // namespace ray

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "viewer/connection_deadlines.h"
 #include "viewer/request_guard.h"
 #include "viewer/viewer_routes.h"
 #include "viewer/viewer_session.h"
@@ -18,8 +19,9 @@ namespace ray {
 
 namespace {
 
-// Server threads: the routes, the event streams (each holds one while open) and the
-// clients a timeout has not dropped yet.
+// Server threads: the routes, the event streams (each holds one while open), the
+// connections that have shown the token and at most kMaxUnproven others
+// (viewer/connection_deadlines.h).
 constexpr size_t kServerThreads = 24;
 
 // SO_REUSEADDR alone: a restarted viewer may take its port back from connections in
@@ -64,10 +66,11 @@ int bindFailure(const std::string& address, int port) {
 
 void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source) {
     Session session(options, std::move(source));
-    httplib::Server server;
+    ViewerHttpServer server;
     server.set_socket_options(exclusivePortOptions);
     server.set_payload_max_length(kMaxRequestBody);
-    // A client that stops reading is dropped after this long instead of holding a thread.
+    // A client that stops reading is dropped after this long instead of holding a thread; one
+    // that sends slowly, at its request's deadlines (viewer/connection_deadlines.h).
     server.set_write_timeout(5, 0);
     server.set_read_timeout(5, 0);
     server.set_keep_alive_max_count(100);
@@ -77,13 +80,15 @@ void runViewer(const ViewerOptions& options, std::unique_ptr<FrameSource> source
     // 120 ms each from the page, 3 ms from a script that opened a connection each time).
     server.set_tcp_nodelay(true);
     server.new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
-    defineRoutes(server, session, options.token);
+    defineRoutes(server, session, options.token, options.frameAncestors);
     int port = options.port;
     if (port == 0) port = server.bind_to_any_port(options.address);
     else if (!server.bind_to_port(options.address, port)) port = -1;
     if (port < 0) throwCannotListen(options.address, options.port);
     // The cookie's name and the Host check hold the port, known only now (--port 0).
-    guardRequests(server, GuardPolicy{options.token, port, isLoopbackAddress(options.address)});
+    const GuardPolicy policy{options.token, port, isLoopbackAddress(options.address), options.frameAncestors};
+    guardRequests(server, policy);
+    server.setShowsToken([policy](const httplib::Request& request) { return passesGuard(request, policy); });
     session.start();
     if (options.onListening) options.onListening(port);
     server.listen_after_bind();

@@ -5,9 +5,9 @@
 // lights, undo, redo and saving (POST /edit, /undo, /redo, /save: viewer/scene_editor.h).
 //
 // Only these routes exist (/, /settings, /state, /view, /events, /explain, /pick, /object,
-// /edit, /undo, /redo, /save); nothing is ever read from disk for a request, and only /save
-// writes a file: the scenefile, or a .xml file the user names in its folder
-// (viewer/folder_files.h). The editing routes answer 403 in a viewer without a token
+// /edit, /undo, /redo, /save, /recovery); nothing is ever read from disk for a request but
+// the recovery offered (viewer/recovery.h), and only /save writes a file: the scenefile, or
+// a .xml file the user names in its folder (viewer/folder_files.h). The editing routes answer 403 in a viewer without a token
 // (--no-token): only the viewer's user may change the scene or its file. Every request
 // passes viewer/request_guard.h first: the viewer's own page or a script with the access
 // token, nothing else (403). Request bodies are capped, every number is range-checked, and
@@ -26,12 +26,14 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "edit/edit_session.h"
 #include "render/frame_source.h"
 #include "scene/scene_loader.h"
+#include "viewer/recovery.h"
 #include "viewer/view_request.h"
 
 namespace ray {
@@ -58,6 +60,17 @@ struct ViewerOptions {
     size_t historyLimit = edit::SessionOptions::kDefaultHistoryLimit;
     // The access token every request must present; empty: the viewer is open (--no-token).
     std::string token;
+    // Unsaved edits are kept in this folder (viewer/recovery.h); empty: not kept.
+    std::filesystem::path recoveryFolder;
+    // --recover: the scene opens with this recovery's edits, as unsaved changes.
+    std::optional<Recovery> recovered;
+    // The newest recovery of the scene, offered by the page (Restore, Discard).
+    std::optional<Recovery> offer;
+    // Stopped by SIGINT, SIGTERM or SIGHUP (viewer/stop_signals.h, made by the caller):
+    // told the signal and what became of the unsaved edits, before the process exits.
+    std::function<void(int signal, const RecoveryKeeper::Kept& kept)> onStopSignal;
+    // --frame-ancestors: the pages that may show the viewer in a frame (request_guard.h).
+    std::string frameAncestors;
     // Called once the server listens, with the port it got.
     std::function<void(int port)> onListening;
     // The terminal's log: reloads, broken saves, failed frames (never the token).

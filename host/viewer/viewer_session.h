@@ -5,7 +5,8 @@
 //                       view when the view is slow to render), then its refinement once the
 //                       view rests; a new request cancels a refinement in flight, and lets
 //                       a preview finish
-//   scene_watch.cpp     the watch thread: the scene file changed on disk is loaded again
+//   scene_watch.cpp     the watch thread: the scene file changed on disk is loaded again, a
+//                       texture or mesh it uses read again; files are read outside the lock
 //   event_stream.cpp    the /events stream: frames, tiles and scene changes as they happen
 // The routes (viewer_routes.h) call it; runViewer (viewer_server.h) starts and stops it.
 #pragma once
@@ -15,8 +16,10 @@
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,7 +27,9 @@
 #include <nlohmann/json.hpp>
 
 #include "render/frame_source.h"
+#include "viewer/file_stamp.h"
 #include "viewer/preview_resolution.h"
+#include "viewer/recovery.h"
 #include "viewer/scene_editor.h"
 #include "viewer/view_request.h"
 #include "viewer/viewer_server.h"
@@ -60,6 +65,14 @@ public:
     // /edit. A change to the scene re-renders the view, preview first. Throws EditError
     // (a body that is not JSON too), BadFileName, FileExists.
     nlohmann::json edit(const std::string& action, const std::string& body);
+    // GET /recovery: {"offer": the newest recovery of the scene (viewer/recovery.h) another
+    // viewer left, or null}. POST /recovery {"action": "restore" | "discard", "file": the
+    // offer's}: its edits opened as unsaved changes (refused while this viewer has edits of
+    // its own), or its file removed; the next offer, and the editor's state. Throws EditError.
+    nlohmann::json recoveryOffer();
+    nlohmann::json answerRecovery(const std::string& body);
+    // POST /reload (viewer_session.cpp): the file read again, outside the lock.
+    nlohmann::json reloadOnRequest(const std::string& body);
     // GET /explain: pixel (x, y)'s tree of rays, naming the view and scene it was made for,
     // so that the page can tell when a later frame has made it stale.
     nlohmann::json explain(int x, int y);
@@ -84,6 +97,15 @@ private:
 
     // The editor's part of the state. Called with mutex_ held.
     nlohmann::json editorStateLocked();
+    // The document's text while it has unsaved edits made here (the recovery keeper's
+    // snapshot); nullopt without. Takes mutex_.
+    std::optional<std::string> unsavedDocument();
+    // The document changed (or was saved: `now`): its recovery copy follows. mutex_ held.
+    void documentChangedLocked(bool now);
+    // The offer after `answered`: the newest other recovery of the scene. Reads the folder.
+    std::optional<Recovery> nextOffer(const std::filesystem::path& answered) const;
+    nlohmann::json restoreRecovery(const std::filesystem::path& file);
+    nlohmann::json discardRecovery(const std::filesystem::path& file);
     void log(const std::string& message) const;
 
     // frame_schedule.cpp
@@ -96,8 +118,11 @@ private:
     void keepFinishedFrameLocked();
 
     // scene_watch.cpp
-    std::filesystem::file_time_type lastWrite() const;
     void watchLoop();
+    void reloadScene(const FileStamp& stamp, uint64_t saves);
+    void readChangedFiles(const std::map<std::filesystem::path, FileStamp>& stamps);
+    void showFileError(const std::string& message, const FileStamp& stamp, uint64_t saves);
+    std::vector<std::filesystem::path> resourceFilesLocked() const;
 
     const ViewerOptions& options_;
     std::unique_ptr<FrameSource> source_;
@@ -105,7 +130,12 @@ private:
     std::mutex mutex_;
     std::condition_variable changed_;
     std::shared_ptr<const Scene> scene_;
-    std::filesystem::file_time_type sceneTime_;
+    FileStamp sceneStamp_;  // the scene file as last read or saved
+    // The textures and meshes the scene uses as last read (scene_watch.cpp); files an edit
+    // named since are stamped by the next look.
+    std::map<std::filesystem::path, FileStamp> fileStamps_;
+    std::string filesError_;  // the textures' and meshes' that could not be read again, shown in sceneError_
+    uint64_t saves_ = 0;  // the editor's own saves: a look at the file that raced one is made again
     std::string sceneError_;      // shown in the page: a broken save, or a failed frame
     bool errorIsFrames_ = false;  // sceneError_ is a failed frame's
     View view_;
@@ -132,6 +162,12 @@ private:
     std::vector<FrameTile> finishedTiles_;
     nlohmann::json finishedDone_;
     std::thread renderThread_, watchThread_;
+    // Unsaved edits (viewer/recovery.h): whether the document holds edits made in this viewer
+    // (a new scene's camera and light are none), the keeper of their copy, the recovery
+    // offered to the page (its document not held).
+    bool edited_ = false;
+    std::unique_ptr<RecoveryKeeper> keeper_;
+    std::optional<Recovery> offer_;
 };
 
 }  // namespace ray

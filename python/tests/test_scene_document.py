@@ -177,3 +177,34 @@ def test_save_does_not_replace_a_file_changed_since_it_was_loaded(output):
     scene.objects[1].set_material(diffuse=(0, 0, 1))
     scene.save(path)  # its own save is no change
     assert path.read_text() == scene.to_text()
+
+
+def test_a_save_is_always_readable(tmp_path):
+    """Names and files XML cannot hold are refused at the edit; a long name made unique is cut between
+    characters; an ISO-8859-1 scene is saved in ISO-8859-1."""
+    latin1 = TABLE.replace('name="leg"', 'name="caf\xe9"')
+    path = tmp_path / "table.xml"
+    path.write_bytes(('<?xml version="1.0" encoding="ISO-8859-1"?>\n<!-- caf\xe9 -->\n' + latin1).encode("latin-1"))
+    scene = cs123ray.load_scene(path)
+    tree = next(entry["node"] for entry in scene.outline() if entry["kind"] == "tree" and entry["text"] != "root")
+    text = scene.to_text()
+    with pytest.raises(ValueError, match=r"name: U\+FFFF at character 3 cannot be written in an XML file"):
+        scene.rename(tree, "ab\uffff")
+    with pytest.raises(ValueError, match=r"texture: U\+FFFE at character 5 cannot be written in an XML file"):
+        scene.objects[1].set_material(texture="wood\ufffe.png")
+    assert scene.to_text() == text
+
+    scene.save(path)
+    assert path.read_bytes() == ('<?xml version="1.0" encoding="ISO-8859-1"?>\n<!-- caf\xe9 -->\n' + latin1).encode("latin-1")
+    scene.rename(tree, "\u03a9 caf\xe9 " + "\xe9" * 120)  # 127 characters, 249 bytes in UTF-8
+    placement = next(entry["node"] for entry in scene.outline() if entry["kind"] == "placement")
+    scene.make_unique(placement)
+    scene.save(path)
+    saved = path.read_bytes()
+    assert b"<!-- caf\xe9 -->" in saved and b'name="&#x3A9; caf\xe9 ' in saved
+    assert b"\xc3" not in saved  # no UTF-8 in an ISO-8859-1 file
+    names = {entry["text"].removeprefix("master ") for entry in cs123ray.load_scene(path).outline()
+             if entry["kind"] == "tree"}
+    made = "\u03a9 caf\xe9 " + "\xe9" * 119 + "_2"
+    assert len(made) == 128
+    assert names == {"root", "\u03a9 caf\xe9 " + "\xe9" * 120, made}

@@ -15,15 +15,21 @@ import time
 
 
 class Viewer:
-    def __init__(self, ray, scene, *extra, new_file=False):
+    def __init__(self, ray, scene, *extra, new_file=False, folder_prefix="ray_view_"):
         """new_file: `scene` is only a name: the viewer opens it in an empty folder, where it
-        does not exist yet (a new scene)."""
-        self.folder = tempfile.mkdtemp(prefix="ray_view_")
+        does not exist yet (a new scene). folder_prefix: the start of that folder's name (bytes
+        that are not UTF-8 as surrogate escapes: os.fsdecode)."""
+        self.folder = tempfile.mkdtemp(prefix=folder_prefix)
         self.scene = os.path.join(self.folder, os.path.basename(scene))
         if not new_file:
             shutil.copy(scene, self.scene)  # a copy the tests may edit (the watcher)
+        # Unsaved edits a stopped viewer keeps (viewer/recovery.h) go to a scratch state
+        # folder, never the user's.
+        self.state = tempfile.mkdtemp(prefix="ray_view_state_")
         self.process = subprocess.Popen([ray, "view", self.scene, "--port", "0", *extra],
-                                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                        env=dict(os.environ, XDG_STATE_HOME=self.state),
+                                        errors="replace")  # a path's bytes that are not UTF-8
         line = self.process.stdout.readline()
         match = re.search(r"http://127\.0\.0\.1:(\d+)/(\?token=([0-9a-f]+))?$", line.strip())
         if not match:
@@ -57,8 +63,8 @@ class Viewer:
         connection.close()
         return response.status, data
 
-    def json(self, method, path, body=None, headers=None):
-        status, data = self.request(method, path, body, headers=headers)
+    def json(self, method, path, body=None, headers=None, timeout=30):
+        status, data = self.request(method, path, body, timeout=timeout, headers=headers)
         return status, json.loads(data) if data else None
 
     def alive(self):
@@ -102,6 +108,7 @@ class Viewer:
             self.process.kill()
         self.reader.join(5)
         shutil.rmtree(self.folder, ignore_errors=True)
+        shutil.rmtree(self.state, ignore_errors=True)
 
     def log(self):
         """Everything the viewer printed so far."""

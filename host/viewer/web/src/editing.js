@@ -21,6 +21,7 @@ export function showEditorState(editor) {
   document.getElementById("file").textContent = editor.file;
   document.getElementById("file").title = editor.file;
   document.getElementById("modified").textContent = editor.modified ? "(modified)" : "";
+  state.modified = record.modified = Boolean(editor.modified);  // recovery.js warns before closing
   document.getElementById("undo").disabled = !editor.can_undo;
   document.getElementById("redo").disabled = !editor.can_redo;
   if (editor.scene_version !== undefined) record.sceneVersion = editor.scene_version;

@@ -4,6 +4,7 @@ import * as editing from "./editing.js";
 import "./explain.js";
 import { initInput } from "./input.js";
 import { initOverlay, setGizmoMode } from "./overlay.js";
+import { initRecovery } from "./recovery.js";
 import { initSettings } from "./settings.js";
 import { on, record, state } from "./state.js";
 import { initView, saveImage, streamFrames } from "./view.js";
@@ -51,6 +52,7 @@ async function start() {
   state.fileCamera = Object.fromEntries(CAMERA_FIELDS.map(key => [key, answer[key]]));
   await initSettings(state.view);
   await editing.initEditing(answer);
+  await initRecovery(editing.refreshScene);
   initToolbar();
   initOverlay(editing.gesture);
   initInput(editing);

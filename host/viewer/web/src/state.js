@@ -7,6 +7,7 @@ export const state = {
   frame: null,       // the frame event of the frame being shown
   selection: null,   // the selected object's description (pick, /object), or null
   editable: false,   // a viewer started with --no-token changes nothing
+  modified: false,   // the scene has edits not saved to its file
 };
 
 // The page's own record of what it did, for tests and the drag bench: frames seen, the last
