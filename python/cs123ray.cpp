@@ -987,12 +987,14 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
         .def("make_unique", [](PyScene& s, const py::handle& placement) {
             return resultDict(s.scene.makeUnique(nodeArg("placement", placement)));
         }, py::arg("placement"), "Gives a placement of a master a copy of the master of its own.")
-        .def("save", [](const PyScene& s, const std::filesystem::path& file, bool replaceReadOnly) {
-            s.scene.save(file, api::WriteOptions{replaceReadOnly});
-        }, py::arg("file"), py::kw_only(), py::arg("replace_read_only") = false,
+        .def("save", [](const PyScene& s, const std::filesystem::path& file, bool replaceReadOnly, bool overwriteChanges) {
+            s.scene.save(file, api::WriteOptions{replaceReadOnly, overwriteChanges});
+        }, py::arg("file"), py::kw_only(), py::arg("replace_read_only") = false, py::arg("overwrite_changes") = false,
              "Writes the scene as a CS123 scenefile (whole or not at all) that loads back to the same render, "
              "masters kept as masters, texture and mesh paths relative to `file`. A link is written through to "
-             "its file, which keeps its mode; a read-only file raises InputError unless replace_read_only=True.")
+             "its file, which keeps its mode; a read-only file raises InputError unless replace_read_only=True. "
+             "A file this scene was loaded from or saved to that another program has changed since is not "
+             "replaced (InputError) unless overwrite_changes=True.")
         .def("to_text", [](const PyScene& s) { return s.scene.toText(); },
              "The scene as CS123 scenefile text (what save writes).")
         .def("_assign", [](PyScene& s, const PyScene& other) {

@@ -201,7 +201,9 @@ class Studio:
         """Writes the notebook's scene to the studio's file, which the studio reloads (within
         a second) and shows. Called after every edit made through the scene's methods."""
         if self.running:
-            _original(Scene, "save")(self.scene, self.file)
+            # The studio's file is the notebook's copy, which the notebook's scene replaces
+            # (the page's edits are pulled before each use): no change of another's is lost.
+            _original(Scene, "save")(self.scene, self.file, overwrite_changes=True)
 
     def stop(self):
         """Stops the studio's `ray view` and removes its folder (the notebook's scene stays)."""

@@ -28,6 +28,7 @@ set(RAY_TEST_COSTS
   [=[multi_device]=] 40
   [=[kernel_resources]=] 30
   [=[every course scene renders on the reference renderer or fails clearly]=] 29
+  [=[Undo history of 20,000 spheres and 200 colour edits stays small, and undo and redo give back each document exactly]=] 30
   [=[every course scene that loads saves unedited to its own bytes, and edited to its lines alone]=] 21
   [=[every course scene saves and loads back to a byte-identical 64x48 render]=] 15
   [=[kernel matches host on the course's refraction and area-light scenes]=] 26

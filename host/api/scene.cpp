@@ -180,6 +180,13 @@ edit::NodeId lightNode(const Scene::Impl& impl, size_t index) {
     return {edit::NodeKind::Light, impl.document().lightIds[index]};
 }
 
+// The key of a file in Scene::Impl::files.
+std::filesystem::path fileKey(const std::filesystem::path& file) {
+    std::error_code ec;
+    std::filesystem::path key = std::filesystem::weakly_canonical(file, ec);
+    return ec ? std::filesystem::absolute(file).lexically_normal() : key;
+}
+
 // Loads the document with `read` into a fresh session.
 template <class Read>
 void loadInto(std::unique_ptr<Scene::Impl>& impl, const LoadOptions& options, std::vector<std::string>& warnings,
@@ -229,8 +236,11 @@ Scene& Scene::operator=(Scene&&) noexcept = default;
 
 LoadResult Scene::load(const std::filesystem::path& file, const LoadOptions& options) {
     LoadResult result;
+    // Stamped before it is read: a change made while it is read is one a save asks about.
+    const edit::FileStamp stamp = edit::stampOf(file);
     loadInto(result.scene.impl_, options, result.warnings,
              [&](const ray::LoadOptions& load) { return ray::loadSceneDocument(file, load); });
+    result.scene.impl_->files[fileKey(file)] = stamp;
     return result;
 }
 
@@ -443,9 +453,17 @@ std::string Scene::toText() const {
 void Scene::save(const std::filesystem::path& file) const { save(file, WriteOptions{}); }
 
 void Scene::save(const std::filesystem::path& file, const WriteOptions& options) const {
+    const std::filesystem::path key = fileKey(file);
+    auto known = impl_->files.find(key);
+    if (known != impl_->files.end() && !options.overwriteChanges) {
+        if (const std::optional<std::string> change = edit::changeSince(known->second, file))
+            badInput(file.string() + " " + *change + ": not saved, so that that change is not lost; load it again, or "
+                     "save with overwrite_changes=True (C++: WriteOptions::overwriteChanges) to replace it");
+    }
     detail::translatingErrors([&] {
         ray::saveDocument(impl_->document(), impl_->session.resources(), file, detail::writeOptionsOf(options));
     });
+    impl_->files[key] = edit::stampOf(file);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -3,10 +3,13 @@
 // program keeps its own), and the material handles of addMaterial.
 #pragma once
 
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <vector>
 
 #include "edit/edit_session.h"
+#include "edit/file_stamp.h"
 #include "ray/scene.h"
 #include "scene/scene.h"
 #include "scene/scene_document.h"
@@ -30,6 +33,9 @@ struct Scene::Impl {
     // what changed, so that a Renderer's frame source re-packs that alone.
     ray::edit::EditSession session;
     std::vector<ray::Material> materials;  // addMaterial's handles
+    // The files this scene was loaded from or saved to, as it read or wrote them (by their
+    // absolute path): a save does not replace one another program has changed since.
+    std::map<std::filesystem::path, ray::edit::FileStamp> files;
 
     const ray::SceneDocument& document() const { return session.document(); }
     std::shared_ptr<const ray::Scene> flattened() const { return session.scene(); }

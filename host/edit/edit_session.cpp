@@ -1,7 +1,10 @@
 #include "edit/edit_session.h"
 
+#include <algorithm>
+
 #include "core/message_text.h"
 #include "edit/edit_error.h"
+#include "edit/node_matching.h"
 
 namespace ray::edit {
 
@@ -98,7 +101,7 @@ Outcome EditSession::applyToSettings(const SetFields& set, std::string_view acti
     settings.lightIds = document_.lightIds;
     settings.typedNumbers = document_.typedNumbers;
     const Outcome outcome = perform(settings, set, context());
-    pushStep(outcome, action);
+    if (options_.history) pushStep(patchBetween(document_, settings, true), outcome, action);
     document_.camera = settings.camera;
     document_.globals = settings.globals;
     document_.lights = std::move(settings.lights);
@@ -113,14 +116,53 @@ Outcome EditSession::applyToSettings(const SetFields& set, std::string_view acti
     return outcome;
 }
 
-// The document as it is becomes the step before `outcome` (or the step of `action` takes
-// it in, when it is the latest's).
-void EditSession::pushStep(const Outcome& outcome, std::string_view action) {
-    if (!options_.history) return;
+// `patch` (what gives the document before the operation back) becomes the latest step, or
+// part of it when the latest is `action`'s: a drag, a colour being picked.
+void EditSession::pushStep(DocumentPatch patch, const Outcome& outcome, std::string_view action) {
     const bool sameAction = !action.empty() && !undo_.empty() && undo_.back().action == action && redo_.empty();
-    if (sameAction) undo_.back().outcome += outcome;
-    else undo_.push_back({document_, modified_, outcome, std::string(action)});
+    historyBytes_ -= std::min(historyBytes_, [&] {
+        size_t redone = 0;
+        for (const Step& step : redo_) redone += step.bytes;
+        return redone;
+    }());
     redo_.clear();
+    if (sameAction) {
+        Step& step = undo_.back();
+        historyBytes_ -= step.bytes;
+        step.outcome += outcome;
+        step.patches.insert(step.patches.begin(), std::move(patch));
+        step.bytes = stepBytes(step);
+        historyBytes_ += step.bytes;
+    } else {
+        Step step{{}, modified_, outcome, std::string(action), 0};
+        step.patches.push_back(std::move(patch));
+        step.bytes = stepBytes(step);
+        historyBytes_ += step.bytes;
+        undo_.push_back(std::move(step));
+    }
+    keepHistoryUnderLimit();
+}
+
+size_t EditSession::stepBytes(const Step& step) {
+    size_t bytes = sizeof(Step) + step.action.capacity() + step.patches.capacity() * sizeof(DocumentPatch) +
+                   (step.outcome.changed.capacity() + step.outcome.added.capacity() + step.outcome.removed.capacity()) *
+                       sizeof(NodeId);
+    for (const DocumentPatch& patch : step.patches) bytes += patch.bytes() - sizeof(DocumentPatch);
+    return bytes;
+}
+
+// The oldest steps go first; the latest stays, so that what was just done can be undone.
+void EditSession::keepHistoryUnderLimit() {
+    size_t drop = 0;
+    while (historyBytes_ > options_.historyLimit && drop + 1 < undo_.size()) historyBytes_ -= undo_[drop++].bytes;
+    undo_.erase(undo_.begin(), undo_.begin() + std::ptrdiff_t(drop));
+    droppedSteps_ += drop;
+}
+
+void EditSession::forgetHistory() {
+    undo_.clear();
+    redo_.clear();
+    historyBytes_ = 0;
 }
 
 int EditSession::addImage(Image image) {
@@ -151,50 +193,52 @@ int EditSession::addMesh(TriangleMesh mesh) {
 
 void EditSession::commit(SceneDocument document, std::shared_ptr<Scene> scene, const Outcome& outcome,
                          std::string_view action) {
-    if (options_.history) {
-        const bool sameAction = !action.empty() && !undo_.empty() && undo_.back().action == action && redo_.empty();
-        if (sameAction) undo_.back().outcome += outcome;
-        else undo_.push_back({std::move(document_), modified_, outcome, std::string(action)});
-        redo_.clear();
-    }
+    if (options_.history) pushStep(patchBetween(document_, document), outcome, action);
     document_ = std::move(document);
     scene_ = std::move(scene);
     modified_ = true;
     ++version_;
 }
 
+// The step's patches applied to a copy of the document (a flattening that fails leaves the
+// session as it was), their inverses the step that goes back.
+EditSession::Step EditSession::walkStep(std::vector<Step>& from, std::vector<Step>& to) {
+    Step& step = from.back();
+    SceneDocument document = document_;
+    Step back{{}, modified_, step.outcome, step.action, 0};
+    for (const DocumentPatch& patch : step.patches) back.patches.insert(back.patches.begin(), applyPatch(document, patch));
+    std::shared_ptr<Scene> scene = flattenEdited(document, step.outcome.changes);
+    Step walked = std::move(step);
+    from.pop_back();
+    historyBytes_ -= walked.bytes;
+    back.bytes = stepBytes(back);
+    historyBytes_ += back.bytes;
+    to.push_back(std::move(back));
+    document_ = std::move(document);
+    scene_ = std::move(scene);
+    modified_ = walked.modified;
+    ++version_;
+    keepHistoryUnderLimit();
+    return walked;
+}
+
 std::optional<Outcome> EditSession::undo() {
     if (undo_.empty()) return std::nullopt;
-    Step step = std::move(undo_.back());
-    undo_.pop_back();
-    std::shared_ptr<Scene> scene = flattenEdited(step.document, step.outcome.changes);
-    redo_.push_back({std::move(document_), modified_, step.outcome, step.action});
-    document_ = std::move(step.document);
-    scene_ = std::move(scene);
-    modified_ = step.modified;
-    ++version_;
+    Outcome undone = walkStep(undo_, redo_).outcome;
     // The page reads the added nodes as removed and the removed as added.
-    Outcome undone = step.outcome;
     std::swap(undone.added, undone.removed);
     return undone;
 }
 
 std::optional<Outcome> EditSession::redo() {
     if (redo_.empty()) return std::nullopt;
-    Step step = std::move(redo_.back());
-    redo_.pop_back();
-    std::shared_ptr<Scene> scene = flattenEdited(step.document, step.outcome.changes);
-    undo_.push_back({std::move(document_), modified_, step.outcome, step.action});
-    document_ = std::move(step.document);
-    scene_ = std::move(scene);
-    modified_ = step.modified;
-    ++version_;
-    return step.outcome;
+    return walkStep(redo_, undo_).outcome;
 }
 
 bool EditSession::revert(std::string_view action) {
     if (action.empty() || undo_.empty() || undo_.back().action != action || !redo_.empty()) return false;
     undo();
+    historyBytes_ -= redo_.back().bytes;
     redo_.pop_back();
     return true;
 }
@@ -208,12 +252,12 @@ void EditSession::saved() {
 
 void EditSession::reload(SceneDocument document, Resources resources) {
     assignNodeIds(document);
+    keepIdsAcrossReload(document_, document);
     auto scene = std::make_shared<Scene>(flattenDocument(document, resources, options_.load));
     document_ = std::move(document);
     resources_ = std::move(resources);
     scene_ = std::move(scene);
-    undo_.clear();
-    redo_.clear();
+    forgetHistory();
     modified_ = false;
     ++version_;
 }

@@ -9,10 +9,21 @@
 // (scene/scene_changes.h), so that the renderer re-packs and re-uploads that alone.
 //
 // History: each user action is one step (an operation, or every operation given the same
-// action id in a row: a drag); undo and redo walk the steps, without limit. A session
-// without history (the C++ API's) keeps none, and an add at the end of the root tree then
-// changes the document and its scene in place, as a scene built in code adds primitives
-// by the thousand.
+// action id in a row: a drag, a colour picked); undo and redo walk the steps. A step keeps
+// what its operations changed, as it was (edit/document_patch.h), not a copy of the
+// document; the steps' memory is counted (historyBytes) and kept under a limit
+// (SessionOptions::historyLimit), the oldest steps dropped first. A session without history
+// (the C++ API's) keeps none, and an add at the end of the root tree then changes the
+// document and its scene in place, as a scene built in code adds primitives by the thousand.
+//
+// Revision: every change (an operation, an undo, a redo, a reload) makes a new revision of
+// the document; a front end says which one an edit was made against, so that one made
+// against an older one (another page edited, the file was reloaded) is refused rather than
+// applied to what the user did not see (viewer/scene_editor.h).
+//
+// Ids across a reload: the document read again keeps the ids of the elements that are the
+// same as before (edit/node_matching.h); what is new gets ids never used before, so that a
+// stale id names nothing rather than another element.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +33,7 @@
 #include <string_view>
 #include <vector>
 
+#include "edit/document_patch.h"
 #include "edit/field_values.h"
 #include "edit/node_views.h"
 #include "edit/operations.h"
@@ -36,6 +48,11 @@ struct SessionOptions {
     bool history = true;   // keep the steps for undo and redo
     // Where a file an edit names is read from; empty: relative to the document's folder.
     FileResolver resolveFile;
+    // The most memory the undo and redo steps hold together; past it the oldest steps go
+    // (the latest step is kept whatever its size).
+    size_t historyLimit = kDefaultHistoryLimit;
+
+    static constexpr size_t kDefaultHistoryLimit = size_t(64) << 20;  // 64 MiB
 };
 
 class EditSession {
@@ -65,17 +82,24 @@ public:
     bool canUndo() const { return !undo_.empty(); }
     bool canRedo() const { return !redo_.empty(); }
     size_t undoSteps() const { return undo_.size(); }
+    size_t redoSteps() const { return redo_.size(); }
+    // About how much memory the undo and redo steps hold, in bytes; and its limit.
+    size_t historyBytes() const { return historyBytes_; }
+    size_t historyLimit() const { return options_.historyLimit; }
+    // Steps dropped so far to keep the history under its limit.
+    uint64_t droppedSteps() const { return droppedSteps_; }
 
     // Whether the document differs from its file as last loaded or saved; saved() says it
     // was just written there.
     bool modified() const { return modified_; }
     void saved();
     void setModified() { modified_ = true; }
-    // How many changes (operations, undos, redos, reloads) so far.
+    // The document's revision: how many changes (operations, undos, redos, reloads) so far.
     uint64_t version() const { return version_; }
 
     // The document read again (its file changed on disk): the history goes, as its steps
     // were made to another version; the scene has a lineage of its own (a renderer compares).
+    // Elements that are the same keep their ids (edit/node_matching.h).
     void reload(SceneDocument document, Resources resources);
     // Images or meshes read again (their files changed on disk), at the indices they had: the
     // document flattened with them; its history and ids kept. Throws InputError.
@@ -88,16 +112,24 @@ public:
 
 private:
     struct Step {
-        SceneDocument document;  // before the step (undo_) or after it (redo_)
+        // What gives the document before the step (undo_) or after it (redo_) back, in the
+        // order they apply: the step's operations' patches, latest first.
+        std::vector<DocumentPatch> patches;
         bool modified = false;
         Outcome outcome;
         std::string action;
+        size_t bytes = 0;  // the patches' and the outcome's
     };
 
     Outcome applyInPlace(const Operation& operation);
     Outcome applyToSettings(const SetFields& set, std::string_view action);
-    void pushStep(const Outcome& outcome, std::string_view action);
+    void pushStep(DocumentPatch patch, const Outcome& outcome, std::string_view action);
     void commit(SceneDocument document, std::shared_ptr<Scene> scene, const Outcome& outcome, std::string_view action);
+    // The latest step of `from` applied to the document, moved to `to` as what undoes it.
+    Step walkStep(std::vector<Step>& from, std::vector<Step>& to);
+    static size_t stepBytes(const Step& step);
+    void keepHistoryUnderLimit();
+    void forgetHistory();
     std::shared_ptr<Scene> flattenEdited(SceneDocument& document, const SceneChanges& changes);
     FieldContext context();
 
@@ -106,6 +138,8 @@ private:
     Resources resources_;
     std::shared_ptr<Scene> scene_;
     std::vector<Step> undo_, redo_;
+    size_t historyBytes_ = 0;
+    uint64_t droppedSteps_ = 0;
     bool modified_ = false;
     uint64_t version_ = 0;
 };

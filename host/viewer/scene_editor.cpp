@@ -30,8 +30,9 @@ edit::FileResolver confinedTo(const std::filesystem::path& sceneFile) {
     };
 }
 
-edit::SessionOptions sessionOptions(const std::filesystem::path& file, const LoadOptions& options) {
-    return {options, true, confinedTo(file)};
+edit::SessionOptions sessionOptions(const std::filesystem::path& file, const LoadOptions& options,
+                                   size_t historyLimit) {
+    return {options, true, confinedTo(file), historyLimit};
 }
 
 json vecJson(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
@@ -49,13 +50,38 @@ int wholeNumber(const json& value, const char* name) {
 
 }  // namespace
 
-SceneEditor::SceneEditor(const std::filesystem::path& file, const LoadOptions& options)
-    : file_(file), options_(options), session_(loadSceneDocument(file, options), sessionOptions(file, options)) {}
+// The file is stamped before it is read: changed while it is read, it differs from its
+// stamp, and a save asks rather than replacing it.
+SceneEditor::SceneEditor(const std::filesystem::path& file, const LoadOptions& options, size_t historyLimit)
+    : file_(file), options_(options), stamp_(edit::stampOf(file)),
+      session_(loadSceneDocument(file, options), sessionOptions(file, options, historyLimit)) {}
 
-SceneEditor::SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options)
-    : file_(file), options_(options),
-      session_(loadSceneDocumentFromText(text, file, options), sessionOptions(file, options)) {
+SceneEditor::SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options,
+                         size_t historyLimit)
+    : file_(file), options_(options), stamp_(edit::stampOf(file)),
+      session_(loadSceneDocumentFromText(text, file, options), sessionOptions(file, options, historyLimit)) {
     session_.setModified();  // the file is written by the first save
+}
+
+StaleRevision::StaleRevision(uint64_t sent, uint64_t now)
+    : std::runtime_error("the scene changed since this was sent (revision " + std::to_string(sent) + ", now " +
+                         std::to_string(now) + ": another page's edit, or the file reloaded): nothing was done; "
+                         "look at the scene as it is now and try again"),
+      current(now) {}
+
+void SceneEditor::checkRevision(const json& request) const {
+    if (!request.is_object() || !request.contains("revision")) return;
+    const json& sent = request["revision"];
+    if (!sent.is_number_unsigned())
+        throw EditError("revision must be a whole number (the scene's, from /state)", EditError::Kind::Type, "revision");
+    if (sent.get<uint64_t>() != session_.version()) throw StaleRevision(sent.get<uint64_t>(), session_.version());
+}
+
+json SceneEditor::historyJson() const {
+    return {{"bytes", session_.historyBytes()},
+            {"limit", session_.historyLimit()},
+            {"steps", session_.undoSteps() + session_.redoSteps()},
+            {"dropped", session_.droppedSteps()}};
 }
 
 json SceneEditor::pick(const Camera& camera, const RenderSettings& settings, int x, int y) {
@@ -196,36 +222,50 @@ SaveRequest saveRequestFrom(const nlohmann::json& request) {
         if (!request["as"].is_string()) throw EditError("save as: the name must be a string", EditError::Kind::Type, "as");
         save.as = request["as"].get<std::string>();
     }
-    if (request.contains("replace")) {
-        if (!request["replace"].is_boolean())
-            throw EditError("save: replace is true or false", EditError::Kind::Type, "replace");
-        save.replace = request["replace"].get<bool>();
+    for (auto [name, flag] : {std::pair{"replace", &save.replace}, std::pair{"overwrite", &save.overwrite}}) {
+        if (!request.contains(name)) continue;
+        if (!request[name].is_boolean())
+            throw EditError(std::string("save: ") + name + " is true or false", EditError::Kind::Type, name);
+        *flag = request[name].get<bool>();
     }
     return save;
 }
 
-std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bool replace) {
+std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bool replace, bool overwrite) {
     const std::filesystem::path own = std::filesystem::absolute(file_).lexically_normal();
     std::filesystem::path target = own;
+    std::error_code ec;
     if (as) {
         target = fileInFolder(own.parent_path(), *as, "save as", {".xml"});
-        std::error_code ec;
         if (!std::filesystem::equivalent(target, own, ec)) checkMayWrite(target, replace, "save as");
+    }
+    const bool ownFile = target == own || std::filesystem::equivalent(target, own, ec);
+    if (ownFile && !overwrite) {
+        if (const std::optional<std::string> change = edit::changeSince(stamp_, own))
+            throw ChangedOnDisk(own.filename().string() + " " + *change +
+                                ": not saved, so that its change is not lost; overwrite it with this scene, or load "
+                                "it again (this scene's unsaved edits are then lost)");
     }
     try {
         saveDocument(session_.document(), session_.resources(), target);
     } catch (const InputError& e) {
         throw EditError(std::string("not saved: ") + e.what());
     }
-    std::error_code ec;
-    if (std::filesystem::equivalent(target, own, ec)) session_.saved();
+    if (ownFile) {
+        stamp_ = edit::stampOf(own);
+        session_.saved();
+    }
     return target;
 }
 
-void SceneEditor::reload() { reload(loadSceneDocument(file_, options_), Resources{}); }
+void SceneEditor::reload() {
+    const edit::FileStamp stamp = edit::stampOf(file_);
+    reload(loadSceneDocument(file_, options_), Resources{}, stamp);
+}
 
-void SceneEditor::reload(SceneDocument document, Resources resources) {
+void SceneEditor::reload(SceneDocument document, Resources resources, const edit::FileStamp& stamp) {
     session_.reload(std::move(document), std::move(resources));
+    stamp_ = stamp;
 }
 
 }  // namespace ray

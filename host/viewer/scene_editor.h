@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -24,6 +25,7 @@
 #include "edit/edit_error.h"
 #include "edit/edit_json.h"
 #include "edit/edit_session.h"
+#include "edit/file_stamp.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 #include "scene/scene_document.h"
@@ -33,22 +35,41 @@ namespace ray {
 
 using EditError = edit::EditError;
 
-// What POST /save asks: {"as": name} (absent: the file the editor opened) and
-// {"replace": true} to replace an existing file.
+// What POST /save asks: {"as": name} (absent: the file the editor opened),
+// {"replace": true} to replace an existing file, and {"overwrite": true} to replace the
+// opened file although another program changed it since it was read (ChangedOnDisk).
 struct SaveRequest {
     std::optional<std::string> as;
     bool replace = false;
+    bool overwrite = false;
 };
 // Throws EditError when a field has the wrong type.
 SaveRequest saveRequestFrom(const nlohmann::json& request);
 
+// An edit, undo, redo or save made against another revision of the scene than the one it
+// has now (another page edited it, the file was reloaded): refused, 409, with the current
+// state, so that the page shows what is there before the user acts again.
+struct StaleRevision : std::runtime_error {
+    StaleRevision(uint64_t sent, uint64_t current);
+    uint64_t current;
+};
+
+// A save that would replace the opened file, which another program changed since the
+// editor read or wrote it: refused, 409, until the user says to overwrite it (or reloads).
+struct ChangedOnDisk : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
 class SceneEditor {
 public:
-    // Loads the file. Throws InputError.
-    SceneEditor(const std::filesystem::path& file, const LoadOptions& options);
+    // Loads the file. Throws InputError. `historyLimit`: the undo steps' memory at most
+    // (edit::SessionOptions).
+    SceneEditor(const std::filesystem::path& file, const LoadOptions& options,
+                size_t historyLimit = edit::SessionOptions::kDefaultHistoryLimit);
     // A new scene from `text`, to be saved as `file` (which need not exist): modified until
     // saved. Throws InputError.
-    SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options);
+    SceneEditor(const std::filesystem::path& file, const std::string& text, const LoadOptions& options,
+                size_t historyLimit = edit::SessionOptions::kDefaultHistoryLimit);
 
     // The flattened scene of the document as it is now: a new object after each edit, undo,
     // redo or reload, whose lineage says what changed (the frame source re-packs that alone).
@@ -86,24 +107,34 @@ public:
 
     // Writes the document atomically to the file it was opened from, or to `as`, a .xml file
     // in the opened file's folder (viewer/folder_files.h: no other folder, no link), which
-    // must not exist unless `replace`. Returns where it wrote. Throws BadFileName,
-    // FileExists, EditError or std::runtime_error (the write failed; nothing replaced).
-    std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false);
+    // must not exist unless `replace`. The opened file is not replaced when another program
+    // changed it since the editor read or wrote it (size and bytes, edit/file_stamp.h)
+    // unless `overwrite`. Returns where it wrote. Throws BadFileName, FileExists,
+    // ChangedOnDisk, EditError or std::runtime_error (the write failed; nothing replaced).
+    std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false,
+                               bool overwrite = false);
     // The text a save to the file would write now (what a recovery copy keeps: viewer/recovery.h).
     // Throws InputError.
     std::string documentText() const { return documentToText(session_.document(), session_.resources(), file_); }
     // The file changed on disk (not by save): loads it again; the history is cleared, as
-    // the edits were made to another version. Throws InputError (the editor is unchanged).
+    // the edits were made to another version; the elements that are the same keep their
+    // ids. Throws InputError (the editor is unchanged).
     void reload();
     // The same from a document and its resources read already (without the viewer's lock:
-    // scene_watch.cpp), which this only flattens. Throws InputError.
-    void reload(SceneDocument document, Resources resources);
+    // scene_watch.cpp), which this only flattens; `stamp`: the file's, taken before it was
+    // read. Throws InputError.
+    void reload(SceneDocument document, Resources resources, const edit::FileStamp& stamp);
     // The images and meshes the scene uses, by file; the same read again (EditSession::
     // refreshResources), the edits and their history kept. Throws InputError.
     const Resources& resources() const { return session_.resources(); }
     void refreshResources(Resources resources) { session_.refreshResources(std::move(resources)); }
-    // How many edits, undos, redos and reloads have changed the scene so far.
+    // The scene's revision: how many edits, undos, redos and reloads have changed it so far.
     uint64_t version() const { return session_.version(); }
+    // Throws StaleRevision when `request` (a POST body) carries a "revision" other than the
+    // scene's; EditError when it is not a whole number. A request without one is not checked.
+    void checkRevision(const nlohmann::json& request) const;
+    // The undo and redo steps' memory and its limit: {"bytes", "limit", "steps", "dropped"}.
+    nlohmann::json historyJson() const;
     // Whether the document differs from the file as last loaded or saved.
     bool modified() const { return session_.modified(); }
 
@@ -112,6 +143,7 @@ private:
 
     std::filesystem::path file_;
     LoadOptions options_;
+    edit::FileStamp stamp_;  // the file as last read or written
     edit::EditSession session_;
 };
 

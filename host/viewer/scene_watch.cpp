@@ -28,12 +28,14 @@ constexpr auto kWatchInterval = std::chrono::milliseconds(300);
 
 // A scene file read and flattened, its images and meshes loaded: all the reading a reload does.
 struct SceneRead {
+    edit::FileStamp content;  // taken before it is read: a save compares the file with it
     SceneDocument document;
     Resources resources;
 };
 
 SceneRead readScene(const fs::path& file, const LoadOptions& options) {
-    SceneRead read{loadSceneDocument(file, options), {}};
+    edit::FileStamp content = edit::stampOf(file);
+    SceneRead read{content, loadSceneDocument(file, options), {}};
     flattenDocument(read.document, read.resources, options);
     return read;
 }
@@ -112,7 +114,7 @@ void Session::reloadScene(const FileStamp& stamp, uint64_t saves) {
         // the scene offers them.
         std::optional<std::string> setAside;
         if (keeper_ && edited_ && editor_.modified()) setAside = editor_.documentText();
-        editor_.reload(std::move(read.document), std::move(read.resources));
+        editor_.reload(std::move(read.document), std::move(read.resources), read.content);
         edited_ = false;
         sceneStamp_ = stamp;
         fileStamps_ = std::move(stamps);

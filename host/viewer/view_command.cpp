@@ -50,6 +50,8 @@ options:
   --depth N                recursion depth (0..16; default 4)
   --device D               auto|cpu|gpu|all|<index>|<list>: OpenCL devices, the scene
                            packed once; ref: the reference renderer
+  --undo-memory MIB        the most memory the undo history holds (1..65536; default 64);
+                           past it the oldest steps are dropped
   --recover                open the scene with the unsaved edits a viewer of it left when it
                            was stopped (they are kept in ~/.local/state/ray/recovery/, or
                            $XDG_STATE_HOME/ray/recovery/): unsaved until saved
@@ -88,6 +90,9 @@ void defineOptions(CLI::App& app, ViewCommand& c) {
         c.options.address = v;
     });
     addSwitch(app, "--no-token", [&] { c.noToken = true; });
+    addValueOption(app, "--undo-memory", [&](const std::string& v) {
+        c.options.historyLimit = size_t(parseInt(v, "--undo-memory", 1, 65536)) << 20;
+    });
     addSwitch(app, "--recover", [&] { c.recover = true; });
     addValueOption(app, "--width", [&](const std::string& v) {
         s.width = parseInt(v, "--width", kMinViewSide, kMaxViewSide);

@@ -210,7 +210,7 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
     });
     // Editing: only with the access token (a viewer started with --no-token shows the scene
     // and does not change it or its file).
-    for (const char* action : {"op", "edit", "undo", "redo", "save", "recovery"}) {
+    for (const char* action : {"op", "edit", "undo", "redo", "save", "reload", "recovery"}) {
         server.Post(std::string("/") + action, [&session, action, editable = editable](const httplib::Request& request,
                                                                                      httplib::Response& response) {
             if (!editable) {
@@ -225,6 +225,14 @@ void defineRoutes(httplib::Server& server, Session& session, const std::string& 
             } catch (const FileExists& e) {
                 response.status = 409;
                 sendJson(response, json{{"error", e.what()}, {"exists", true}});
+            } catch (const StaleRevision& e) {
+                // With the scene's state, which the page shows before the user acts again.
+                response.status = 409;
+                sendJson(response, json{{"error", e.what()}, {"stale", true}, {"revision", e.current},
+                                        {"state", session.state()}});
+            } catch (const ChangedOnDisk& e) {
+                response.status = 409;
+                sendJson(response, json{{"error", e.what()}, {"changed_on_disk", true}});
             } catch (const EditError& e) {
                 refused(response, e);
             } catch (const json::exception& e) {

@@ -30,6 +30,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "edit/edit_session.h"
 #include "render/frame_source.h"
 #include "scene/scene_loader.h"
 #include "viewer/recovery.h"
@@ -55,6 +56,8 @@ struct ViewerOptions {
     // writes it there on the first save.
     bool newScene = false;
     LoadOptions load;
+    // The most memory the undo history holds (ray view --undo-memory; edit::SessionOptions).
+    size_t historyLimit = edit::SessionOptions::kDefaultHistoryLimit;
     // The access token every request must present; empty: the viewer is open (--no-token).
     std::string token;
     // Unsaved edits are kept in this folder (viewer/recovery.h); empty: not kept.

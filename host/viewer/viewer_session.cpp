@@ -18,7 +18,7 @@ namespace {
 SceneEditor editorFor(const ViewerOptions& options) {
     if (options.recovered) {
         try {
-            return SceneEditor(options.scene, options.recovered->document, options.load);
+            return SceneEditor(options.scene, options.recovered->document, options.load, options.historyLimit);
         } catch (const InputError& e) {
             // Its lines are the kept text's, which the message must say.
             throw InputError(std::string(e.what()) + "\n(in the unsaved edits kept in " +
@@ -26,8 +26,8 @@ SceneEditor editorFor(const ViewerOptions& options) {
                              ", which do not load: open the scene without --recover, or remove that file)");
         }
     }
-    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load);
-    return SceneEditor(options.scene, options.load);
+    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load, options.historyLimit);
+    return SceneEditor(options.scene, options.load, options.historyLimit);
 }
 
 // An offer without its document, which the page never needs (restoring reads the file again).
@@ -100,7 +100,8 @@ json Session::editorStateLocked() {
     return {{"file", std::filesystem::absolute(editor_.file()).lexically_normal().string()},
             {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
             {"can_redo", editor_.canRedo()}, {"lights", editor_.lightsJson()},
-            {"editable", !options_.token.empty()}, {"scene_version", sceneVersion_}};
+            {"editable", !options_.token.empty()}, {"scene_version", sceneVersion_},
+            {"revision", editor_.version()}, {"history", editor_.historyJson()}};
 }
 
 json Session::pick(int x, int y) {
@@ -127,9 +128,12 @@ json Session::node(const std::string& id) {
 
 json Session::edit(const std::string& action, const std::string& body) {
     if (action == "recovery") return answerRecovery(body);  // reads files: not under the lock
+    if (action == "reload") return reloadOnRequest(body);    // the same
     std::lock_guard lock(mutex_);
     const uint64_t versionBefore = editor_.version();
-    const edit::TypedJson request = edit::parseTypedJson(body);
+    edit::TypedJson request = edit::parseTypedJson(body);
+    editor_.checkRevision(request.value);
+    if (request.value.is_object()) request.value.erase("revision");  // checked; no part of the edit itself
     json out = json::object();
     if (action == "op") {
         out = editor_.operate(request, view_.camera);
@@ -142,7 +146,7 @@ json Session::edit(const std::string& action, const std::string& body) {
         out = editor_.redo();
     } else if (action == "save") {
         const SaveRequest save = saveRequestFrom(request.value);
-        const std::filesystem::path saved = editor_.save(save.as, save.replace);
+        const std::filesystem::path saved = editor_.save(save.as, save.replace, save.overwrite);
         // Its own save is not a change on disk to reload (which would clear the history).
         sceneStamp_ = stampOf(options_.scene);
         ++saves_;
@@ -162,6 +166,26 @@ json Session::edit(const std::string& action, const std::string& body) {
     }
     const json state = editorStateLocked();
     out.update(state);  // the page of today reads them here
+    out["editor"] = state;
+    return out;
+}
+
+// POST /reload: the user takes the file as it is on disk over the unsaved edits (a save
+// refused as another program changed it). Read as the watch reads it, outside the lock; the
+// edits it replaces are set aside as a recovery, as the watch's reload does.
+json Session::reloadOnRequest(const std::string& body) {
+    uint64_t saves = 0;
+    {
+        std::lock_guard lock(mutex_);
+        editor_.checkRevision(edit::parseTypedJson(body).value);
+        saves = saves_;
+    }
+    reloadScene(stampOf(options_.scene), saves);
+    std::lock_guard lock(mutex_);
+    if (editor_.modified())
+        throw EditError("not reloaded: " + (sceneError_.empty() ? std::string("the scene was saved meanwhile") : sceneError_));
+    const json state = editorStateLocked();
+    json out = state;
     out["editor"] = state;
     return out;
 }

@@ -71,6 +71,8 @@ public:
     // its own), or its file removed; the next offer, and the editor's state. Throws EditError.
     nlohmann::json recoveryOffer();
     nlohmann::json answerRecovery(const std::string& body);
+    // POST /reload (viewer_session.cpp): the file read again, outside the lock.
+    nlohmann::json reloadOnRequest(const std::string& body);
     // GET /explain: pixel (x, y)'s tree of rays, naming the view and scene it was made for,
     // so that the page can tell when a later frame has made it stale.
     nlohmann::json explain(int x, int y);

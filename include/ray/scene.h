@@ -217,7 +217,8 @@ constexpr uint64_t kMaxTexturePixels = uint64_t(1) << 25;
 /// character device or FIFO is written into; a folder, block device or socket is refused
 /// (InputError), and so is a read-only file unless replaceReadOnly says to replace it.
 struct WriteOptions {
-    bool replaceReadOnly = false;  ///< replace a read-only file (refused otherwise)
+    bool replaceReadOnly = false;   ///< replace a read-only file (refused otherwise)
+    bool overwriteChanges = false;  ///< Scene::save: replace a file another program changed since (refused otherwise)
 };
 
 struct LoadResult;
@@ -325,8 +326,13 @@ public:
     /// folder, relative to `file`'s folder otherwise. Loading it renders the same
     /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
     /// cannot be written.
+    ///
+    /// A file this scene was loaded from or saved to is not replaced when another program
+    /// changed it since (its size or bytes differ from what this scene read or wrote):
+    /// InputError says so, and nothing is written, so that their change is not lost.
+    /// WriteOptions::overwriteChanges replaces it all the same.
     void save(const std::filesystem::path& file) const;
-    /// save(), with how a read-only file is treated (WriteOptions).
+    /// save(), with how a read-only file and a file changed since are treated (WriteOptions).
     void save(const std::filesystem::path& file, const WriteOptions& options) const;
     ///@}
 

@@ -162,6 +162,23 @@ def test_chess_edit_render_save(output):
     assert np.array_equal(render(cs123ray.load_scene(path)), moved)
 
 
+def test_save_does_not_replace_a_file_changed_since_it_was_loaded(output):
+    path = output / "changed.xml"
+    path.write_text(TABLE)
+    scene = cs123ray.load_scene(path)
+    scene.objects[1].set_material(diffuse=(0, 1, 0))
+    theirs = TABLE.replace("<scenefile>", "<scenefile>\n<!-- another program's edit -->", 1)
+    path.write_text(theirs)
+    with pytest.raises(cs123ray.InputError, match="changed on disk .*overwrite_changes"):
+        scene.save(path)
+    assert path.read_text() == theirs  # their change kept
+    scene.save(path, overwrite_changes=True)
+    assert path.read_text() == scene.to_text()
+    scene.objects[1].set_material(diffuse=(0, 0, 1))
+    scene.save(path)  # its own save is no change
+    assert path.read_text() == scene.to_text()
+
+
 def test_a_save_is_always_readable(tmp_path):
     """Names and files XML cannot hold are refused at the edit; a long name made unique is cut between
     characters; an ISO-8859-1 scene is saved in ISO-8859-1."""

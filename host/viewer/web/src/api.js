@@ -2,6 +2,8 @@
 // the server (viewer/request_guard.h): every request carries it in a header that no other
 // page can send, the event stream (which takes no headers) in its query. A viewer started
 // with --no-token writes none.
+import { record } from "./state.js";
+
 export const token = document.querySelector('meta[name="ray-token"]').content;
 
 export function api(path, options = {}) {
@@ -23,6 +25,23 @@ export async function postJson(path, body) {
   const response = await api(path, { method: "POST", body: JSON.stringify(body ?? {}) });
   const answer = await response.json().catch(() => ({ error: `HTTP ${response.status}` }));
   return { ok: response.ok, status: response.status, answer };
+}
+
+// POST an edit (/op, /undo, /redo, /save, /reload): one at a time, each carrying the
+// scene's revision as the page last heard it (record.revision), so that the server refuses
+// one made against a scene that changed since (409, "stale"), rather than apply it to what
+// the user did not see. Each answer's revision is the next edit's.
+let editChain = Promise.resolve();
+export function postEdit(path, body) {
+  const sent = editChain.then(async () => {
+    const revision = record.revision === null ? {} : { revision: record.revision };
+    const reply = await postJson(path, { ...(body ?? {}), ...revision });
+    const now = reply.answer.editor?.revision ?? reply.answer.state?.revision;
+    if (now !== undefined) record.revision = now;
+    return reply;
+  });
+  editChain = sent.catch(() => {});
+  return sent;
 }
 
 export function eventStream() {

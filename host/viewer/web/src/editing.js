@@ -10,7 +10,7 @@ import { matrixFromRows, moveOutline, rowsFromMatrix, showSelection as showOverl
 import { showFields } from "./properties.js";
 import { opsServer } from "./server_ops.js";
 import { emit, record, state } from "./state.js";
-import { getJson, postJson } from "./api.js";
+import { getJson, postEdit } from "./api.js";
 
 const editError = document.getElementById("edit-error");
 const selectionLine = document.getElementById("selection");
@@ -25,6 +25,7 @@ export function showEditorState(editor) {
   document.getElementById("undo").disabled = !editor.can_undo;
   document.getElementById("redo").disabled = !editor.can_redo;
   if (editor.scene_version !== undefined) record.sceneVersion = editor.scene_version;
+  if (editor.revision !== undefined) record.revision = editor.revision;
   if (editor.editable === false) {
     state.editable = false;
     editError.textContent = "read-only: this viewer was started with --no-token (editing needs the access token)";
@@ -36,10 +37,24 @@ export function showEditorState(editor) {
   }
 }
 
+// An edit refused as made against an older revision of the scene (another page edited it,
+// the file was reloaded): the page shows the scene as it is now, and says so.
+function stale(reply) {
+  if (!reply || reply.status !== 409 || !reply.answer.stale) return false;
+  record.staleEdits++;
+  refreshScene().then(() => {
+    editError.textContent = "The scene changed (another page's edit, or its file was reloaded): your last edit " +
+      "was not made. The page now shows the scene as it is; do it again if you still want it.";
+  });
+  return true;
+}
+
 // An answer from the editor: its state shown, or its refusal; the answer.
 function answered(reply) {
   if (!reply) return reply;
-  if (!reply.ok) {
+  if (stale(reply)) {
+    record.editErrors.push({ status: reply.status, error: reply.answer.error });
+  } else if (!reply.ok) {
     editError.textContent = reply.answer.error;
     record.editErrors.push({ status: reply.status, error: reply.answer.error });
   } else {
@@ -49,12 +64,15 @@ function answered(reply) {
   return reply;
 }
 
-const post = async (path, body) => answered(await postJson(path, body));
+const post = async (path, body) => answered(await postEdit(path, body));
 
 // ---- The selection: any node of the scene (server_*.js describe it).
-async function commitField(field, value) {
-  const reply = await server.commit(state.selection, field, value);
-  if (!reply.ok) return { ok: false, status: reply.status, error: reply.answer.error };
+async function commitField(field, value, action) {
+  const reply = await server.commit(state.selection, field, value, action);
+  if (!reply.ok) {
+    stale(reply);
+    return { ok: false, status: reply.status, error: reply.answer.error };
+  }
   answered(reply);
   record.edits++;
   await reload();
@@ -160,10 +178,22 @@ export const gesture = {
 };
 
 // ---- The toolbar's operations.
+// A file changed on disk by another program since the scene was read is not replaced
+// without asking: overwrite it with this scene, or load it as it is (the unsaved edits go).
 async function save(body) {
   let reply = await post("/save", body);
   if (!reply.ok && reply.status === 409 && reply.answer.exists && window.confirm(`${reply.answer.error}\n\nReplace it?`))
     reply = await post("/save", { ...body, replace: true });
+  if (!reply.ok && reply.status === 409 && reply.answer.changed_on_disk) {
+    if (window.confirm(`${reply.answer.error}\n\nOK: overwrite the file with this scene. Cancel: keep the file.`)) {
+      reply = await post("/save", { ...body, overwrite: true });
+    } else {
+      if (window.confirm("Load the file as it is on disk? This scene's unsaved edits are then lost.")) {
+        if ((await post("/reload")).ok) await refreshScene();
+      }
+      return;
+    }
+  }
   if (!reply.ok) return;
   record.saved = reply.answer.saved;
   document.getElementById("saved").textContent = `saved to ${reply.answer.saved}`;

@@ -12,7 +12,7 @@ import { initView, saveImage, streamFrames } from "./view.js";
 const CAMERA_FIELDS = ["position", "look", "up"];
 // /state's fields that are not the view's (the rest is sent back with each view change).
 const NOT_VIEW = ["error", "scene", "device", "view", "scene_version", "file", "modified", "can_undo", "can_redo",
-                  "lights", "editable", "fit_window"];
+                  "lights", "editable", "fit_window", "revision", "history"];
 
 function initToolbar() {
   for (const button of document.querySelectorAll("#toolbar button[data-action]"))

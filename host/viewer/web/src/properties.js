@@ -4,10 +4,12 @@
 // picked, a number when typed); a refused value shows the server's error beside its field
 // and the field goes back to the value the scene holds. Nothing else is blocked: every
 // other field stays editable, and the next edit is judged on its own.
+import { latestOnly } from "./api.js";
 import { record } from "./state.js";
 
 const fieldsBox = document.getElementById("fields");
 let shown = { key: null, rows: new Map() };  // what the panel shows: its selection and rows by field
+let gestures = 0;  // colour picks so far: each one's action id differs
 
 const toHex = c => "#" + c.map(v => Math.round(Math.min(1, Math.max(0, v)) * 255).toString(16).padStart(2, "0")).join("");
 const fromHex = h => [1, 3, 5].map(i => parseInt(h.substr(i, 2), 16) / 255);
@@ -97,10 +99,22 @@ function fieldRow(field, commit) {
     held = value;
     if (!inputs.includes(document.activeElement)) show(value);
   };
-  const send = async () => {
+  // A colour being picked sends a value for each move of the picker, all of one gesture
+  // (one undo step) until the picker is closed ("change"); the latest alone waits while one
+  // is in flight.
+  let gesture = null;
+  const sendLatest = latestOnly(({ value, action }) => commit(field, value, action));
+  const send = async (event) => {
     if (inputs.some(i => i.type === "number" && i.value === "")) return;  // a number being typed
     const value = read();
-    const { ok, status, error: why } = await commit(field, value);
+    let action;
+    if (field.kind === "color") {
+      action = gesture ??= `pick-${field.name}-${Date.now().toString(36)}-${++gestures}`;
+      if (event.type === "change") gesture = null;
+    }
+    const answer = await sendLatest({ value, action });
+    if (!answer) return;  // overtaken by a later value of the same gesture
+    const { ok, status, error: why } = answer;
     if (ok) {
       held = value;
       error.textContent = "";
@@ -114,7 +128,10 @@ function fieldRow(field, commit) {
   };
   // A colour is sent as it is picked (the server renders the latest); a number or text
   // when it is committed (Enter, leaving the field, the arrows of the spinner).
-  for (const input of inputs) input.addEventListener(field.kind === "color" ? "input" : "change", send);
+  for (const input of inputs) {
+    input.addEventListener("change", send);
+    if (field.kind === "color") input.addEventListener("input", send);
+  }
   return row;
 }
 

@@ -2,7 +2,7 @@
 // (GET /fields), the scene's tree (GET /outline), a node's fields (GET /node), operations
 // (POST /op: set, add-primitive, add-light, delete, duplicate, camera-from-view, revert),
 // each carrying the user action it belongs to, so that a drag is one undo step.
-import { getJson, postJson } from "./api.js";
+import { getJson, postEdit } from "./api.js";
 
 let table = [];  // GET /fields: every editable field, in the table's order
 let actions = 0;
@@ -68,15 +68,18 @@ export const opsServer = {
     const node = await this.load(id);
     return node && { ...node, pixel: answer.pixel, point: answer.point };
   },
-  commit(selection, field, value) {
-    return postJson("/op", { action: newAction("field"), op: "set", node: selection.node, fields: { [field.name]: value } });
+  // `action`: the gesture the value belongs to (a colour being picked: one undo step); none:
+  // a step of its own.
+  commit(selection, field, value, action) {
+    return postEdit("/op", { action: action ?? newAction("field"), op: "set", node: selection.node,
+                             fields: { [field.name]: value } });
   },
   // A drag's move: where the selection is now (its world matrix, as rows), one action.
   move(selection, rows, action) {
-    return postJson("/op", { action, op: "set", node: selection.node, fields: { world: rows.flat() } });
+    return postEdit("/op", { action, op: "set", node: selection.node, fields: { world: rows.flat() } });
   },
   revert(selection, action) {
-    return postJson("/op", { op: "revert", action });
+    return postEdit("/op", { op: "revert", action });
   },
   newAction,
   // The toolbar's operations: the request, or null for one this server has not.
@@ -91,7 +94,7 @@ export const opsServer = {
     return null;
   },
   async run(request) {
-    return postJson("/op", { action: newAction(request.op), ...request });
+    return postEdit("/op", { action: newAction(request.op), ...request });
   },
   editorOf: answer => answer.editor || answer,
   outlineChanged: answer => Boolean(answer.changed && answer.changed.outline),

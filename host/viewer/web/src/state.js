@@ -16,6 +16,7 @@ export const record = window.rayViewer = {
   frames: 0, completeFrame: 0, restFrame: null, frameLog: [],
   lastExplain: null, explainState: "none", explains: 0, explainStates: [],
   selected: null, edits: 0, editErrors: [], saved: null, sceneVersion: 0,
+  revision: null, staleEdits: 0,  // the scene's revision as last heard; edits refused as made against an older one
 };
 
 // Keeps the frame log to the latest few thousand frames (a long session stays small).
