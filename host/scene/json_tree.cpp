@@ -2,6 +2,7 @@
 #include "scene/json_tree.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cctype>
 #include <cstring>
 #include <limits>
@@ -44,7 +45,19 @@ public:
     bool Int64(int64_t i) { return number(double(i)); }
     bool Uint64(uint64_t u) { return number(double(u)); }
     bool Double(double d) { return number(d); }
-    bool RawNumber(const char*, rapidjson::SizeType, bool) { return false; }  // not asked for
+    // Numbers come as their text (kParseNumbersAsStringsFlag) and are read by from_chars:
+    // correctly rounded, as the XML reader's, and without rapidjson 1.1.0's own conversion,
+    // which passes 0 to __builtin_clzll on some inputs (internal/diyfp.h).
+    bool RawNumber(const char* chars, rapidjson::SizeType length, bool) {
+        double value = 0;
+        const auto [end, ec] = std::from_chars(chars, chars + length, value);
+        if (ec != std::errc() || end != chars + length) {
+            stop(JsonError::Kind::Malformed, "the number " + std::string(chars, std::min<size_t>(length, 40)) +
+                                                 " is beyond what a double holds");
+            return false;
+        }
+        return number(value);
+    }
     bool String(const char* chars, rapidjson::SizeType length, bool) {
         const uint32_t at = uint32_t(tree_.text_.size());
         tree_.text_.insert(tree_.text_.end(), chars, chars + length);
@@ -198,7 +211,7 @@ JsonTree JsonTree::parse(std::string_view text, int maxDepth) {
     JsonTreeBuilder builder(tree, body, base, maxDepth);
     rapidjson::Reader reader;
     constexpr unsigned kFlags =
-        rapidjson::kParseIterativeFlag | rapidjson::kParseValidateEncodingFlag | rapidjson::kParseFullPrecisionFlag;
+        rapidjson::kParseIterativeFlag | rapidjson::kParseValidateEncodingFlag | rapidjson::kParseNumbersAsStringsFlag;
     const rapidjson::ParseResult result = reader.Parse<kFlags>(stream, builder);
     if (!result) {
         if (const JsonError* error = builder.error()) throw *error;
