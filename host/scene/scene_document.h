@@ -201,8 +201,8 @@ struct NamedTree {
 enum class SceneFormat : uint8_t { Xml, Json };
 
 struct SceneDocument {
-    std::filesystem::path file;
-    SceneFormat format = SceneFormat::Xml;  // of the file it was read from  // the file it was read from (relative paths are found from its folder)
+    std::filesystem::path file;  // the file it was read from (relative paths are found from its folder)
+    SceneFormat format = SceneFormat::Xml;  // of the file it was read from
     GlobalCoefficients globals;
     Camera camera;
     std::vector<Light> lights;
