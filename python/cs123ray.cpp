@@ -1012,7 +1012,7 @@ void bindLoading(py::module_& m) {
         return PyScene{std::move(loaded.scene), std::move(loaded.warnings)};
     }, py::arg("file"), py::arg("search_paths") = std::vector<std::filesystem::path>{}, py::arg("strict") = false,
        py::arg("textures") = true,
-       "Reads a scenefile (texture and mesh files also looked for under search_paths). Its warnings are in "
+       "Reads a scenefile, XML or the course's JSON (texture and mesh files also looked for under search_paths). Its warnings are in "
        ".warnings; strict=True makes them errors; textures=False skips reading images. Raises InputError.");
     m.def("scene_from_string", [](const std::string& xml, const std::filesystem::path& name,
                                   std::vector<std::filesystem::path> searchPaths, bool strict) {
@@ -1020,7 +1020,7 @@ void bindLoading(py::module_& m) {
         return PyScene{std::move(loaded.scene), std::move(loaded.warnings)};
     }, py::arg("xml"), py::arg("name") = "scene.xml", py::arg("search_paths") = std::vector<std::filesystem::path>{},
        py::arg("strict") = false,
-       "Reads scenefile XML from a string; `name` stands for the file in messages, and relative texture and mesh "
+       "Reads scenefile XML or JSON (text starting with '{') from a string; `name` stands for the file in messages, and relative texture and mesh "
        "paths are found from its folder. Raises InputError.");
 }
 

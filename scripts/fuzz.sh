@@ -7,7 +7,8 @@
 # --seconds N     run each target N seconds (default 60)
 # --build-dir DIR where to build (default build-fuzz beside this script's checkout); the
 #                 grown corpora are kept in DIR/corpus/<target>, crashes in DIR/artifacts/
-# --only TARGET   run one target (fuzz_scene_loader, fuzz_image_reader, fuzz_obj_loader,
+# --only TARGET   run one target (fuzz_scene_loader, fuzz_json_scene, fuzz_course_config,
+#                 fuzz_image_reader, fuzz_obj_loader,
 #                 fuzz_scene_round_trip, fuzz_viewer_requests)
 # --seconds-from-env  $RAY_FUZZ_SECONDS, else 5 (the test suite's fuzz_smoke: a few seconds a
 #                 target find what breaks at once; CI's .ci/run sets a longer run)
@@ -64,9 +65,12 @@ cmake -S "$here" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Rel
 cmake --build "$build" --target fuzzers -j"$jobs" >/dev/null
 
 shared="${RAY_SHARED_DIR:-$here/../shared}/cs123"
+course="${RAY_SHARED_DIR:-$here/../shared}/cs1230"
 seeds_for() {
   case "$1" in
     fuzz_scene_loader) echo "$shared/scenes $here/scenes $here/tests/data/fuzz/scene_loader" ;;
+    fuzz_json_scene) echo "$course/scenefiles/intersect/required $course/scenefiles/illuminate/required/shadow $here/tests/data/fuzz/json_scene" ;;
+    fuzz_course_config) echo "$course/template_inis/illuminate $course/template_inis/intersect $here/tests/data/fuzz/course_config" ;;
     fuzz_image_reader) echo "$shared/image $shared/textures $here/scenes/textures $here/tests/data/fuzz/image_reader" ;;
     fuzz_obj_loader) echo "$shared/mesh $here/scenes/meshes $here/tests/data/fuzz/obj_loader" ;;
     fuzz_scene_round_trip) echo "$shared/scenes $here/scenes $here/tests/data/fuzz/scene_loader" ;;
@@ -76,6 +80,8 @@ seeds_for() {
 options_for() {
   case "$1" in
     fuzz_scene_loader) echo "-dict=$here/fuzz/scene.dict -max_len=100000" ;;
+    fuzz_json_scene) echo "-dict=$here/fuzz/json_scene.dict -max_len=100000" ;;
+    fuzz_course_config) echo "-dict=$here/fuzz/course_config.dict -max_len=4096" ;;
     fuzz_image_reader) echo "-max_len=65536" ;;  # big seeds are cut: truncated files are good tests too
     fuzz_obj_loader) echo "-max_len=65536" ;;
     fuzz_scene_round_trip) echo "-dict=$here/fuzz/scene.dict -max_len=100000" ;;

@@ -8,7 +8,7 @@
 set -euo pipefail
 
 packages=(cmake make g++ pkg-config
-          libexpat1-dev libtinyobjloader-dev libopenimageio-dev libpng-dev libjpeg-dev
+          libexpat1-dev rapidjson-dev libtinyobjloader-dev libopenimageio-dev libpng-dev libjpeg-dev
           ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
           catch2 libcli11-dev nlohmann-json3-dev
           doxygen   # the C++ API reference: docs/Doxyfile, tests/api_reference.sh

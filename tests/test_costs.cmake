@@ -24,6 +24,8 @@ set(RAY_TEST_COSTS
   [=[kernel matches host on every course scene]=] 58
   [=[rusticl]=] 57
   [=[cpu_paths]=] 90
+  # 31 renders at 1024x768 with the course's switches, and the comparison: 51 s on 2 cores
+  [=[course_configs]=] 55
   [=[mpi]=] 54
   [=[multi_device]=] 40
   [=[kernel_resources]=] 30

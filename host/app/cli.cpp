@@ -1,5 +1,6 @@
 #include "app/cli.h"
 
+#include "app/course_config.h"
 #include "devices/renderer.h"
 #include "render/settings_table.h"
 #include "scene/parameter_rules.h"
@@ -65,7 +66,11 @@ std::string defaultText(const char* name) {
 }
 
 std::string composeUsage() {
-    return "usage: ray <scene.xml> [<width> <height>] [<depth>] [options]\n\nRenders a CS123 scenefile. Defaults: " +
+    return "usage: ray <scene.xml> [<width> <height>] [<depth>] [options]\n"
+           "       ray <scene.json> [<width> <height>] [<depth>] [options]\n"
+           "       ray <config.ini> [<width> <height>] [<depth>] [options]\n\n"
+           "Renders a CS123 scenefile (XML) or a CS1230 one (JSON); a course config (.ini) names the scene, the\n"
+           "output and the settings, and what follows it overrides them. Defaults: " +
            defaultText("width") + " " + defaultText("height") + ", depth " + defaultText("depth") +
            ", output <scene name>.png here.\n\noptions:\n" + kRenderOptionsHelp + renderSettingsHelp() +
            kRenderExitHelp;
@@ -140,7 +145,10 @@ void applyLoneDepth(const std::string& value, RenderSettings& s) {
 
 void applyPositionals(const std::vector<std::string>& positionals, CliOptions& options) {
     if (positionals.empty()) throw UsageError("no scene file given");
-    options.scene = positionals[0];
+    if (isCourseConfig(positionals[0]))
+        options.config = positionals[0];  // the scene is the config's (startFromConfig)
+    else
+        options.scene = positionals[0];
     applySizeAndDepth(std::vector<std::string>(positionals.begin() + 1, positionals.end()), options.settings);
 }
 
@@ -417,9 +425,41 @@ void defineRenderCommand(CLI::App& app, CliOptions& options, std::vector<std::st
     app.add_option("positionals", positionals);  // <scene.xml> [<width> <height>] [<depth>]
 }
 
+namespace {
+
+// The command line read once into scratch options: its positionals and --strict are known
+// before the options apply, so that a config can go under them.
+CliOptions readOnce(const std::vector<std::string>& args, std::vector<std::string>& positionals) {
+    CliOptions scratch;
+    CLI::App app("ray", "ray");
+    defineRenderCommand(app, scratch, positionals);
+    parseArguments(app, args);
+    return scratch;
+}
+
+// `ray CONFIG.ini ...`: the config's scene, output and settings, for the options to override.
+void startFromConfig(const std::filesystem::path& file, bool strict, CliOptions& options) {
+    CourseConfig config = loadCourseConfig(file, options.settings, strict);
+    options.config = file;
+    options.scene = config.scene;
+    options.output = config.output;
+    options.configOutput = config.output;
+    options.settings = config.settings;
+    options.configWarnings = std::move(config.warnings);
+}
+
+}  // namespace
+
 CliOptions parseCommandLine(const std::vector<std::string>& args) {
     CliOptions options;
     std::vector<std::string> positionals;
+    {
+        const CliOptions first = readOnce(args, positionals);
+        if (!positionals.empty() && isCourseConfig(positionals[0]) && !first.help && !first.version &&
+            !first.listDevices)
+            startFromConfig(positionals[0], first.strict, options);
+        positionals.clear();
+    }
     CLI::App app("ray", "ray");
     defineRenderCommand(app, options, positionals);
     parseArguments(app, args);

@@ -1,4 +1,6 @@
-// The command line: `ray <scene.xml> [<width> <height>] [<depth>] [options]` (SPEC §6).
+// The command line: `ray <scene.xml> [<width> <height>] [<depth>] [options]` (SPEC §6), and
+// `ray CONFIG.ini [<width> <height>] [<depth>] [options]`: a course config (SPEC §7), which
+// the options and positionals after it override.
 #pragma once
 
 #include <filesystem>
@@ -19,6 +21,11 @@ namespace ray {
 
 struct CliOptions {
     std::filesystem::path scene;
+    // `ray CONFIG.ini`: the course's config (app/course_config.h) the scene, the output and the
+    // settings came from before the options overrode them; empty for `ray scene.xml`.
+    std::filesystem::path config;
+    std::filesystem::path configOutput;  // the config's output, whose folder is made if missing
+    std::vector<std::string> configWarnings;  // complete, printed unless --quiet
     std::filesystem::path output;  // empty: <scene name>.png in the current folder
     RenderSettings settings;
     std::string device = "auto";  // auto | cpu | gpu | all | ref | <index> | <index>,<index>...

@@ -87,6 +87,10 @@ std::filesystem::path checkOutputs(const CliOptions& options) {
         throw UsageError("cannot write an image in the format of '" + output.string() + "' (its extension names none " +
                          "this build of OpenImageIO can write); " + kOutputFormatAdvice);
     std::filesystem::path folder = output.parent_path();
+    if (!folder.empty() && output == options.configOutput) {  // a course config's output: its folder is made
+        std::error_code ec;
+        std::filesystem::create_directories(folder, ec);
+    }
     if (!folder.empty() && !std::filesystem::is_directory(folder))
         throw UsageError("the output folder '" + folder.string() + "' does not exist");
     // A folder, a read-only file: exit 2 now, not after the render; an unwritable folder:
@@ -110,6 +114,7 @@ Scene loadSceneFor(const CliOptions& options) {
     load.warn = [&](const std::string& message) {
         if (!options.quiet) std::cerr << message << "\n";
     };
+    for (const std::string& warning : options.configWarnings) load.warn(warning);
     return loadScene(options.scene, load);
 }
 

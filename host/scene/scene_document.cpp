@@ -84,7 +84,7 @@ void composeBlock(Block& block) {
 // The document
 
 SceneDocument::SceneDocument(const SceneDocument& other)
-    : file(other.file), globals(other.globals), camera(other.camera), lights(other.lights), trees(other.trees),
+    : file(other.file), format(other.format), globals(other.globals), camera(other.camera), lights(other.lights), trees(other.trees),
       treeOrder(other.treeOrder), scenefileLine(other.scenefileLine), primitiveElements(other.primitiveElements),
       nextObjectId(other.nextObjectId), nextBlockId(other.nextBlockId), nextNodeId(other.nextNodeId),
       lightIds(other.lightIds), source(other.source),
@@ -323,6 +323,9 @@ void removeLight(SceneDocument& document, size_t index) {
 // Text
 
 std::string documentToText(const SceneDocument& document, const Resources& resources, const fs::path& target) {
+    if (document.format == SceneFormat::Json)  // the writers below write XML; nothing is written over the JSON
+        throw InputError(document.file.string() + ": error: saving a JSON scene is not supported yet; "
+                         "the file is left as it is (edit the .json file in a text editor)");
     if (document.source) {
         const std::vector<Splice> splices = documentSplices(document, resources, target);
         return applySplices(document.source->bytes(), splices);

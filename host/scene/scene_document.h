@@ -197,8 +197,12 @@ struct NamedTree {
     int levels = 0;  // how deep trees and masters nest inside it
 };
 
+// The two formats of a scene file: the CS123 XML (SPEC §1) and the course's JSON (SPEC §7).
+enum class SceneFormat : uint8_t { Xml, Json };
+
 struct SceneDocument {
     std::filesystem::path file;  // the file it was read from (relative paths are found from its folder)
+    SceneFormat format = SceneFormat::Xml;  // of the file it was read from
     GlobalCoefficients globals;
     Camera camera;
     std::vector<Light> lights;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "scene/scene.h"
@@ -33,11 +34,18 @@ struct LoadOptions {
     std::function<void(const std::string&)> warn;
 };
 
-// Loads and flattens the scene. Throws InputError for bad input (SPEC §1), with the file
+// The format of a scene file: by its text's first character after blanks and a byte-order
+// mark ('{' or '[': JSON; '<': XML), else (an empty text, or neither) by its extension
+// (.json in any case: JSON; else XML). `text` may be the file's first bytes only. A text
+// decides before a name, so that a string given with the API's default name "scene.xml"
+// is read as what it is.
+SceneFormat sceneFormatOf(const std::filesystem::path& file, std::string_view text);
+
+// Loads and flattens the scene (XML or JSON, sceneFormatOf). Throws InputError for bad input (SPEC §1), with the file
 // and line in the message.
 Scene loadScene(const std::filesystem::path& file, const LoadOptions& options = {});
 
-// The same from XML text in memory; `file` names it in messages and anchors relative paths.
+// The same from text in memory (XML or JSON, sceneFormatOf); `file` names it in messages and anchors relative paths.
 Scene loadSceneFromText(const std::string& xml, const std::filesystem::path& file,
                         const LoadOptions& options = {});
 

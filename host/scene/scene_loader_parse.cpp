@@ -502,7 +502,7 @@ private:
         std::vector<fs::path> tried;
         if (std::optional<fs::path> found = search_.resolve(reference, &tried)) return *found;
         diagnostics_.error(element.line(),
-                           "mesh file '" + reference + "' not found (" + whereLooked(reference, tried) + ")",
+                           "mesh file '" + reference + "' not found (" + whereLooked(reference, tried, search_) + ")",
                            "put the OBJ file there, or name its folder with a search path");
     }
 
@@ -564,30 +564,9 @@ private:
             return std::nullopt;
         }
         diagnostics_.warning(element.line(), std::string(what) + " file '" + reference + "' not found (" +
-                                                       whereLooked(reference, tried) +
+                                                       whereLooked(reference, tried, search_) +
                                                        "); the surface keeps its material colors");
         return std::nullopt;
-    }
-
-    // The search takes only regular files; one it passed over that exists (a FIFO,
-    // /dev/zero) deserves its own message rather than "not found".
-    static std::optional<fs::path> firstNonRegular(const std::vector<fs::path>& tried) {
-        for (const fs::path& path : tried) {
-            std::error_code ec;
-            const fs::file_status status = fs::status(path, ec);
-            if (!ec && fs::exists(status) && !fs::is_regular_file(status)) return path;
-        }
-        return std::nullopt;
-    }
-
-    // Says where a search looked: the path as given, then the roots its trailing parts
-    // were tried under (listing every candidate would run to dozens of paths).
-    std::string whereLooked(const std::string& reference, const std::vector<fs::path>& tried) const {
-        std::vector<std::string> roots;
-        for (const fs::path& root : search_.searchRoots()) roots.push_back(root.string());
-        std::string text = "looked ";
-        if (!tried.empty() && !isWindowsDrivePath(reference)) text += "at " + tried.front().string() + ", then ";
-        return text + "for the path and each of its trailing parts under " + joined(roots, ", ");
     }
 
     double single(XmlElement element) const {
@@ -629,6 +608,24 @@ private:
 };
 
 }  // namespace
+
+std::optional<fs::path> firstNonRegular(const std::vector<fs::path>& tried) {
+    for (const fs::path& path : tried) {
+        std::error_code ec;
+        const fs::file_status status = fs::status(path, ec);
+        if (!ec && fs::exists(status) && !fs::is_regular_file(status)) return path;
+    }
+    return std::nullopt;
+}
+
+// Listing every candidate would run to dozens of paths: the first, then the roots.
+std::string whereLooked(const std::string& reference, const std::vector<fs::path>& tried, const FileSearch& search) {
+    std::vector<std::string> roots;
+    for (const fs::path& root : search.searchRoots()) roots.push_back(root.string());
+    std::string text = "looked ";
+    if (!tried.empty() && !isWindowsDrivePath(reference)) text += "at " + tried.front().string() + ", then ";
+    return text + "for the path and each of its trailing parts under " + joined(roots, ", ");
+}
 
 void parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
                         SceneDocument& document, bool keepTransforms) {

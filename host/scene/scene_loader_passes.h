@@ -39,24 +39,28 @@ public:
         error(0, problem, remedy);
     }
 
-    // `problem` says what is wrong, `remedy` what to do about it.
-    [[noreturn]] void error(int line, const std::string& problem, const std::string& remedy) const {
-        throw InputError(where(line) + "error: " + problem + "; " + remedy);
+    // `problem` says what is wrong, `remedy` what to do about it. A column (JSON files:
+    // where the key or value starts) follows the line when given.
+    [[noreturn]] void error(int line, const std::string& problem, const std::string& remedy, int column = 0) const {
+        throw InputError(where(line, column) + "error: " + problem + "; " + remedy);
     }
 
-    void warning(int line, const std::string& message) const {
+    void warning(int line, const std::string& message, int column = 0) const {
         if (options_.strict)
-            throw InputError(where(line) + "error: " + message + " (strict mode turns warnings into errors)");
-        std::string text = where(line) + "warning: " + message;
+            throw InputError(where(line, column) + "error: " + message + " (strict mode turns warnings into errors)");
+        std::string text = where(line, column) + "warning: " + message;
         if (options_.warn)
             options_.warn(text);
         else
             std::cerr << text << std::endl;
     }
 
+    const LoadOptions& options() const { return options_; }
+
 private:
-    std::string where(int line) const {
-        return line > 0 ? file_ + ":" + std::to_string(line) + ": " : file_ + ": ";
+    std::string where(int line, int column) const {
+        if (line <= 0) return file_ + ": ";
+        return file_ + ":" + std::to_string(line) + (column > 0 ? ":" + std::to_string(column) : "") + ": ";
     }
 
     std::string file_;
@@ -95,6 +99,13 @@ using ray::TreeNode;
 // and not what saving does (a flat scene of 10^5 blocks loads in half the memory).
 void parseSceneDocument(XmlElement root, const Diagnostics& diagnostics, const FileSearch& search,
                         SceneDocument& document, bool keepTransforms = true);
+
+// File references, as both readers report them (scene_loader_parse.cpp): where a search
+// looked (the path as given, then the roots its trailing parts were tried under), and the
+// first candidate that exists but is no regular file (a FIFO, a folder), which deserves its
+// own message rather than "not found".
+std::string whereLooked(const std::string& reference, const std::vector<fs::path>& tried, const FileSearch& search);
+std::optional<fs::path> firstNonRegular(const std::vector<fs::path>& tried);
 
 // Pass 2 (scene_loader_count.cpp): every top-level tree's instance count and nesting
 // levels, masters resolved to their trees; a missing master, a cycle or nesting beyond

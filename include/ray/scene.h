@@ -233,10 +233,12 @@ public:
     Scene(Scene&&) noexcept;  ///< takes the other's contents
     Scene& operator=(Scene&&) noexcept;  ///< takes the other's contents
 
-    /// Reads a scenefile. Throws InputError ("file:line: error: ...").
+    /// Reads a scenefile, CS123's XML or CS1230's JSON (by the file's first character, else
+    /// its extension). Throws InputError ("file:line: error: ...").
     static LoadResult load(const std::filesystem::path& file, const LoadOptions& options = {});
-    /// Reads scenefile XML from a string; `name` stands for the file in messages and is
-    /// the folder relative texture and mesh paths are found from.
+    /// Reads a scenefile's XML or JSON from a string (JSON when it starts with '{'); `name`
+    /// stands for the file in messages and is the folder relative texture and mesh paths are
+    /// found from.
     static LoadResult fromString(const std::string& xml, const std::filesystem::path& name = "scene.xml",
                                  const LoadOptions& options = {});
 

@@ -273,6 +273,43 @@ def test_materials_lights_and_cameras_follow_the_loaders_rules():
     assert "shininess must be 0 or more, not -5" in str(raised.value)
 
 
+JSON_SCENE = """{
+  "globalData": {"ambientCoeff": 0.5, "diffuseCoeff": 0.5, "specularCoeff": 0.5},
+  "cameraData": {"position": [0, 0, 5], "up": [0, 1, 0], "heightAngle": 45, "look": [0, 0, -1]},
+  "groups": [
+    {"translate": [2, 2, 2], "lights": [{"type": "point", "color": [1, 1, 1], "attenuationCoeff": [1, 0, 0]}]},
+    {"translate": [0, 1, 0], "primitives": [{"type": "sphere", "diffuse": [1, 0, 0]}]}
+  ]
+}
+"""
+
+
+def test_course_json_scenes_load_from_files_and_strings(output):
+    """The course's JSON (SPEC 7) loads as XML does: from a file by its extension, from a
+    string by its first character, and renders the same as the same scene in XML."""
+    path = output / "json_scene.json"
+    path.write_text(JSON_SCENE)
+    from_file = cs123ray.load_scene(path)
+    from_string = cs123ray.scene_from_string(JSON_SCENE)
+    xml = cs123ray.scene_from_string(
+        '<scenefile><globaldata><ambientcoeff v="0.5"/><diffusecoeff v="0.5"/><specularcoeff v="0.5"/>'
+        '<transparentcoeff v="0"/></globaldata>'
+        '<cameradata><pos x="0" y="0" z="5"/><look x="0" y="0" z="-1"/><up x="0" y="1" z="0"/>'
+        '<heightangle v="45"/></cameradata>'
+        '<lightdata><type v="point"/><color r="1" g="1" b="1"/><function v1="1" v2="0" v3="0"/>'
+        '<position x="2" y="2" z="2"/></lightdata>'
+        '<object type="tree" name="root"><transblock><translate x="0" y="1" z="0"/>'
+        '<object type="primitive" name="sphere"><diffuse r="1" g="0" b="0"/></object>'
+        '</transblock></object></scenefile>')
+    images = [cs123ray.render(s, width=32, height=24, device="ref") for s in (from_file, from_string, xml)]
+    assert np.array_equal(images[0], images[1])
+    assert np.array_equal(images[0], images[2])
+    with pytest.raises(cs123ray.InputError) as raised:
+        cs123ray.scene_from_string(JSON_SCENE.replace('"diffuse"', '"colour"'), "course.json")
+    assert raised.value.line == 6
+    assert 'unknown key "colour" in groups[1].primitives[0]' in str(raised.value)
+
+
 def test_keywords_reprs_docstrings_and_version():
     T = cs123ray.Transform
     moved = T.translate(x=1, y=2, z=3) @ T.scale(x=2, y=2, z=2) @ T.rotate(axis=(0, 1, 0), degrees=90)
