@@ -42,7 +42,7 @@ std::string courseSectionOf(const std::string& name) {
     for (const char* k : kKnownKeys) {
         const std::string candidate = k;
         const size_t slash = candidate.find('/');
-        if (candidate.substr(slash + 1) == name) return "[" + candidate.substr(0, slash) + "]";
+        if (candidate.substr(slash + 1) == name) return std::string("[").append(candidate, 0, slash) + "]";
     }
     return "";
 }

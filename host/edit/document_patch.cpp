@@ -18,7 +18,8 @@ static_assert(sizeof(PrimitiveFiles) == 312 && sizeof(ImageReference) == 80,
 static_assert(sizeof(MasterReference) == 56 && sizeof(CsgNode) == 48 && sizeof(TreeNode) == 32,
               "a MasterReference, CsgNode or TreeNode member was added: compare it in sameItem");
 static_assert(sizeof(NamedTree) == 96, "a NamedTree member was added: compare it in sameTreeShell");
-static_assert(sizeof(SceneDocument) == 408, "a SceneDocument member was added: keep it in DocumentPatch::Header");
+// SceneDocument::format (XML or JSON) is the file's and no edit changes it: not in the header.
+static_assert(sizeof(SceneDocument) == 416, "a SceneDocument member was added: keep it in DocumentPatch::Header");
 #endif
 
 // Bit for bit: a value copied unchanged compares equal (a NaN too), a changed one does not.

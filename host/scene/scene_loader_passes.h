@@ -60,7 +60,9 @@ public:
 private:
     std::string where(int line, int column) const {
         if (line <= 0) return file_ + ": ";
-        return file_ + ":" + std::to_string(line) + (column > 0 ? ":" + std::to_string(column) : "") + ": ";
+        std::string text = file_ + ":" + std::to_string(line);
+        if (column > 0) text.append(":").append(std::to_string(column));  // not ":" + string&&: GCC 12 warns (-Wrestrict)
+        return text + ": ";
     }
 
     std::string file_;
