@@ -1194,6 +1194,10 @@ std::string plainArgumentError(const std::string& message, const std::string& na
 
 py::cpp_function withPlainArgumentErrors(const py::object& function, const std::string& name,
                                          const py::object& scope, bool method) {
+    // The wrapper's docstring is the function's own, whose first lines are its signatures
+    // (help() and the stubs' test read them): not pybind11's "(*args, **kwargs)".
+    py::options options;
+    options.disable_function_signatures();
     auto call = [function, name](const py::args& args, const py::kwargs& kwargs) -> py::object {
         try {
             return function(*args, **kwargs);

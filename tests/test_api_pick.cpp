@@ -83,7 +83,7 @@ TEST_CASE("API: pick sees the renderer's scene as edited, and a later camera", "
     CHECK(inside->distance == Approx(2.0));
 }
 
-TEST_CASE("API: a frame after a light edit uploads the lights and builds no BVH; a new primitive builds one",
+TEST_CASE("API: a frame after a light edit uploads the lights and builds no BVH, a new primitive builds one",
           "[api][pick][kernel]") {
     if (!ray::test::cpuDevice()) return ray::test::skip("no OpenCL CPU device");
     const api::Scene scene = api::Scene::load(ray::test::scenesDir() / "shadows.xml").scene;

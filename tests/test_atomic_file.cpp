@@ -209,7 +209,7 @@ TEST_CASE("a symbolic link stays a link and its target gets the bytes", "[atomic
     CHECK(contents(dir / "real" / "new.json") == "made");
 }
 
-TEST_CASE("a replaced file keeps its mode; a read-only one is refused unless told", "[atomic_file][writer]") {
+TEST_CASE("a replaced file keeps its mode, a read-only one is refused unless told", "[atomic_file][writer]") {
     const fs::path dir = freshFolder("writer_modes");
     const fs::path secret = dir / "secret.xml";
     ray::writeFileAtomically(secret, "one");

@@ -450,7 +450,7 @@ TEST_CASE("a folder as the output image is refused before rendering", "[cli][wri
     CHECK_THAT(r.output, Contains("is a folder"));
 }
 
-TEST_CASE("a read-only output is refused unless --replace-read-only; modes and links are kept", "[cli][writer]") {
+TEST_CASE("a read-only output is refused unless --replace-read-only, modes and links are kept", "[cli][writer]") {
     const fs::path dir = ray::test::outputDir() / "cli" / "read_only_output";
     fs::remove_all(dir);
     fs::create_directories(dir / "real");
@@ -485,7 +485,7 @@ TEST_CASE("a read-only output is refused unless --replace-read-only; modes and l
           (fs::perms::owner_read | fs::perms::owner_write));
 }
 
-TEST_CASE("--stats-json /dev/stdout prints the statistics", "[cli][writer]") {
+TEST_CASE("ray --stats-json /dev/stdout prints the statistics", "[cli][writer]") {
     auto r = runRay({scene("shadows.xml"), "8", "6", "--device", "ref", "--quiet", "-o",
                      freshOutput("stdout_stats.png").string(), "--stats-json", "/dev/stdout"});
     INFO(r.output);

@@ -104,7 +104,7 @@ TEST_CASE("a course config's super-sampling and texture filter map onto ray's", 
                Contains("c.ini:5: error: trilinear filtering needs mip-mapping"));
 }
 
-TEST_CASE("a course config's unknown key warns, naming it; a malformed value is an error", "[config]") {
+TEST_CASE("a course config's unknown key warns, naming it, a malformed value is an error", "[config]") {
     const CourseConfig config =
         read("[IO]\nscene = s.json\n[Feature]\nshadow = true\nsamples-per-pixel = 4\npost-process = true\n");
     REQUIRE(config.warnings.size() == 3);

@@ -75,7 +75,7 @@ TEST_CASE("touching operands: a union is one solid, an intersection is empty", "
     CHECK(cut[0].exit.entersOperand);
 }
 
-TEST_CASE("coincident faces go to the operand written last; a cut face to the subtracted one", "[csg]") {
+TEST_CASE("coincident faces go to the operand written last, a cut face to the subtracted one", "[csg]") {
     CsgSpans a{span(0, 2, 0)}, b{span(1, 2, 1)}, same{span(0, 2, 1)};
     CsgSpans cut = combineCsgSpans(CsgStepKind::Difference, a, b);
     REQUIRE(times(cut) == Pairs{{0, 1}});
@@ -158,7 +158,7 @@ TEST_CASE("a lens: entering and leaving the intersection of two balls", "[csg]")
     CHECK_FALSE(intersectCsg(scene, scene.csgObjects[0], {0, 1.5, 5}, {0, 0, -1}, 0, INFINITY));
 }
 
-TEST_CASE("nested csg objects flatten to one postfix program; masters place them", "[csg][loader]") {
+TEST_CASE("nested csg objects flatten to one postfix program, masters place them", "[csg][loader]") {
     const std::string xml = R"(<scenefile>
 <object type="tree" name="root">
  <transblock><translate x="2" y="0" z="0"/><object type="master" name="part"/></transblock>

@@ -496,7 +496,7 @@ TEST_CASE("the document's edits of structure are splices: insert, delete, move, 
     }
 }
 
-TEST_CASE("a document with no text saves canonically; CRLF files keep their line breaks", "[document][text]") {
+TEST_CASE("a document with no text saves canonically, CRLF files keep their line breaks", "[document][text]") {
     SECTION("from nothing") {
         SceneDocument document;
         document.file = "new.xml";

@@ -167,7 +167,7 @@ TEST_CASE("Every operation says what it changed, covering what a comparison of t
     checkSavesAsShown(session);
 }
 
-TEST_CASE("make-unique: editing the copy changes that placement alone; editing a master changes every placement",
+TEST_CASE("make-unique: editing the copy changes that placement alone, editing a master changes every placement",
           "[edit]") {
     EditSession session = sessionOf(scratchCopy("depth_of_field.xml", "unique"));
     auto diffuseCount = [&](const Vec3& color) {
@@ -318,7 +318,7 @@ TEST_CASE("Names and files an edit writes are what XML can hold, counted and cut
     }
 }
 
-TEST_CASE("One user action is one undo step: a drag's requests share an action id; undo and redo are unlimited",
+TEST_CASE("One user action is one undo step: a drag's requests share an action id, undo and redo are unlimited",
           "[edit]") {
     EditSession session = sessionOf(scratchCopy("shadows.xml", "history"));
     const std::string original = textOf(session);
@@ -344,7 +344,7 @@ TEST_CASE("One user action is one undo step: a drag's requests share an action i
     CHECK_FALSE(session.revert("drag-1"));  // not the latest step
 }
 
-TEST_CASE("A number is saved as it was typed; a drag's move keeps the file's translate", "[edit]") {
+TEST_CASE("A number is saved as it was typed, a drag's move keeps the file's translate", "[edit]") {
     EditSession session = sessionOf(scratchCopy("shadows.xml", "typed"));
     session.apply(op(R"({"op": "set", "node": "object-0", "fields": {"shininess": 12.50, "diffuse": [0.30, 1e-1, 1]}})"));
     const std::string text = textOf(session);

@@ -85,7 +85,7 @@ TEST_CASE("An edit's change set names every packed table whose bytes it changed,
     }
 }
 
-TEST_CASE("After a material edit the engine uploads the materials alone; the frame says so and renders as a fresh "
+TEST_CASE("After a material edit the engine uploads the materials alone, the frame says so and renders as a fresh "
           "engine does",
           "[incremental][edit][engine][kernel]") {
     auto device = test::cpuDevice();

@@ -172,7 +172,7 @@ TEST_CASE("globaldata sets the four coefficients", "[loader]") {
     CHECK(s.globals.kt == 0.4);
 }
 
-TEST_CASE("cameradata reads every field; aspectratio is ignored", "[loader]") {
+TEST_CASE("cameradata reads every field, aspectratio is ignored", "[loader]") {
     Scene s = load(rootScene("", R"(<cameradata>
   <pos x="1" y="2" z="3"/><look x="0" y="0" z="-1"/><up x="1" y="0" z="0"/>
   <heightangle v="60"/><aspectratio v="2"/><aperture v="0.25"/><focallength v="7"/>
@@ -295,7 +295,7 @@ TEST_CASE("attributes are read by position, whatever their names", "[loader]") {
     CHECK(clock.primitives[0].type == ray::PrimitiveType::Sphere);
 }
 
-TEST_CASE("too few values is an error; extra ones are warned about", "[loader]") {
+TEST_CASE("too few values is an error, extra ones are warned about", "[loader]") {
     std::string xml = rootScene(block("<translate x=\"1\" y=\"2\"/>\n" + primitive()));
     std::string error = errorOf(xml);
     CHECK_THAT(error, Contains(at(xml, "<translate") + "error: <translate> needs 3 values (x y z) but has 2"));
@@ -457,7 +457,7 @@ TEST_CASE("nested masters multiply, and load without per-instance materials", "[
     CHECK(s.materials.size() == 1);
 }
 
-TEST_CASE("masters may name trees defined later; unused trees make no instances", "[loader]") {
+TEST_CASE("masters may name trees defined later, unused trees make no instances", "[loader]") {
     Scene s = load(scenefile("<object type=\"tree\" name=\"root\">" + block("<object type=\"master\" name=\"later\"/>") +
                              "</object><object type=\"tree\" name=\"later\">" + block(primitive()) +
                              "</object><object type=\"tree\" name=\"unused\">" + block(primitive("sphere")) + "</object>"))
@@ -626,7 +626,7 @@ TEST_CASE("a texture that does not decode is a warning, like a missing one", "[l
     fs::remove_all(root);
 }
 
-TEST_CASE("meshes are resolved and deduplicated; a missing mesh is an error", "[loader]") {
+TEST_CASE("meshes are resolved and deduplicated, a missing mesh is an error", "[loader]") {
     fs::path root = tempFolder("meshes");
     writeText(root / "mesh" / "thing.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     fs::path sceneFile = root / "scenes" / "s.xml";

@@ -60,7 +60,7 @@ std::string contentOf(const fs::path& file) {
 
 }  // namespace
 
-TEST_CASE("a recovery is written private and read back whole, naming its scene; a damaged one is refused",
+TEST_CASE("a recovery is written private and read back whole, naming its scene, a damaged one is refused",
           "[viewer][recovery]") {
     const fs::path folder = scratch("roundtrip");
     const fs::path scene = sceneIn(folder);
@@ -97,7 +97,7 @@ TEST_CASE("a recovery is written private and read back whole, naming its scene; 
     fs::remove_all(folder);
 }
 
-TEST_CASE("the recovery folder is made private; a link in its place is refused", "[viewer][recovery]") {
+TEST_CASE("the recovery folder is made private, a link in its place is refused", "[viewer][recovery]") {
     const fs::path folder = scratch("folder");
     fs::create_directories(folder / "open");
     fs::permissions(folder / "open", fs::perms(0755));

@@ -101,7 +101,7 @@ TEST_CASE("SceneEditor: a bad edit is refused with a message and changes nothing
     refused(json::array(), "JSON object");
 }
 
-TEST_CASE("SceneEditor: one user action is one step however quick the edits; transforms and lights; save loads back",
+TEST_CASE("SceneEditor: one user action is one step however quick the edits, transforms and lights, save loads back",
           "[viewer][editor]") {
     const fs::path file = copyOfShadows("save");
     ray::SceneEditor editor(file, {});
@@ -162,7 +162,7 @@ TEST_CASE("SceneEditor: one user action is one step however quick the edits; tra
     CHECK(editor.scene()->lights[0].color == original->lights[0].color);
 }
 
-TEST_CASE("SceneEditor: the outline names every node; a node's fields; an operation answers what it changed",
+TEST_CASE("SceneEditor: the outline names every node, a node's fields, an operation answers what it changed",
           "[viewer][editor]") {
     ray::SceneEditor editor(copyOfShadows("routes"), {});
     const json outline = editor.outlineJson()["nodes"];

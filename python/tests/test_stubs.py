@@ -70,6 +70,8 @@ def pybind_signatures(function, name):
     for match in re.finditer(rf"^(?:\d+\. )?{re.escape(name)}\((.*)\) -> ", function.__doc__ or "", re.M):
         signature = []
         for parameter in split_top_level(match.group(1)):
+            if parameter.strip() == "*":
+                continue  # keyword-only from here: the stub's kwonlyargs say the same
             if parameter.startswith("**"):
                 signature.append(("", "**", False))
             elif parameter.startswith("*"):
