@@ -11,7 +11,8 @@
 # script tests), and by CTest after the discovered Catch2 tests (TEST_INCLUDE_FILES).
 set(RAY_TEST_COSTS
   # 135 s with a 2-job build; 1 job (scripts/fuzz.sh --jobs 1) leaves the other core to CTest;
-  # then five targets, 5 s each by default, a minute each in CI (.ci/run): 435 s there
+  # then seven targets, 5 s each by default, a minute each in CI (.ci/run): 1,030 s there
+  # on a fresh clone, 2026-12-07 (CTest's longest, run beside the others)
   [=[fuzz_smoke]=] 300
   # soak (105 s) watches the viewer's frames with timing of its own (idle for 0.3 s). Started
   # first, beside the cold kernel builds of a fresh machine, one of its sampled frames differed
