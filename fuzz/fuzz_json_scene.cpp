@@ -11,9 +11,7 @@
 #include <string>
 
 #include "fuzz_support.h"
-#include "opencl/scene_packing.h"
-#include "reference/reference_renderer.h"
-#include "scene/scene_loader.h"
+#include "scene_from_text.h"
 
 namespace {
 
@@ -42,21 +40,6 @@ const fs::path& sceneFile() {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string json(reinterpret_cast<const char*>(data), size);
     ray::LoadOptions options;
-    options.maxPrimitives = 20000;  // far below the real limit, as fuzz_scene_loader's
-    options.warn = [](const std::string&) {};
-    try {
-        ray::Scene scene = ray::loadSceneFromText(json, sceneFile(), options);
-        ray::PackedScene packed = ray::packScene(scene);
-        ray::RenderSettings settings;
-        settings.width = 4;
-        settings.height = 3;
-        settings.maxDepth = 2;
-        settings.antialias = ray::AntialiasMode::Off;
-        ray::ReferenceRenderOptions render;
-        render.threads = 1;
-        ray::renderReference(scene, settings, render);
-    } catch (const ray::InputError&) {
-        // A clean refusal: what bad input should get.
-    }
+    ray::fuzz::loadPackAndRender(json, sceneFile(), options);
     return 0;
 }

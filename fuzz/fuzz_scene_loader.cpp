@@ -9,9 +9,7 @@
 #include <string>
 
 #include "fuzz_support.h"
-#include "reference/reference_renderer.h"
-#include "scene/scene_loader.h"
-#include "opencl/scene_packing.h"
+#include "scene_from_text.h"
 
 namespace {
 
@@ -40,23 +38,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string xml(reinterpret_cast<const char*>(data), size);
     ray::LoadOptions options;
     options.loadImages = true;
-    // Far below the real limit, so that a legitimately big scene does not trip libFuzzer's
-    // memory limit; the real limit has its own tests.
-    options.maxPrimitives = 20000;
-    options.warn = [](const std::string&) {};
-    try {
-        ray::Scene scene = ray::loadSceneFromText(xml, sceneFolder() / "fuzzed.xml", options);
-        ray::PackedScene packed = ray::packScene(scene);
-        ray::RenderSettings settings;
-        settings.width = 4;
-        settings.height = 3;
-        settings.maxDepth = 2;
-        settings.antialias = ray::AntialiasMode::Off;
-        ray::ReferenceRenderOptions render;
-        render.threads = 1;
-        ray::renderReference(scene, settings, render);
-    } catch (const ray::InputError&) {
-        // A clean refusal: what bad input should get.
-    }
+    ray::fuzz::loadPackAndRender(xml, sceneFolder() / "fuzzed.xml", options);
     return 0;
 }

@@ -12,6 +12,7 @@
 #include "scene/json_scene_reader.h"
 #include "scene/json_tree.h"
 #include "scene/scene_loader.h"
+#include "scene_text.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -24,26 +25,16 @@ using ray::Vec3;
 
 namespace {
 
-struct Loaded {
-    Scene scene;
-    std::vector<std::string> warnings;
-};
+using Loaded = ray::test::LoadedText;
 
+// Loads JSON text as "scene.json" (or `file`), collecting the warnings.
 Loaded load(const std::string& json, LoadOptions options = {}, const fs::path& file = "scene.json") {
-    Loaded result;
-    options.warn = [&result](const std::string& w) { result.warnings.push_back(w); };
-    result.scene = ray::loadSceneFromText(json, file, options);
-    return result;
+    return ray::test::loadText(json, file, std::move(options));
 }
 
+// The message of the InputError that loading throws ("" when it loads).
 std::string errorOf(const std::string& json, LoadOptions options = {}, const fs::path& file = "scene.json") {
-    options.warn = [](const std::string&) {};
-    try {
-        ray::loadSceneFromText(json, file, options);
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
+    return ray::test::loadError(json, file, std::move(options));
 }
 
 const char* const kGlobals =

@@ -12,6 +12,7 @@
 #include "scene/file_search.h"
 #include "image/image.h"
 #include "scene/scene_loader.h"
+#include "scene_text.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -26,28 +27,16 @@ namespace {
 // ---------------------------------------------------------------------------------------
 // Helpers
 
-struct Loaded {
-    Scene scene;
-    std::vector<std::string> warnings;
-};
+using Loaded = ray::test::LoadedText;
 
 // Loads XML text as "test.xml" (or `file`), collecting the warnings.
 Loaded load(const std::string& xml, LoadOptions options = {}, const fs::path& file = "test.xml") {
-    Loaded result;
-    options.warn = [&result](const std::string& w) { result.warnings.push_back(w); };
-    result.scene = ray::loadSceneFromText(xml, file, options);
-    return result;
+    return ray::test::loadText(xml, file, std::move(options));
 }
 
 // The message of the InputError that loading throws ("" when it loads).
 std::string errorOf(const std::string& xml, LoadOptions options = {}, const fs::path& file = "test.xml") {
-    options.warn = [](const std::string&) {};
-    try {
-        ray::loadSceneFromText(xml, file, options);
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
+    return ray::test::loadError(xml, file, std::move(options));
 }
 
 LoadOptions strictOptions() {
