@@ -3,6 +3,8 @@
 #include <fstream>
 #include <vector>
 
+#include "core/fnv1a.h"
+
 namespace ray::edit {
 
 namespace {
@@ -11,14 +13,14 @@ namespace {
 std::optional<uint64_t> hashOf(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
     if (!in) return std::nullopt;
-    uint64_t hash = 14695981039346656037ull;
+    Fnv1a hash;
     std::vector<char> buffer(size_t(1) << 16);
     while (in) {
         in.read(buffer.data(), std::streamsize(buffer.size()));
-        for (std::streamsize i = 0; i < in.gcount(); ++i) hash = (hash ^ uint8_t(buffer[size_t(i)])) * 1099511628211ull;
+        hash.add(buffer.data(), size_t(in.gcount()));
     }
     if (in.bad()) return std::nullopt;
-    return hash;
+    return hash.value();
 }
 
 }  // namespace

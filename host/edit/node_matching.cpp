@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/fnv1a.h"
+
 namespace ray::edit {
 
 namespace {
@@ -29,14 +31,11 @@ public:
         value(s.size());
         bytes(s.data(), s.size());
     }
-    uint64_t result() const { return hash_; }
+    uint64_t result() const { return hash_.value(); }
 
 private:
-    void bytes(const void* data, size_t size) {
-        const auto* p = static_cast<const unsigned char*>(data);
-        for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 1099511628211ull;
-    }
-    uint64_t hash_ = 14695981039346656037ull;
+    void bytes(const void* data, size_t size) { hash_.add(data, size); }
+    Fnv1a hash_;
 };
 
 uint64_t blockKey(const Block& block);

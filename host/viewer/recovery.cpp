@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "core/fnv1a.h"
 #include "core/message_text.h"
 
 namespace ray {
@@ -39,21 +40,8 @@ std::string hexOf(uint64_t value) {
     return text;
 }
 
-// FNV-1a, 64 bits: names a scene's recoveries and tells when bytes changed (no adversary
-// here: the folder is the user's own).
-struct Fnv1a {
-    uint64_t state = 0xcbf29ce484222325ull;
-    void add(const char* data, size_t size) {
-        for (size_t i = 0; i < size; ++i) state = (state ^ uint8_t(data[i])) * 0x100000001b3ull;
-    }
-    std::string hex() const { return hexOf(state); }
-};
-
-std::string hashOf(std::string_view bytes) {
-    Fnv1a hash;
-    hash.add(bytes.data(), bytes.size());
-    return hash.hex();
-}
+// The FNV-1a hash in hex (core/fnv1a.h): names a scene's recoveries and tells when bytes changed.
+std::string hashOf(std::string_view bytes) { return hexOf(fnv1a(bytes)); }
 
 // A path as a header holds it: JSON text is UTF-8, so a path that is not has replacement
 // characters in their place (the file's name, a hash of the exact path, still finds it).
@@ -162,7 +150,7 @@ SceneFileStamp sceneFileStampOf(const fs::path& scene) {
         if (n <= 0) break;
         hash.add(buffer, size_t(n));
     }
-    stamp.hash = hash.hex();
+    stamp.hash = hexOf(hash.value());
     return stamp;
 }
 
