@@ -50,7 +50,10 @@ uint64_t checkInputFile(const std::filesystem::path& file, const InputLimit& lim
 
 std::string readInputFile(const std::filesystem::path& file, const InputLimit& limit) {
     // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused just below.
-    const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC | (limit.refuseLink ? O_NOFOLLOW : 0));
+    if (fd < 0 && errno == ELOOP && limit.refuseLink)
+        throw InputFileError(file, std::string("cannot be opened: it is a symbolic link, and ") + limit.what +
+                                       " is read from no link");
     if (fd < 0) systemFailure(file, limit, errno);
     struct Closer {
         int fd;

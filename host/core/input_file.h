@@ -20,6 +20,9 @@ struct InputLimit {
     const char* what;   // "an image", "a mesh (OBJ)": the message's name for the file
     uint64_t maxBytes;  // larger files are refused before they are read
     const char* why;    // what the limit stands for, for the message ("2^25 pixels of floats")
+    // A symbolic link at the path itself is refused, not followed (a file ray wrote itself in
+    // a private folder, such as a recovery copy, is never a link).
+    bool refuseLink = false;
 };
 
 // A file refused or unreadable. what() is "<file>: <reason>; <what to do>"; reason() is the

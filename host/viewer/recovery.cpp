@@ -19,6 +19,7 @@
 
 #include "core/atomic_file.h"
 #include "core/fnv1a.h"
+#include "core/input_file.h"
 #include "core/message_text.h"
 
 namespace ray {
@@ -74,19 +75,6 @@ struct Descriptor {
     Descriptor(const Descriptor&) = delete;
     Descriptor& operator=(const Descriptor&) = delete;
 };
-
-// Reads all `size` bytes of a regular file.
-bool readAll(int fd, std::string& bytes, size_t size) {
-    bytes.resize(size);
-    size_t done = 0;
-    while (done < size) {
-        const ssize_t n = ::read(fd, bytes.data() + done, size - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        done += size_t(n);
-    }
-    return true;
-}
 
 json stampJson(const SceneFileStamp& stamp) {
     return {{"exists", stamp.exists}, {"size", stamp.size}, {"mtime_ns", stamp.mtimeNs}, {"fnv1a64", stamp.hash}};
@@ -159,16 +147,14 @@ bool operator==(const SceneFileStamp& a, const SceneFileStamp& b) {
 }
 
 Recovery readRecovery(const fs::path& file) {
-    Descriptor in(::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC));
-    if (in.fd < 0) fail(file, std::string("cannot be opened (") + std::strerror(errno) + ")");
-    struct stat facts {};
-    if (::fstat(in.fd, &facts) != 0) fail(file, std::string("cannot be read (") + std::strerror(errno) + ")");
-    if (!S_ISREG(facts.st_mode)) fail(file, "is not a regular file");
-    if (std::uintmax_t(facts.st_size) > kMaxRecoveryBytes)
-        fail(file, "is " + std::to_string(facts.st_size) + " bytes, more than any scene's (" +
-                       std::to_string(kMaxRecoveryBytes >> 20) + " MiB)");
+    static const InputLimit kRecoveryFile{"a recovery copy", kMaxRecoveryBytes, "more than any scene's text",
+                                          /*refuseLink=*/true};
     std::string bytes;
-    if (!readAll(in.fd, bytes, size_t(facts.st_size))) fail(file, "could not be read to its end");
+    try {
+        bytes = readInputFile(file, kRecoveryFile);
+    } catch (const InputFileError& e) {
+        fail(file, e.reason());
+    }
     const size_t end = bytes.find('\n');
     if (end == std::string::npos || end > kMaxHeaderBytes) fail(file, "has no header line");
     Recovery recovery;
