@@ -285,6 +285,9 @@ TEST_CASE("Limits: huge, truncated and bogus textures leave the surface its colo
     // 1 KB claiming a 1.9 GB text chunk: took 10 s and 2 GB inside libpng before it was refused.
     fs::copy_file(ray::test::testDataDir() / "fuzz" / "image_reader" / "png_chunk_claims_2gb.png",
                   folder / "chunk.png", fs::copy_options::overwrite_existing);
+    // 40 bytes whose GIF screen claims 15000 x 15000: OpenImageIO allocated 900 MB opening it.
+    fs::copy_file(ray::test::testDataDir() / "fuzz" / "image_reader" / "gif_screen_claims_15000x15000.gif",
+                  folder / "screen.gif", fs::copy_options::overwrite_existing);
     std::string grid = readText(ray::test::scenesDir() / "textures" / "uvgrid.png");
     writeText(folder / "truncated.png", grid.substr(0, grid.size() / 2));
     writeText(folder / "empty.png", "");
@@ -295,7 +298,8 @@ TEST_CASE("Limits: huge, truncated and bogus textures leave the surface its colo
                                                          {"empty.png", "cannot read image"},
                                                          {"text.png", "cannot read image"},
                                                          {"huge.ppm", "cannot read image"},
-                                                         {"chunk.png", "corrupt PNG: its tEXt chunk claims"}};
+                                                         {"chunk.png", "corrupt PNG: its tEXt chunk claims"},
+                                                         {"screen.gif", "claims 15000 × 15000 pixels"}};
     for (const auto& [texture, message] : cases) {
         fs::path scene = writeScene("bad_textures/scene.xml",
                                     std::string("<scenefile><object type=\"tree\" name=\"root\"><transblock>"

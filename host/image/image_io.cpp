@@ -7,13 +7,13 @@
 #include <cstdint>
 #include <fstream>
 #include <string_view>
-#include <system_error>
 
 #include "image/image.h"
 #include "image/image_write.h"
 #include "core/atomic_file.h"
 #include "core/input_file.h"
 #include "image/decode_limits.h"
+#include "image/header_checks.h"
 #include "image/jpeg_codec.h"
 #include "image/oiio_module.h"
 #include "image/png_codec.h"
@@ -28,36 +28,6 @@ std::string lowerExtension(const fs::path& file) {
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
 }
-
-// libpng allocates (and clears) a chunk's whole declared length before reading it, so a
-// 1.6 KB PNG whose text chunk claims 1.9 GB took 10 s and 2 GB (found by
-// fuzz_image_reader; tests/data/fuzz/image_reader/png_chunk_claims_2gb.png). No chunk can be longer
-// than the file, so such a file is refused before OpenImageIO opens it.
-void checkPngChunkLengths(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    unsigned char signature[8] = {};
-    static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    if (!in.read(reinterpret_cast<char*>(signature), 8) || !std::equal(signature, signature + 8, kPngSignature)) return;
-    std::error_code ec;
-    const uint64_t fileSize = fs::file_size(file, ec);
-    if (ec) return;
-    uint64_t offset = 8;
-    unsigned char header[8];
-    while (in.read(reinterpret_cast<char*>(header), 8)) {
-        const uint64_t length = uint64_t(header[0]) << 24 | uint64_t(header[1]) << 16 | uint64_t(header[2]) << 8 | header[3];
-        const std::string type(reinterpret_cast<const char*>(header + 4), 4);
-        if (offset + 12 + length > fileSize)
-            throw ImageError(file.string() + ": corrupt PNG: its " + type + " chunk claims " + std::to_string(length) +
-                             " bytes, more than the file holds");
-        if (type == "IEND") return;
-        offset += 12 + length;
-        in.seekg(std::streamoff(offset));
-    }
-}
-
-}  // namespace
-
-namespace {
 
 // A texture file holds at most its budget of pixels (image/decode_limits.h), 4 floats each
 // at the most (an uncompressed RGBA float TIFF or EXR), and its metadata.
@@ -127,6 +97,7 @@ void checkImageFile(const fs::path& file) {
 Image readImage(const fs::path& file) {
     checkImageFile(file);
     checkPngChunkLengths(file);
+    checkGifScreenSize(file);
     // By content, not by extension: a texture named .png may hold a JPEG.
     if (hasPngSignature(file)) return readPng(file);
     if (hasJpegSignature(file)) return readJpeg(file);
