@@ -50,24 +50,26 @@ bool startsWith(const std::string& header, std::string_view prefix) {
     return header.size() >= prefix.size() && header.compare(0, prefix.size(), prefix) == 0;
 }
 
-// Whether the first bytes are those of an image format (PNG, JPEG, OpenEXR, Radiance HDR,
-// TIFF, PNM and PFM, BMP, GIF, WebP, SGI, DDS, PSD, ICO, JPEG 2000, DPX, Cineon, FITS, IFF,
-// Softimage PIC, HEIF/AVIF), or a plausible TGA header (TGA has no signature; ray reads one
-// by content whatever its name, as it does the others). Anything else is refused at once:
-// OpenImageIO would try every reader it has on it (a 128 MiB file of text took 18 s).
-bool looksLikeAnImage(const std::string& h, const fs::path& file) {
+// The reader a file's first bytes call for, as OpenImageIO names it by extension ("tga"),
+// or empty: PNG, JPEG, OpenEXR, Radiance HDR, TIFF, PNM and PFM, BMP, GIF and WebP, or a
+// plausible TGA header (TGA has no signature; ray reads one by content whatever its name,
+// as it does the others). The file is then decoded by that reader alone (oiio_module.h).
+// Anything else is refused at once: OpenImageIO would try every reader it has on it (a
+// 128 MiB file of text took 18 s), and its readers of formats nobody paints textures in
+// are the least hardened (fuzz_image_reader crashed its Softimage PIC reader on a NULL
+// FILE*, reached through a TGA-named file when the TGA reader refused it): those (PIC, IFF,
+// FITS, DPX, Cineon, ICO, DDS, PSD, SGI, JPEG 2000, HEIF) are never reached.
+std::string_view imageFormatOf(const std::string& h, const fs::path& file) {
     using namespace std::string_view_literals;
-    static const std::string_view kSignatures[] = {
-        "\x89PNG"sv, "\xff\xd8\xff"sv, "\x76\x2f\x31\x01"sv, "#?"sv, "II*\0"sv, "MM\0*"sv, "II+\0"sv,
-        "MM\0+"sv, "BM"sv, "GIF8"sv, "\x01\xda"sv, "DDS "sv, "8BPS"sv, "\0\0\1\0"sv,
-        "\0\0\0\x0cjP  "sv, "\xff\x4f\xff\x51"sv, "SDPX"sv, "XPDS"sv, "\x80\x2a\x5f\xd7"sv, "SIMPLE"sv,
-        "FORM"sv, "\x53\x80\xf6\x34"sv};
-    for (std::string_view signature : kSignatures)
-        if (startsWith(h, signature)) return true;
-    if (h.size() >= 2 && h[0] == 'P' && std::string_view("1234567Ff").find(h[1]) != std::string_view::npos) return true;
-    if (startsWith(h, "RIFF") && h.size() >= 12 && h.compare(8, 4, "WEBP") == 0) return true;
-    if (h.size() >= 8 && h.compare(4, 4, "ftyp") == 0) return true;
-    return looksLikeTga(h) || lowerExtension(file) == ".tga";
+    static const std::pair<std::string_view, std::string_view> kSignatures[] = {
+        {"\x89PNG"sv, "png"}, {"\xff\xd8\xff"sv, "jpg"}, {"\x76\x2f\x31\x01"sv, "exr"}, {"#?"sv, "hdr"},
+        {"II*\0"sv, "tif"},   {"MM\0*"sv, "tif"},        {"II+\0"sv, "tif"},             {"MM\0+"sv, "tif"},
+        {"BM"sv, "bmp"},      {"GIF8"sv, "gif"}};
+    for (const auto& [signature, format] : kSignatures)
+        if (startsWith(h, signature)) return format;
+    if (h.size() >= 2 && h[0] == 'P' && std::string_view("1234567Ff").find(h[1]) != std::string_view::npos) return "pnm";
+    if (startsWith(h, "RIFF") && h.size() >= 12 && h.compare(8, 4, "WEBP") == 0) return "webp";
+    return looksLikeTga(h) || lowerExtension(file) == ".tga" ? "tga" : "";
 }
 
 std::string firstBytes(const fs::path& file, size_t count) {
@@ -80,28 +82,31 @@ std::string firstBytes(const fs::path& file, size_t count) {
 
 // Only a regular file of a size a texture can need, holding an image format's signature, is
 // decoded: opening a FIFO blocks until someone writes to it, a device such as /dev/zero
-// never ends, and a large file of anything else kept OpenImageIO busy for seconds.
-void checkImageFile(const fs::path& file) {
+// never ends, and a large file of anything else kept OpenImageIO busy for seconds. Returns
+// the format (imageFormatOf).
+std::string_view checkImageFile(const fs::path& file) {
     try {
         checkInputFile(file, kTextureFileLimit);
     } catch (const InputFileError& e) {
         throw ImageError(e.what());
     }
-    if (!looksLikeAnImage(firstBytes(file, 18), file))
+    const std::string_view format = imageFormatOf(firstBytes(file, 18), file);
+    if (format.empty())
         throw ImageError(file.string() + ": cannot read image: its first bytes are those of no image format ray reads; "
-                         "give a PNG, JPEG, OpenEXR, HDR, TIFF, PPM, BMP or TGA file");
+                         "give a PNG, JPEG, OpenEXR, HDR, TIFF, PPM, BMP, GIF, WebP or TGA file");
+    return format;
 }
 
 }  // namespace
 
 Image readImage(const fs::path& file) {
-    checkImageFile(file);
+    const std::string_view format = checkImageFile(file);
     checkPngChunkLengths(file);
     checkGifScreenSize(file);
     // By content, not by extension: a texture named .png may hold a JPEG.
-    if (hasPngSignature(file)) return readPng(file);
-    if (hasJpegSignature(file)) return readJpeg(file);
-    return readImageWithOiio(file);
+    if (format == "png") return readPng(file);
+    if (format == "jpg") return readJpeg(file);
+    return readImageWithOiio(file, format);
 }
 
 bool isFloatFormat(const fs::path& file) {
@@ -129,7 +134,7 @@ void writeWithOiio(const fs::path& file, int width, int height, const void* samp
     writeFileAtomicallyVia(file, [&](const fs::path& tmp) {
         writeImageWithOiio(tmp, file, width, height, isFloatFormat(file), samples);
         try {
-            const Image check = readImageWithOiio(tmp);
+            const Image check = readImageWithOiio(tmp, lowerExtension(file).substr(1));
             if (check.width != width || check.height != height) throw ImageError("wrong size");
         } catch (const ImageError& e) {
             throw ImageError(file.string() + ": cannot write image: the written file does not decode (" + e.what() +

@@ -59,17 +59,18 @@ std::string preloadOiioModule() {
         char error[256] = "";
         void* handle = nullptr;
         RayOiioImageInfo info{};
-        if (module.open("/dev/null", &handle, &info, error, sizeof error)) module.close(handle);
+        if (module.open("/dev/null", nullptr, &handle, &info, error, sizeof error)) module.close(handle);
     }
     return module.failure;
 }
 
-Image readImageWithOiio(const fs::path& file) {
+Image readImageWithOiio(const fs::path& file, std::string_view format) {
     const OiioModule& module = requireModule(file);
     char error[1024] = "";
     void* handle = nullptr;
     RayOiioImageInfo info{};
-    if (!module.open(file.c_str(), &handle, &info, error, sizeof error)) throw ImageError(file.string() + ": " + error);
+    const std::string formatName(format);
+    if (!module.open(file.c_str(), formatName.c_str(), &handle, &info, error, sizeof error)) throw ImageError(file.string() + ": " + error);
     struct Closer {
         const OiioModule& module;
         void* handle;

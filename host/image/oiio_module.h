@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "image/image.h"
 
@@ -16,8 +17,10 @@ namespace ray {
 // takes seconds). Returns why it could not be loaded; empty when it was.
 std::string preloadOiioModule();
 
-// Throws ImageError naming the file (also when the module cannot be found or loaded).
-Image readImageWithOiio(const std::filesystem::path& file);
+// Decodes the file with the reader of `format` (an extension: "tga", "exr"), that reader
+// alone; with none, OpenImageIO chooses by the name and the contents. Throws ImageError
+// naming the file (also when the module cannot be found or loaded).
+Image readImageWithOiio(const std::filesystem::path& file, std::string_view format = {});
 
 // Whether OpenImageIO has a writer for the file's extension; false when the module is missing.
 bool oiioCanWrite(const std::filesystem::path& file);

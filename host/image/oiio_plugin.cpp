@@ -17,14 +17,29 @@ int fail(char* error, size_t errorSize, const std::string& message) {
     return 0;
 }
 
+// With a format, the reader is made for it and opens the file itself: ImageInput::open would
+// fall back on every other reader when that one refuses the file. `why` receives the error.
+std::unique_ptr<OIIO::ImageInput> openInput(const char* path, const char* format, std::string& why) {
+    std::unique_ptr<OIIO::ImageInput> input =
+        format && *format ? OIIO::ImageInput::create(format) : OIIO::ImageInput::open(path);
+    OIIO::ImageSpec spec;
+    if (input && format && *format && !input->open(path, spec)) {
+        why = input->geterror();
+        return nullptr;
+    }
+    if (!input) why = OIIO::geterror();
+    return input;
+}
+
 }  // namespace
 
 extern "C" {
 
-__attribute__((visibility("default"))) int ray_oiio_open(const char* path, void** handle, RayOiioImageInfo* info,
-                                                         char* error, size_t errorSize) {
-    auto input = OIIO::ImageInput::open(path);
-    if (!input) return fail(error, errorSize, "cannot read image: " + OIIO::geterror());
+__attribute__((visibility("default"))) int ray_oiio_open(const char* path, const char* format, void** handle,
+                                                         RayOiioImageInfo* info, char* error, size_t errorSize) {
+    std::string why;
+    auto input = openInput(path, format, why);
+    if (!input) return fail(error, errorSize, "cannot read image: " + why);
     const OIIO::ImageSpec& spec = input->spec();
     *info = RayOiioImageInfo{spec.width, spec.height, spec.nchannels};
     *handle = input.release();

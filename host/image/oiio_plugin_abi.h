@@ -16,8 +16,11 @@ struct RayOiioImageInfo {
     int width, height, channels;
 };
 
-// Opens the file; *handle receives the decoder, released by rayOiioClose.
-typedef int (*RayOiioOpen)(const char* path, void** handle, RayOiioImageInfo* info, char* error, size_t errorSize);
+// Opens the file with the reader of `format` (an extension such as "tga"), that reader
+// alone; with none (NULL or ""), OpenImageIO chooses by the name and then tries every
+// reader it has. *handle receives the decoder, released by rayOiioClose.
+typedef int (*RayOiioOpen)(const char* path, const char* format, void** handle, RayOiioImageInfo* info, char* error,
+                           size_t errorSize);
 // Decodes the whole image as width × height × 3 floats (v / max for integer formats; grey
 // copied to RGB, alpha dropped) into rgb.
 typedef int (*RayOiioReadRgb)(void* handle, float* rgb, char* error, size_t errorSize);
