@@ -9,8 +9,10 @@
 
 #include <unistd.h>
 
+#include "course_json_rules.h"
 #include "scene/scene_loader.h"
 #include "viewer/folder_files.h"
+#include "viewer/new_scene.h"
 #include "viewer/scene_editor.h"
 #include "test_support.h"
 
@@ -198,4 +200,35 @@ TEST_CASE("SceneEditor: the outline names every node, a node's fields, an operat
                                                                   name + R"("}})"),
                                        view),
                         ray::EditError);
+}
+
+// `ray view new.json` (issue 50): a new scene saves as the course's JSON, passes the course's
+// key rules and loads back; a shape JSON cannot hold is refused at the save with the reason
+// (the file kept as it was), while the recovery copy keeps it (as XML).
+TEST_CASE("SceneEditor: a new scene named .json saves as the course's JSON", "[viewer][editor][json]") {
+    const fs::path folder = fs::temp_directory_path() / ("ray_scene_editor_new_json_" + std::to_string(::getpid()));
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    const fs::path file = folder / "new.json";
+    REQUIRE(ray::opensAsNewScene(file));
+    ray::SceneEditor editor(file, ray::newSceneText(), {});
+    const ray::Camera view{{0, 9, 9}, {0, -1, -1}, {0, 1, 0}, 30, 0, 0};
+    editor.operate(ray::edit::parseTypedJson(R"({"op": "add-primitive", "shape": "sphere"})"), view);
+    CHECK(editor.save() == fs::absolute(file).lexically_normal());
+    std::ifstream in(file);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    CHECK(text.rfind("{\n  \"name\": \"root\",\n  \"globalData\": {\n", 0) == 0);
+    CHECK(text.find("\"type\": \"sphere\"") != std::string::npos);
+    CHECK(ray::test::CourseJsonRules::breaches(text).empty());
+    const ray::Scene reloaded = ray::loadScene(file);
+    CHECK(reloaded.primitives.size() == 1);
+    CHECK(reloaded.lights.size() == 1);
+
+    editor.operate(ray::edit::parseTypedJson(R"({"op": "add-primitive", "shape": "torus"})"), view);
+    CHECK_THROWS_WITH(editor.save(), Catch::Matchers::Contains("a torus (object 1) cannot be written in the course's JSON"));
+    std::ifstream again(file);
+    CHECK(std::string((std::istreambuf_iterator<char>(again)), {}) == text);
+    CHECK(editor.documentText().rfind("<scenefile>", 0) == 0);
+    CHECK_NOTHROW(editor.save("with-torus.xml"));
+    fs::remove_all(folder);
 }
