@@ -245,7 +245,7 @@ TEST_CASE("what JSON cannot hold is refused with the feature and its line", "[js
                       R"(  <lightdata><id v="1"/><type v="area"/><color r="1" g="1" b="1"/></lightdata>
 )"));
         CHECK_THAT(message, StartsWith("scene.xml:5: error: an area light cannot be written in the course's JSON"));
-        CHECK_THAT(message, Contains("and 1 more the JSON cannot hold: an emissive colour on line 7"));
+        CHECK_THAT(message, Contains("and 1 more that the JSON cannot hold: an emissive colour on line 7"));
     }
     SECTION("a spot light's radius") {
         CHECK_THAT(refusalOf(sceneWith("", R"(  <lightdata><id v="1"/><type v="spot"/><radius v="2"/></lightdata>

@@ -73,7 +73,8 @@ std::vector<JsonGap> masterGaps(const SceneDocument& document, const MasterRefer
 
 JsonGap csgGap(const CsgNode& csg) {
     return {csg.line, named("a csg object", csg.line, "node " + std::to_string(csg.id)),
-            std::string("the course's JSON has no constructive solid geometry: model the shape otherwise, ") + kKeepXml};
+            std::string("the course's JSON has no constructive solid geometry: model the shape otherwise, ") +
+                kKeepXml};
 }
 
 // The block's own: what its items hold is found where they are written.
@@ -234,7 +235,7 @@ std::string jsonGapsMessage(const SceneDocument& document, const std::vector<Jso
                           " cannot be written in the course's JSON (SPEC §7 has no key for it); " + first.remedy;
     if (gaps.size() > 1) {
         constexpr size_t kListed = 6;
-        message += "\n" + where(0) + "error: and " + std::to_string(gaps.size() - 1) + " more the JSON cannot hold:";
+        message += "\n" + where(0) + "error: and " + std::to_string(gaps.size() - 1) + " more that the JSON cannot hold:";
         for (size_t i = 1; i < gaps.size() && i <= kListed; ++i)
             message += std::string(i == 1 ? " " : "; ") + gaps[i].feature +
                        (gaps[i].line > 0 ? " on line " + std::to_string(gaps[i].line) : std::string());
@@ -339,7 +340,8 @@ std::string JsonWriter::globals(const std::string& indent) {
     Members members;
     for (const JsonKey& key : kJsonGlobalsKeys) {
         const SingleField<GlobalCoefficients>* field = singleField(kGlobalsSingles, key.element);
-        members.emplace_back(key.key, number(numberKey("globals", field->element, 0), document_.globals.*field->member));
+        const double value = document_.globals.*field->member;
+        members.emplace_back(key.key, number(numberKey("globals", field->element, 0), value));
     }
     return object(members, indent);
 }
@@ -369,7 +371,8 @@ std::string JsonWriter::light(size_t index, const std::string& indent) {
     Members members{{"type", std::string("\"") + lightTypeName(light.type) + "\""}};
     for (const JsonKey& key : kJsonLightKeys) {
         if (const auto* field = tripleField(kLightTriples, key.element)) {
-            if (field->lights & type) members.emplace_back(key.key, triple(owner, field->element, light.*field->member));
+            if (field->lights & type)
+                members.emplace_back(key.key, triple(owner, field->element, light.*field->member));
         } else if (const auto* single = singleField(kLightSingles, key.element)) {
             if (single->lights & type)
                 members.emplace_back(key.key, number(numberKey(owner, single->element, 0), light.*single->member));
