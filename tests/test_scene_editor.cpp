@@ -232,3 +232,31 @@ TEST_CASE("SceneEditor: a new scene named .json saves as the course's JSON", "[v
     CHECK_NOTHROW(editor.save("with-torus.xml"));
     fs::remove_all(folder);
 }
+
+// A course JSON scene opened in the studio saves as .xml (converted: ray convert's mapping),
+// templates as masters, lights where their groups place them, the same instances.
+TEST_CASE("SceneEditor: a JSON scene saves as .xml", "[viewer][editor][json]") {
+    const fs::path folder = fs::temp_directory_path() / ("ray_scene_editor_json_as_xml_" + std::to_string(::getpid()));
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    const fs::path file = folder / "scene.json";
+    std::ofstream(file) << R"({"globalData": {"ambientCoeff": 0.5, "diffuseCoeff": 0.5, "specularCoeff": 0.5},
+  "cameraData": {"position": [0, 0, 5], "up": [0, 1, 0], "heightAngle": 45, "focus": [0, 0, 0]},
+  "templateGroups": [{"name": "ball", "primitives": [{"type": "sphere", "diffuse": [1, 0, 0]}]}],
+  "groups": [{"translate": [2, 2, 2], "lights": [{"type": "point", "color": [1, 1, 1], "attenuationCoeff": [1, 0, 0]}]},
+             {"translate": [1, 0, 0], "groups": [{"name": "ball"}]}, {"name": "ball"}]}
+)";
+    ray::SceneEditor editor(file, {});
+    const fs::path saved = editor.save("converted.xml");
+    std::ifstream in(saved);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    CHECK(text.find("<object type=\"master\" name=\"ball\"/>") != std::string::npos);
+    const ray::Scene original = ray::loadScene(file), converted = ray::loadScene(saved);
+    REQUIRE(converted.primitives.size() == 2);
+    CHECK(converted.lights.size() == 1);
+    CHECK(converted.lights[0].position == ray::Vec3{2, 2, 2});
+    for (size_t i = 0; i < 2; ++i)
+        CHECK(std::memcmp(converted.primitives[i].objectToWorld.m, original.primitives[i].objectToWorld.m,
+                          sizeof original.primitives[i].objectToWorld.m) == 0);
+    fs::remove_all(folder);
+}
