@@ -991,7 +991,8 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
             s.scene.save(file, api::WriteOptions{replaceReadOnly, overwriteChanges});
         }, py::arg("file"), py::kw_only(), py::arg("replace_read_only") = false, py::arg("overwrite_changes") = false,
              "Writes the scene as a CS123 scenefile (whole or not at all) that loads back to the same render, "
-             "masters kept as masters, texture and mesh paths relative to `file`. A link is written through to "
+             "masters kept as masters, texture and mesh paths relative to `file`; a file named .json gets the "
+             "course's JSON (masters as templates; what JSON cannot hold, a torus say, raises InputError). A link is written through to "
              "its file, which keeps its mode; a read-only file raises InputError unless replace_read_only=True. "
              "A file this scene was loaded from or saved to that another program has changed since is not "
              "replaced (InputError) unless overwrite_changes=True.")

@@ -256,6 +256,12 @@ TEST_CASE("API: objects added in code are in the document and save", "[api][scen
     const fs::path file = outputFile("built.xml");
     scene.save(file);
     CHECK(render(api::Scene::load(file).scene) == image);
+    // As .json: the course's JSON (scene/json_writer.h), the same image (issue 50).
+    const fs::path json = outputFile("built.json");
+    scene.save(json);
+    std::ifstream in(json);
+    CHECK(std::string((std::istreambuf_iterator<char>(in)), {}).rfind("{\n  \"name\": \"root\",", 0) == 0);
+    CHECK(render(api::Scene::load(json).scene) == image);
 
     const int pixels = scene.addTextureFromPixels(1, 1, {1, 0, 0});
     api::Material textured;

@@ -9,8 +9,10 @@
 
 #include <unistd.h>
 
+#include "course_json_rules.h"
 #include "scene/scene_loader.h"
 #include "viewer/folder_files.h"
+#include "viewer/new_scene.h"
 #include "viewer/scene_editor.h"
 #include "test_support.h"
 
@@ -198,4 +200,63 @@ TEST_CASE("SceneEditor: the outline names every node, a node's fields, an operat
                                                                   name + R"("}})"),
                                        view),
                         ray::EditError);
+}
+
+// `ray view new.json` (issue 50): a new scene saves as the course's JSON, passes the course's
+// key rules and loads back; a shape JSON cannot hold is refused at the save with the reason
+// (the file kept as it was), while the recovery copy keeps it (as XML).
+TEST_CASE("SceneEditor: a new scene named .json saves as the course's JSON", "[viewer][editor][json]") {
+    const fs::path folder = fs::temp_directory_path() / ("ray_scene_editor_new_json_" + std::to_string(::getpid()));
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    const fs::path file = folder / "new.json";
+    REQUIRE(ray::opensAsNewScene(file));
+    ray::SceneEditor editor(file, ray::newSceneText(), {});
+    const ray::Camera view{{0, 9, 9}, {0, -1, -1}, {0, 1, 0}, 30, 0, 0};
+    editor.operate(ray::edit::parseTypedJson(R"({"op": "add-primitive", "shape": "sphere"})"), view);
+    CHECK(editor.save() == fs::absolute(file).lexically_normal());
+    std::ifstream in(file);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    CHECK(text.rfind("{\n  \"name\": \"root\",\n  \"globalData\": {\n", 0) == 0);
+    CHECK(text.find("\"type\": \"sphere\"") != std::string::npos);
+    CHECK(ray::test::CourseJsonRules::breaches(text).empty());
+    const ray::Scene reloaded = ray::loadScene(file);
+    CHECK(reloaded.primitives.size() == 1);
+    CHECK(reloaded.lights.size() == 1);
+
+    editor.operate(ray::edit::parseTypedJson(R"({"op": "add-primitive", "shape": "torus"})"), view);
+    CHECK_THROWS_WITH(editor.save(), Catch::Matchers::Contains("a torus (object 1) cannot be written in the course's JSON"));
+    std::ifstream again(file);
+    CHECK(std::string((std::istreambuf_iterator<char>(again)), {}) == text);
+    CHECK(editor.documentText().rfind("<scenefile>", 0) == 0);
+    CHECK_NOTHROW(editor.save("with-torus.xml"));
+    fs::remove_all(folder);
+}
+
+// A course JSON scene opened in the studio saves as .xml (converted: ray convert's mapping),
+// templates as masters, lights where their groups place them, the same instances.
+TEST_CASE("SceneEditor: a JSON scene saves as .xml", "[viewer][editor][json]") {
+    const fs::path folder = fs::temp_directory_path() / ("ray_scene_editor_json_as_xml_" + std::to_string(::getpid()));
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    const fs::path file = folder / "scene.json";
+    std::ofstream(file) << R"({"globalData": {"ambientCoeff": 0.5, "diffuseCoeff": 0.5, "specularCoeff": 0.5},
+  "cameraData": {"position": [0, 0, 5], "up": [0, 1, 0], "heightAngle": 45, "focus": [0, 0, 0]},
+  "templateGroups": [{"name": "ball", "primitives": [{"type": "sphere", "diffuse": [1, 0, 0]}]}],
+  "groups": [{"translate": [2, 2, 2], "lights": [{"type": "point", "color": [1, 1, 1], "attenuationCoeff": [1, 0, 0]}]},
+             {"translate": [1, 0, 0], "groups": [{"name": "ball"}]}, {"name": "ball"}]}
+)";
+    ray::SceneEditor editor(file, {});
+    const fs::path saved = editor.save("converted.xml");
+    std::ifstream in(saved);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    CHECK(text.find("<object type=\"master\" name=\"ball\"/>") != std::string::npos);
+    const ray::Scene original = ray::loadScene(file), converted = ray::loadScene(saved);
+    REQUIRE(converted.primitives.size() == 2);
+    CHECK(converted.lights.size() == 1);
+    CHECK(converted.lights[0].position == ray::Vec3{2, 2, 2});
+    for (size_t i = 0; i < 2; ++i)
+        CHECK(std::memcmp(converted.primitives[i].objectToWorld.m, original.primitives[i].objectToWorld.m,
+                          sizeof original.primitives[i].objectToWorld.m) == 0);
+    fs::remove_all(folder);
 }

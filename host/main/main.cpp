@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "app/convert_command.h"
 #include "app/command_modules.h"
 #include "app/progress.h"
 #include "app/render_command.h"
@@ -78,6 +79,10 @@ const std::vector<Subcommand> kSubcommands = {
      "<scene.xml> <x> <y> [<width> <height>] [<depth>] [options]\n"
      "      the tree of rays of pixel (x, y): every hit, light term and branch, as the\n"
      "      reference renderer traces it (ray explain --help)"},
+    {"convert", runConvertCommand,  // host/app/convert_command.h
+     "<in> <out> [options]\n"
+     "      a scene from CS123 XML into the course's JSON or back, the format by <out>'s\n"
+     "      extension (.json, .xml) (ray convert --help)"},
 };
 
 void printHelp() {

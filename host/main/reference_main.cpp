@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/command_reference.h"
+#include "app/convert_command.h"
 #include "app/manual_page.h"
 #include "app/shell_completion.h"
 #include "core/atomic_file.h"
@@ -19,7 +20,8 @@ namespace {
 // The render command, then the subcommands in the order `ray --help` lists them
 // (host/main/main.cpp's kSubcommands; tests/reference_pages.py checks that the two agree).
 std::vector<ray::CommandReference> rayCommands() {
-    return {ray::renderCommandReference(), ray::viewCommandReference(), ray::explainCommandReference()};
+    return {ray::renderCommandReference(), ray::viewCommandReference(), ray::explainCommandReference(),
+            ray::convertCommandReference()};
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The scene document (scene_document.h): its copies, its places and paths, its text.
 #include "scene/scene_document.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <set>
@@ -9,6 +10,7 @@
 #include "scene/document_save.h"
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
+#include "scene/json_writer.h"
 #include "scene/scene_loader.h"
 #include "scene/value_text.h"
 
@@ -322,11 +324,32 @@ void removeLight(SceneDocument& document, size_t index) {
 // ---------------------------------------------------------------------------------------
 // Text
 
+namespace {
+
+// The format a save to `target` writes: the one its name says (.json, .xml, in any case),
+// else the document's own.
+SceneFormat savedFormat(const SceneDocument& document, const fs::path& target) {
+    const std::string extension = target.extension().string();
+    if (sameName(extension.c_str(), ".json")) return SceneFormat::Json;
+    if (sameName(extension.c_str(), ".xml")) return SceneFormat::Xml;
+    return document.format;
+}
+
+// Whether the save is the document's own text with splices: saved in the format it was read in.
+bool keepsSourceText(const SceneDocument& document, const fs::path& target) {
+    return document.source && savedFormat(document, target) == document.format;
+}
+
+}  // namespace
+
 std::string documentToText(const SceneDocument& document, const Resources& resources, const fs::path& target) {
-    if (document.format == SceneFormat::Json)  // the writers below write XML; nothing is written over the JSON
-        throw InputError(document.file.string() + ": error: saving a JSON scene is not supported yet; "
-                         "the file is left as it is (edit the .json file in a text editor)");
-    if (document.source) {
+    if (savedFormat(document, target) == SceneFormat::Json) {
+        if (document.format == SceneFormat::Json)  // nothing is written over the JSON it was read from
+            throw InputError(document.file.string() + ": error: saving a JSON scene is not supported yet; "
+                             "the file is left as it is (edit the .json file in a text editor, or save it as .xml)");
+        return documentToJson(document, resources, target);  // a scene made in code, or an XML one converted
+    }
+    if (keepsSourceText(document, target)) {
         const std::vector<Splice> splices = documentSplices(document, resources, target);
         return applySplices(document.source->bytes(), splices);
     }
@@ -335,7 +358,7 @@ std::string documentToText(const SceneDocument& document, const Resources& resou
 
 std::string documentFileBytes(const SceneDocument& document, const Resources& resources, const fs::path& target) {
     std::string text = documentToText(document, resources, target);
-    return document.source ? document.source->fileBytes(text) : text;
+    return keepsSourceText(document, target) ? document.source->fileBytes(text) : text;
 }
 
 namespace {
@@ -369,7 +392,10 @@ size_t objectCount(const SceneDocument& document) {
 // What of `saved` its text, read back as `reread`, says otherwise (the trees' names, the
 // number of objects and lights); nullopt when it says the same.
 std::optional<std::string> readsOtherwise(const SceneDocument& saved, const SceneDocument& reread) {
-    if (treeNames(saved) != treeNames(reread)) return std::string("its trees' names read back otherwise");
+    std::vector<std::string> names = treeNames(saved);
+    if (reread.format == SceneFormat::Json && !saved.trees.count("root"))  // JSON's "groups" are the tree "root"
+        names.insert(std::lower_bound(names.begin(), names.end(), "root"), "root");
+    if (names != treeNames(reread)) return std::string("its trees' names read back otherwise");
     if (objectCount(saved) != objectCount(reread))
         return "it reads back as " + std::to_string(objectCount(reread)) + " objects, not " +
                std::to_string(objectCount(saved));

@@ -30,7 +30,7 @@ const std::string& newSceneText() {
 bool opensAsNewScene(const std::filesystem::path& file) {
     std::error_code ec;
     const std::filesystem::path folder = file.parent_path().empty() ? "." : file.parent_path();
-    return !std::filesystem::exists(file, ec) && file.extension() == ".xml" &&
+    return !std::filesystem::exists(file, ec) && (file.extension() == ".xml" || file.extension() == ".json") &&
            std::filesystem::is_directory(folder, ec);
 }
 

@@ -236,7 +236,7 @@ std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bo
     std::filesystem::path target = own;
     std::error_code ec;
     if (as) {
-        target = fileInFolder(own.parent_path(), *as, "save as", {".xml"});
+        target = fileInFolder(own.parent_path(), *as, "save as", {".xml", ".json"});
         if (!std::filesystem::equivalent(target, own, ec)) checkMayWrite(target, replace, "save as");
     }
     const bool ownFile = target == own || std::filesystem::equivalent(target, own, ec);
@@ -256,6 +256,12 @@ std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bo
         session_.saved();
     }
     return target;
+}
+
+std::string SceneEditor::documentText() const {
+    std::filesystem::path target = file_;
+    if (session_.document().format == SceneFormat::Xml) target.replace_extension(".xml");
+    return documentToText(session_.document(), session_.resources(), target);
 }
 
 void SceneEditor::reload() {

@@ -105,17 +105,19 @@ public:
     void edit(const edit::TypedJson& request);
     void edit(const nlohmann::json& request) { edit(edit::TypedJson{request, {}}); }
 
-    // Writes the document atomically to the file it was opened from, or to `as`, a .xml file
-    // in the opened file's folder (viewer/folder_files.h: no other folder, no link), which
+    // Writes the document atomically to the file it was opened from, or to `as`, a .xml or
+    // .json file (the format its name says: scene_document.h, documentToText) in the opened file's folder (viewer/folder_files.h: no other folder, no link), which
     // must not exist unless `replace`. The opened file is not replaced when another program
     // changed it since the editor read or wrote it (size and bytes, edit/file_stamp.h)
     // unless `overwrite`. Returns where it wrote. Throws BadFileName, FileExists,
     // ChangedOnDisk, EditError or std::runtime_error (the write failed; nothing replaced).
     std::filesystem::path save(const std::optional<std::string>& as = std::nullopt, bool replace = false,
                                bool overwrite = false);
-    // The text a save to the file would write now (what a recovery copy keeps: viewer/recovery.h).
-    // Throws InputError.
-    std::string documentText() const { return documentToText(session_.document(), session_.resources(), file_); }
+    // The text a save to the file would write now (what a recovery copy keeps: viewer/recovery.h),
+    // in the document's own format: a new scene named new.json (an XML document until saved)
+    // is kept as XML, which holds whatever the studio added, a torus included, and loads as
+    // the same scene whatever the copy's name. Throws InputError.
+    std::string documentText() const;
     // The file changed on disk (not by save): loads it again; the history is cleared, as
     // the edits were made to another version; the elements that are the same keep their
     // ids. Throws InputError (the editor is unchanged).

@@ -31,7 +31,7 @@ const char* const kViewIntro = R"(usage: ray view <scene.xml> [options]
 
 A live viewer and modeler in the browser: drag to orbit, shift-drag to pan, wheel to zoom,
 click to select and explain a pixel. A scene file that does not exist opens as a new scene
-(a camera and a light), written there when saved. Saving the scene reloads it. Each change is drawn at once with one sample a
+(a camera and a light), written there when saved (new.json: as the course's JSON). Saving the scene reloads it. Each change is drawn at once with one sample a
 pixel, then, once the view rests, with the antialiasing of --aa (by default the course's, as
 `ray`), the image `ray <scene.xml> <width> <height>` makes of that view. The render
 settings below set the view's first state; the page changes them.

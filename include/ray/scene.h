@@ -326,7 +326,11 @@ public:
     /// Writes toText() to `file` atomically (all of it, or the old file is left as it was),
     /// with texture and mesh paths as the scene's file writes them when `file` is in its
     /// folder, relative to `file`'s folder otherwise. Loading it renders the same
-    /// image, byte for byte. Throws InputError as toText() does, DeviceError when the file
+    /// image, byte for byte. A `file` named .json gets the course's JSON (CS1230, 2023 on:
+    /// masters as templates, lights as groups placing them; paths relative to the folder
+    /// above `file`'s), a scene loaded from XML converted as `ray convert` converts it;
+    /// what JSON cannot hold (a torus, an area light, an emissive colour) throws InputError
+    /// with the reason. Throws InputError as toText() does, DeviceError when the file
     /// cannot be written.
     ///
     /// A file this scene was loaded from or saved to is not replaced when another program

@@ -208,3 +208,20 @@ def test_a_save_is_always_readable(tmp_path):
     made = "\u03a9 caf\xe9 " + "\xe9" * 119 + "_2"
     assert len(made) == 128
     assert names == {"root", "\u03a9 caf\xe9 " + "\xe9" * 120, made}
+
+
+def test_a_scene_saved_as_json_is_the_courses_json(output):
+    """Scene.save("x.json") writes the course's JSON (issue 50): the same image; what JSON
+    cannot hold (a torus) is refused with the reason, and nothing is written."""
+    scene = cs123ray.scene_from_string(TABLE)
+    path = output / "table.json"
+    scene.save(path)
+    text = path.read_text()
+    assert text.startswith('{\n  "name": "root",\n  "globalData": {\n'), text
+    assert '"templateGroups": [' in text and '"name": "leg"' in text
+    assert np.array_equal(render(cs123ray.load_scene(path)), render(scene))
+    scene.add_primitive("torus", T.translate(0, 3, 0), material=scene.add_material())
+    refused = output / "torus.json"
+    with pytest.raises(cs123ray.InputError, match="a torus .* cannot be written in the course's JSON"):
+        scene.save(refused)
+    assert not refused.exists()

@@ -6,8 +6,11 @@ delete the cube, save; `ray FILE W H` renders the saved file as the view showed 
 byte. The page is driven through its contract: the image in <canvas id="view">, toolbar
 buttons by data-action, outline entries by data-node (naming their shape or kind), property
 inputs by data-field (the scenefile's names).
-Usage: python3 test_browser_studio.py RAY_BINARY [SCREENSHOT_FOLDER]
+With --scene new.json (issue 50) the same studio session starts from new.json and saves the
+course's JSON, which `ray` renders as the view showed it.
+Usage: python3 test_browser_studio.py RAY_BINARY [SCREENSHOT_FOLDER] [--scene NAME]
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing."""
+import json
 import os
 import subprocess
 import sys
@@ -15,8 +18,14 @@ import tempfile
 
 from viewer_harness import Viewer, headless_chromium_or_skip, read_ppm, wait_for
 
-ray = sys.argv[1]
-shots = sys.argv[2] if len(sys.argv) > 2 else None
+arguments = sys.argv[1:]
+scene_name = "new.xml"
+if "--scene" in arguments:
+    at = arguments.index("--scene")
+    scene_name = arguments[at + 1]
+    del arguments[at:at + 2]
+ray = arguments[0]
+shots = arguments[1] if len(arguments) > 1 else None
 WINDOW_WIDTH, WINDOW_HEIGHT = 1280, 800
 
 
@@ -96,7 +105,7 @@ red = lambda rgb: rgb[0] >= 80 and rgb[0] >= 3 * max(rgb[1], rgb[2])
 driver = headless_chromium_or_skip(WINDOW_WIDTH, WINDOW_HEIGHT)
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402 (Selenium is known present)
 from selenium.webdriver.common.by import By  # noqa: E402
-viewer = Viewer(ray, "new.xml", "--device", "cpu", new_file=True)
+viewer = Viewer(ray, scene_name, "--device", "cpu", new_file=True)
 try:
     # The toolbar's operations are the one edit model's (docs/modeler-protocol.md).
     status, _ = viewer.request("GET", "/fields")
@@ -112,7 +121,7 @@ try:
     entries = outline(driver)
     assert any("camera" in text for _, text in entries) and any("light" in text for _, text in entries), entries
     assert not os.path.exists(viewer.scene), "nothing is written before a save"
-    print(f"new.xml (not there): an empty scene, outline {[text for _, text in entries]}")
+    print(f"{scene_name} (not there): an empty scene, outline {[text for _, text in entries]}")
     screenshot(driver, "studio_empty.png")
 
     # The toolbar adds a sphere, then a cube: each named in the outline.
@@ -186,7 +195,7 @@ try:
     wait_for(driver, "![...document.querySelectorAll('#outline [data-node]')].some(e => e.textContent.includes('cube'))")
     print("delete: the cube is gone from the outline")
 
-    # Save: new.xml written; ray renders it as the view shows it at rest.
+    # Save: the file written (new.json: the course's JSON); ray renders it as the view shows it at rest.
     click_action(driver, "save")
     wait_for(driver, "window.rayViewer.saved", timeout=30)
     assert os.path.exists(viewer.scene), viewer.scene
@@ -203,6 +212,9 @@ try:
     assert differing == 0, f"{differing} pixels of the view at rest differ from ray {viewer.scene} {w} {h}"
     text = open(viewer.scene).read()
     assert "sphere" in text and "cube" not in text, text
+    if scene_name.endswith(".json"):
+        assert text.startswith('{\n  "name": "root",\n'), text
+        json.loads(text)
     print(f"save: {os.path.basename(viewer.scene)} written ({len(text)} bytes); ray renders it {w}x{h} "
           f"identical to the view at rest (frame {rest['frame']})")
     screenshot(driver, "studio_saved.png")
