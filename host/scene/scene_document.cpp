@@ -9,6 +9,7 @@
 #include "scene/document_save.h"
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
+#include "scene/json_splices.h"
 #include "scene/scene_loader.h"
 #include "scene/value_text.h"
 
@@ -88,7 +89,7 @@ SceneDocument::SceneDocument(const SceneDocument& other)
       treeOrder(other.treeOrder), scenefileLine(other.scenefileLine), primitiveElements(other.primitiveElements),
       nextObjectId(other.nextObjectId), nextBlockId(other.nextBlockId), nextNodeId(other.nextNodeId),
       lightIds(other.lightIds), source(other.source),
-      lightSources(other.lightSources), typedNumbers(other.typedNumbers) {
+      lightSources(other.lightSources), typedNumbers(other.typedNumbers), jsonSource(other.jsonSource) {
     resolveMasters();  // the copied references point into `other`
 }
 
@@ -323,9 +324,11 @@ void removeLight(SceneDocument& document, size_t index) {
 // Text
 
 std::string documentToText(const SceneDocument& document, const Resources& resources, const fs::path& target) {
-    if (document.format == SceneFormat::Json)  // the writers below write XML; nothing is written over the JSON
-        throw InputError(document.file.string() + ": error: saving a JSON scene is not supported yet; "
-                         "the file is left as it is (edit the .json file in a text editor)");
+    if (document.jsonSource)
+        return applySplices(document.jsonSource->text, jsonDocumentSplices(document, resources, target));
+    if (document.format == SceneFormat::Json)  // the canonical writer writes XML; nothing is written over the JSON
+        throw InputError(document.file.string() + ": error: a JSON scene made from nothing cannot be saved yet; "
+                         "the file is left as it is (save it as .xml)");
     if (document.source) {
         const std::vector<Splice> splices = documentSplices(document, resources, target);
         return applySplices(document.source->bytes(), splices);

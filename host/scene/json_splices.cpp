@@ -1,0 +1,731 @@
+// The splices of a course JSON scene's save (json_splices.h).
+#include "scene/json_splices.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "scene/canonical_writer.h"
+#include "scene/json_scene_reader.h"
+#include "scene/value_text.h"
+
+namespace fs = std::filesystem;
+
+namespace ray {
+
+JsonSource::JsonSource(std::string textRead, const SceneDocument& documentRead)
+    : text(std::move(textRead)), tree(JsonTree::parse(text, kMaxJsonDepth)), asRead(documentRead) {
+    parents.assign(tree.valueCount(), 0);
+    for (uint32_t i = 0; i < tree.valueCount(); ++i) {
+        const JsonValue value = tree.at(i);
+        if (value.isArray() || value.isObject())
+            for (JsonValue child = value.first(); child; child = child.next()) parents[child.index()] = i;
+    }
+    if (text.find("\r\n") != std::string::npos) newline = "\r\n";
+    asRead.jsonSource.reset();  // the document as read keeps no text of its own
+}
+
+namespace {
+
+// A string as JSON writes it, in double quotes.
+std::string jsonString(std::string_view text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            static const char* hex = "0123456789abcdef";
+            out += "\\u00";
+            out += hex[(c >> 4) & 0xf];
+            out += hex[c & 0xf];
+        } else {
+            out += c;
+        }
+    }
+    return out + "\"";
+}
+
+// What the format cannot hold, and what to do (jsonDocumentSplices and jsonUnsaveable say it
+// each in its own words).
+struct Unsaveable {
+    std::string what, remedy;
+};
+
+const char* const kTransformKeys[] = {"translate", "rotate", "scale", "matrix"};  // by TransformKind
+
+class JsonSplicer {
+public:
+    JsonSplicer(const SceneDocument& document, const Resources& resources, const fs::path& target)
+        : doc_(document), src_(*document.jsonSource), was_(src_.asRead), resources_(resources),
+          // Paths are relative to the folder above the scene's folder (SPEC §7).
+          references_(fs::absolute(target).parent_path()) {}
+
+    std::vector<Splice> splices() {
+        indexDocument(doc_, now_);
+        indexDocument(was_, then_);
+        globals();
+        camera();
+        for (const auto& [name, tree] : doc_.trees) treeNode(tree.tree, tree.name);
+        lights();
+        removeUnclaimed();
+        finishRemovals();
+        return withoutNested();
+    }
+
+private:
+    // -----------------------------------------------------------------------------------
+    // The documents' nodes by the JSON value they were read from
+
+    struct Index {
+        std::unordered_map<SourceId, const PrimitiveNode*> primitives;
+        std::unordered_map<SourceId, const Block*> blocks;
+        std::unordered_map<SourceId, SourceId> blockOf;     // a primitive's or a block's enclosing block (kNoSource: none)
+        std::unordered_map<int, const Block*> parentBlock;  // by block id: the enclosing block, or a template's placer
+        std::unordered_map<std::string, int> placements;    // by template: how many blocks place it
+        std::unordered_map<std::string, const Block*> placer;
+        std::unordered_map<int, const Block*> blocksById;
+        std::unordered_map<int, std::string> treeOf;        // by block id: the top-level tree holding it
+    };
+
+    static void indexDocument(const SceneDocument& document, Index& index) {
+        for (const auto& [name, tree] : document.trees) indexTree(tree.tree, nullptr, name, index);
+    }
+
+    static void indexTree(const TreeNode& node, const Block* parent, const std::string& tree, Index& index) {
+        for (const Block& block : node.blocks) {
+            index.parentBlock[block.id] = parent;
+            index.blocksById[block.id] = &block;
+            index.treeOf[block.id] = tree;
+            if (block.source != kNoSource) {
+                index.blocks[block.source] = &block;
+                index.blockOf[block.source] = parent ? parent->source : kNoSource;
+            }
+            for (const SceneItem& item : block.items) {
+                if (const auto* primitive = std::get_if<PrimitiveNode>(&item)) {
+                    if (primitive->source != kNoSource) {
+                        index.primitives[primitive->source] = primitive;
+                        index.blockOf[primitive->source] = block.source;
+                    }
+                } else if (const auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
+                    indexTree(**subtree, &block, tree, index);
+                } else if (const auto* reference = std::get_if<MasterReference>(&item)) {
+                    ++index.placements[reference->name];
+                    index.placer[reference->name] = &block;
+                } else if (const auto* csg = std::get_if<Box<CsgNode>>(&item)) {
+                    for (const TreeNode& operand : (*csg)->operands) indexTree(operand, &block, tree, index);
+                }
+            }
+        }
+    }
+
+    // -----------------------------------------------------------------------------------
+    // The text
+
+    const std::string& text() const { return src_.text; }
+    JsonValue value(SourceId id) const { return src_.tree.at(id); }
+    JsonValue parentOf(JsonValue v) const { return src_.tree.at(src_.parents[v.index()]); }
+
+    // Past the value starting at `offset`.
+    size_t valueEnd(size_t offset) const {
+        const std::string& t = text();
+        size_t i = offset;
+        if (t[i] == '"') return stringEnd(i);
+        if (t[i] == '[' || t[i] == '{') {
+            int depth = 0;
+            for (; i < t.size(); ++i) {
+                const char c = t[i];
+                if (c == '"') {
+                    i = stringEnd(i) - 1;
+                } else if (c == '[' || c == '{') {
+                    ++depth;
+                } else if (c == ']' || c == '}') {
+                    if (--depth == 0) return i + 1;
+                }
+            }
+            return t.size();
+        }
+        while (i < t.size() && !std::strchr(",]} \t\r\n", t[i])) ++i;
+        return i;
+    }
+
+    size_t stringEnd(size_t quote) const {
+        const std::string& t = text();
+        size_t i = quote + 1;
+        while (i < t.size() && t[i] != '"') i += t[i] == '\\' ? 2 : 1;
+        return std::min(i + 1, t.size());
+    }
+
+    // Where an item of an array, or a member of an object (its key), starts.
+    size_t itemStart(JsonValue item) const { return parentOf(item).isObject() ? item.keyOffset() : item.offset(); }
+
+    // The start of `at`'s line when only blanks come before it there; `at` otherwise.
+    size_t ownLineStart(size_t at) const {
+        size_t i = at;
+        while (i > 0 && (text()[i - 1] == ' ' || text()[i - 1] == '\t')) --i;
+        return i == 0 || text()[i - 1] == '\n' ? i : at;
+    }
+
+    // The blanks before `at` on its line when nothing else is there.
+    std::optional<std::string> indentationAt(size_t at) const {
+        const size_t start = ownLineStart(at);
+        if (start == at && (start > 0 && text()[start - 1] != '\n')) return std::nullopt;
+        return text().substr(start, at - start);
+    }
+
+    JsonValue member(JsonValue object, std::string_view key) const {
+        if (!object || !object.isObject()) return {};
+        for (JsonValue m = object.first(); m; m = m.next())
+            if (m.key() == key) return m;
+        return {};
+    }
+
+    // "groups[2].primitives[0]", for messages.
+    std::string placeOf(JsonValue v) const {
+        std::vector<std::string> steps;  // innermost first
+        for (; v.index() != 0; v = parentOf(v)) {
+            const JsonValue parent = parentOf(v);
+            if (parent.isObject()) {
+                steps.emplace_back(v.key());
+                continue;
+            }
+            size_t i = 0;
+            for (JsonValue c = parent.first(); c && c.index() != v.index(); c = c.next()) ++i;
+            std::string step = "[";
+            step += std::to_string(i);
+            steps.push_back(step + "]");
+        }
+        std::string place;
+        for (auto step = steps.rbegin(); step != steps.rend(); ++step) {
+            if (!place.empty() && step->front() != '[') place += '.';
+            place += *step;
+        }
+        return place.empty() ? "the top level" : place;
+    }
+
+    [[noreturn]] void refuse(const std::string& what, const std::string& remedy) const {
+        throw Unsaveable{what, remedy};
+    }
+
+    void replace(JsonValue v, std::string replacement) {
+        splices_.push_back({v.offset(), valueEnd(v.offset()), std::move(replacement)});
+    }
+
+    // A new member `key` of `object`, after its last one: on a line of its own indented like
+    // it when it has one, after it on its line otherwise.
+    void addMember(JsonValue object, const std::string& key, const std::string& valueText) {
+        JsonValue last;
+        for (JsonValue m = object.first(); m; m = m.next()) last = m;
+        const std::string member = jsonString(key) + ": " + valueText;
+        if (!last) {
+            splices_.push_back({object.offset() + 1, object.offset() + 1, member});
+            return;
+        }
+        const size_t at = valueEnd(last.offset());
+        if (std::optional<std::string> indent = indentationAt(last.keyOffset()))
+            splices_.push_back({at, at, "," + src_.newline + *indent + member});
+        else
+            splices_.push_back({at, at, ", " + member});
+    }
+
+    void removeMember(JsonValue object, std::string_view key) {
+        if (JsonValue m = member(object, key)) removed_[object.index()].insert(m.index());
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Numbers, colours, vectors, strings
+
+    std::string number(const std::string& key, double v) const { return typedNumberText(doc_, key, v); }
+
+    std::string numbersText(const std::string& owner, const std::string& field, const double* v, size_t n,
+                            size_t first = 0) const {
+        std::string out = "[";
+        for (size_t i = 0; i < n; ++i) out += (i ? ", " : "") + number(numberKey(owner, field, first + i), v[i]);
+        return out + "]";
+    }
+
+    // The array `key` of `object` made to hold `now` where it held `was` (each number that
+    // differs written over its text), or added when the object lacks it.
+    void setNumbers(JsonValue object, const char* key, const double* now, const double* was, size_t n,
+                    const std::string& owner, const std::string& field, size_t first = 0) {
+        if (std::equal(now, now + n, was)) return;
+        const JsonValue array = member(object, key);
+        if (!array) return addMember(object, key, numbersText(owner, field, now, n, first));
+        size_t i = 0;
+        for (JsonValue item = array.first(); item && i < n; item = item.next(), ++i)
+            if (now[i] != was[i]) replace(item, number(numberKey(owner, field, first + i), now[i]));
+    }
+
+    void setVec3(JsonValue object, const char* key, const Vec3& now, const Vec3& was, const std::string& owner,
+                 const std::string& field) {
+        const double a[3] = {now.x, now.y, now.z}, b[3] = {was.x, was.y, was.z};
+        setNumbers(object, key, a, b, 3, owner, field);
+    }
+
+    void setNumber(JsonValue object, const char* key, double now, double was, const std::string& owner,
+                   const std::string& field) {
+        if (now == was) return;
+        const std::string written = number(numberKey(owner, field, 0), now);
+        if (const JsonValue v = member(object, key)) replace(v, written);
+        else addMember(object, key, written);
+    }
+
+    void setString(JsonValue object, const char* key, const std::string& now) {
+        if (const JsonValue v = member(object, key)) {
+            if (v.isString() && v.string() == now) return;
+            replace(v, jsonString(now));
+        } else {
+            addMember(object, key, jsonString(now));
+        }
+    }
+
+    // -----------------------------------------------------------------------------------
+    // globalData, cameraData
+
+    void globals() {
+        const JsonValue object = member(src_.tree.root(), "globalData");
+        const GlobalCoefficients &g = doc_.globals, &w = was_.globals;
+        setNumber(object, "ambientCoeff", g.ka, w.ka, "globals", "ambientcoeff");
+        setNumber(object, "diffuseCoeff", g.kd, w.kd, "globals", "diffusecoeff");
+        setNumber(object, "specularCoeff", g.ks, w.ks, "globals", "specularcoeff");
+        setNumber(object, "transparentCoeff", g.kt, w.kt, "globals", "transparentcoeff");
+    }
+
+    void camera() {
+        const JsonValue object = member(src_.tree.root(), "cameraData");
+        const Camera &c = doc_.camera, &w = was_.camera;
+        if (c == w) return;
+        setVec3(object, "position", c.position, w.position, "camera", "pos");
+        setVec3(object, "up", c.up, w.up, "camera", "up");
+        setNumber(object, "heightAngle", c.heightAngleDegrees, w.heightAngleDegrees, "camera", "heightangle");
+        setNumber(object, "aperture", c.aperture, w.aperture, "camera", "aperture");
+        setNumber(object, "focalLength", c.focalLength, w.focalLength, "camera", "focallength");
+        const JsonValue focus = member(object, "focus");
+        if (!focus) return setVec3(object, "look", c.look, w.look, "camera", "look");
+        if (c.look == w.look && c.position == w.position) return;
+        // A focus point stays one: the point the camera now looks at.
+        const Vec3 point = c.position + c.look;
+        size_t i = 0;
+        for (JsonValue item = focus.first(); item && i < 3; item = item.next(), ++i)
+            if (!item.isNumber() || item.number() != point[int(i)]) replace(item, shortestNumber(point[int(i)]));
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Groups, templates, primitives
+
+    void treeNode(const TreeNode& node, const std::string& tree) {
+        for (const Block& block : node.blocks) {
+            if (block.source == kNoSource) needsWriter("a new group", tree);
+            const auto was = then_.blocks.find(block.source);
+            if (was == then_.blocks.end()) needsWriter("a group moved to another place", tree);
+            group(block, *was->second, value(block.source), tree);
+        }
+    }
+
+    [[noreturn]] void needsWriter(const std::string& what, const std::string& tree) const {
+        refuse(what + (tree == "root" ? "" : " in template \"" + tree + "\"") +
+                   " cannot be written into the file's text yet",
+               "save the scene as XML, or add it in the .json file with a text editor");
+    }
+
+    void group(const Block& block, const Block& was, JsonValue object, const std::string& tree) {
+        const std::string place = placeOf(object);
+        if (!(block.motion == Vec3{0, 0, 0}))
+            refuse("the group " + place + " has motion (<motion>), which a JSON scene cannot hold",
+                   "set its motion to 0, or save the scene as XML");
+        const MasterReference* placement = nullptr;
+        bool seenSubgroups = false;
+        for (const SceneItem& item : block.items) {
+            if (const auto* primitive = std::get_if<PrimitiveNode>(&item)) {
+                if (seenSubgroups)
+                    refuse("a primitive after the subgroups of " + place,
+                           "a JSON group lists its primitives before its subgroups; move it into a group of its own");
+                if (primitive->source == kNoSource) needsWriter("a new primitive in " + place, tree);
+                const auto then = then_.primitives.find(primitive->source);
+                if (then == then_.primitives.end() || then_.blockOf.at(primitive->source) != block.source)
+                    needsWriter("a primitive moved into " + place, tree);
+                primitiveNode(*primitive, *then->second, value(primitive->source));
+            } else if (const auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
+                if (seenSubgroups)
+                    refuse("two lists of subgroups in " + place, "a JSON group has one \"groups\" array");
+                seenSubgroups = true;
+                const JsonValue groups = member(object, "groups");
+                if (!groups || (*subtree)->source != groups.index())
+                    needsWriter("new subgroups of " + place, tree);
+                treeNode(**subtree, tree);
+            } else if (const auto* reference = std::get_if<MasterReference>(&item)) {
+                placement = reference;
+            } else {
+                refuse("a csg object in " + place, "a JSON scene has no csg; save the scene as XML");
+            }
+        }
+        if (placement) {
+            if (!block.transforms.empty() || block.items.size() != 1)
+                refuse("the group " + place + " places template \"" + placement->name +
+                           "\", so the file ignores its other keys and the edit would be lost",
+                       "transform or fill the group around it instead");
+            setString(object, "name", placement->name);
+            return;
+        }
+        templateName(block, object, tree);
+        transforms(block, was, object, place);
+    }
+
+    // A template's group is the tree of its name: a renamed tree renames it.
+    void templateName(const Block& block, JsonValue object, const std::string& tree) {
+        if (tree == "root") return;
+        const JsonValue templates = member(src_.tree.root(), "templateGroups");
+        if (templates && parentOf(object).index() == templates.index() && &block == &doc_.trees.at(tree).tree.blocks.front())
+            setString(object, "name", tree);
+    }
+
+    void transforms(const Block& block, const Block& was, JsonValue object, const std::string& place) {
+        if (block.transforms.size() == was.transforms.size() &&
+            std::equal(block.transforms.begin(), block.transforms.end(), was.transforms.begin(),
+                       [](const TransformOp& a, const TransformOp& b) { return a.kind == b.kind && a.v == b.v; }))
+            return;
+        // A JSON group composes T · R · S · Matrix, one of each at most, whatever its keys' order.
+        for (size_t i = 1; i < block.transforms.size(); ++i)
+            if (block.transforms[i].kind <= block.transforms[i - 1].kind)
+                refuse("the group " + place + "'s transforms are not in the order translate, rotate, scale, matrix "
+                       "with one of each at most, which is all a JSON group composes",
+                       "put the transforms in that order, or nest a group for each further transform");
+        const std::string owner = "block " + std::to_string(block.id);
+        for (int kind = 0; kind < 4; ++kind) {
+            const auto find = [kind](const Block& b) -> std::optional<std::pair<size_t, TransformOp>> {
+                for (size_t i = 0; i < b.transforms.size(); ++i)
+                    if (int(b.transforms[i].kind) == kind) return std::make_pair(i, b.transforms[i]);
+                return std::nullopt;
+            };
+            const auto now = find(block), then = find(was);
+            const char* key = kTransformKeys[kind];
+            if (!now) {
+                if (then) removeMember(object, key);
+                continue;
+            }
+            const std::string field = "transform " + std::to_string(now->first);
+            const size_t count = TransformKind(kind) == TransformKind::Rotate ? 4 : 3;
+            if (TransformKind(kind) != TransformKind::Matrix) {
+                const TransformOp old = then ? then->second : TransformOp{};
+                if (!then) {
+                    addMember(object, key, numbersText(owner, field, now->second.v.data(), count));
+                    continue;
+                }
+                setNumbers(object, key, now->second.v.data(), old.v.data(), count, owner, field);
+                continue;
+            }
+            matrix(object, now->second, then ? &then->second : nullptr, owner, field);
+        }
+    }
+
+    // Four rows of four, the translation in the last column; the last row is 0 0 0 1.
+    void matrix(JsonValue object, const TransformOp& now, const TransformOp* then, const std::string& owner,
+                const std::string& field) {
+        if (!then) {
+            std::string rows = "[";
+            for (size_t r = 0; r < 3; ++r) rows += numbersText(owner, field, now.v.data() + 4 * r, 4, 4 * r) + ", ";
+            return addMember(object, "matrix", rows + "[0, 0, 0, 1]]");
+        }
+        const JsonValue rows = member(object, "matrix");
+        size_t r = 0;
+        for (JsonValue row = rows.first(); row && r < 3; row = row.next(), ++r) {
+            size_t c = 0;
+            for (JsonValue item = row.first(); item && c < 4; item = item.next(), ++c)
+                if (now.v[4 * r + c] != then->v[4 * r + c])
+                    replace(item, number(numberKey(owner, field, 4 * r + c), now.v[4 * r + c]));
+        }
+    }
+
+    void primitiveNode(const PrimitiveNode& node, const PrimitiveNode& was, JsonValue object) {
+        const std::string place = placeOf(object), owner = "object " + std::to_string(node.id);
+        if (node.type != was.type) {
+            if (node.type == PrimitiveType::Torus || node.type == PrimitiveType::Mesh || was.type == PrimitiveType::Mesh)
+                refuse("the primitive " + place + " is now a " + primitiveTypeName(node.type) +
+                           (node.type == PrimitiveType::Torus ? ", which a JSON scene has not"
+                                                              : ", and a mesh cannot be switched in place"),
+                       "JSON has cube, sphere, cylinder, cone and mesh; delete it and add one of those");
+            setString(object, "type", primitiveTypeName(node.type));
+        }
+        const Material &m = node.material, &w = was.material;
+        if (!(m.emissive == w.emissive))
+            refuse("the primitive " + place + " has an emissive colour, which a JSON scene cannot hold",
+                   "set emissive to 0 0 0, or save the scene as XML");
+        const std::pair<const char*, Vec3 Material::*> colors[] = {{"ambient", &Material::ambient},
+                                                                   {"diffuse", &Material::diffuse},
+                                                                   {"specular", &Material::specular},
+                                                                   {"reflective", &Material::reflective},
+                                                                   {"transparent", &Material::transparent}};
+        for (const auto& [key, color] : colors) setVec3(object, key, m.*color, w.*color, owner, key);
+        setNumber(object, "shininess", m.shininess, w.shininess, owner, "shininess");
+        setNumber(object, "ior", m.ior, w.ior, owner, "ior");
+        setNumber(object, "blend", m.blend, w.blend, owner, "blend");
+        imageMap(node, was, object, false);
+        imageMap(node, was, object, true);
+        if (node.type == PrimitiveType::Mesh) {
+            const std::string now = meshFileOf(node, resources_, references_), then = meshFileOf(was, resources_, references_);
+            if (now != then) setString(object, "meshFile", now);
+        }
+    }
+
+    void imageMap(const PrimitiveNode& node, const PrimitiveNode& was, JsonValue object, bool bumpMap) {
+        const char* fileKey = bumpMap ? "bumpMapFile" : "textureFile";
+        const std::string owner = "object " + std::to_string(node.id), field = bumpMap ? "bumpmap" : "texture";
+        const TextureMap &map = bumpMap ? node.material.bumpMap : node.material.texture,
+                         &old = bumpMap ? was.material.bumpMap : was.material.texture;
+        const std::string now = imageFileOf(node, bumpMap, resources_, references_),
+                          then = imageFileOf(was, bumpMap, resources_, references_);
+        if (now != then) {
+            if (now.empty()) removeMember(object, fileKey);
+            else setString(object, fileKey, now);
+        }
+        setNumber(object, bumpMap ? "bumpMapU" : "textureU", map.repeatU, old.repeatU, owner, field);
+        if (map.repeatV != old.repeatV) {
+            const std::string written = number(numberKey(owner, field, 1), map.repeatV);
+            const char* key = bumpMap ? "bumpMapV" : "textureV";
+            if (const JsonValue v = member(object, key)) replace(v, written);
+            else addMember(object, key, written);
+        }
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Lights
+
+    // The frame of a block in the world, composed as the reader placed its lights (the same
+    // products in the same order, so an unedited group gives the same bits).
+    Affine worldFrame(const Block& block) const {
+        std::vector<const Block*> chain;
+        for (const Block* b = &block; b;) {
+            chain.push_back(b);
+            const Block* parent = now_.parentBlock.at(b->id);
+            if (!parent) {
+                const std::string& tree = now_.treeOf.at(b->id);
+                if (tree != "root") {
+                    const auto placer = now_.placer.find(tree);
+                    parent = placer == now_.placer.end() ? nullptr : placer->second;
+                }
+            }
+            b = parent;
+        }
+        Affine frame = Affine::identity();
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) frame = frame * (*it)->toParent;
+        return frame;
+    }
+
+    void lights() {
+        std::map<SourceId, std::vector<size_t>> now, then;  // by light value: the lights placed from it
+        for (size_t i = 0; i < doc_.lights.size(); ++i) {
+            const SourceId source = i < doc_.lightSources.size() ? doc_.lightSources[i] : kNoSource;
+            if (source == kNoSource) needsWriter("a new light", "root");
+            now[source].push_back(i);
+        }
+        for (size_t i = 0; i < was_.lights.size(); ++i) then[was_.lightSources[i]].push_back(i);
+        for (const auto& [source, placed] : then) {
+            const JsonValue object = value(source);
+            const auto it = now.find(source);
+            if (it == now.end()) {
+                removed_[parentOf(object).index()].insert(object.index());
+                continue;
+            }
+            const std::vector<size_t>& kept = it->second;
+            bool same = kept.size() == placed.size();
+            for (size_t k = 0; same && k < kept.size(); ++k) same = sameLight(doc_.lights[kept[k]], was_.lights[placed[k]]);
+            const JsonValue groupObject = parentOf(parentOf(object));
+            if (same && !frameMoved(groupObject)) continue;
+            if (placed.size() > 1)
+                refuse("the light " + placeOf(object) + " is one light of a template placed " +
+                           std::to_string(placed.size()) + " times, and the edit changes " +
+                           (kept.size() == placed.size() ? "one of its places" : "how many there are"),
+                       "edit the template's light in the .json file, or give this place a light of its own");
+            light(doc_.lights[kept.front()], was_.lights[placed.front()], object, groupObject, kept.front());
+        }
+    }
+
+    static bool sameLight(const Light& a, const Light& b) {
+        return a.type == b.type && a.color == b.color && a.attenuation == b.attenuation && a.position == b.position &&
+               a.direction == b.direction && a.angleDegrees == b.angleDegrees &&
+               a.penumbraDegrees == b.penumbraDegrees && a.radius == b.radius && a.width == b.width &&
+               a.height == b.height;
+    }
+
+    // Whether a group's frame in the world differs from what the file placed it with.
+    bool frameMoved(JsonValue groupObject) const {
+        const auto now = now_.blocks.find(groupObject.index());
+        const auto then = then_.blocks.find(groupObject.index());
+        if (now == now_.blocks.end() || then == then_.blocks.end()) return true;
+        const Affine a = worldFrame(*now->second), b = worldFrameThen(*then->second);
+        return std::memcmp(&a, &b, sizeof a) != 0;
+    }
+
+    Affine worldFrameThen(const Block& block) const {
+        std::vector<const Block*> chain;
+        for (const Block* b = &block; b;) {
+            chain.push_back(b);
+            const Block* parent = then_.parentBlock.at(b->id);
+            if (!parent && then_.treeOf.at(b->id) != "root") parent = then_.placer.at(then_.treeOf.at(b->id));
+            b = parent;
+        }
+        Affine frame = Affine::identity();
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) frame = frame * (*it)->toParent;
+        return frame;
+    }
+
+    void light(const Light& light, const Light& was, JsonValue object, JsonValue groupObject, size_t index) {
+        const std::string place = placeOf(object), owner = "light " + std::to_string(index);
+        if (light.type != was.type)
+            refuse("the light " + place + " is now a " + std::string(lightTypeName(light.type)) + " light" +
+                       (light.type == LightType::Area ? ", which a JSON scene has not" : ""),
+                   "change its \"type\" in the .json file (its keys differ by type), or delete it and add another");
+        if (light.radius != was.radius || light.width != was.width || light.height != was.height)
+            refuse("the light " + place + "'s radius or size changed, which a JSON light does not hold",
+                   "leave them as they were, or save the scene as XML");
+        const auto group = now_.blocks.find(groupObject.index());
+        if (group == now_.blocks.end())
+            refuse("the light " + place + " stays while its group " + placeOf(groupObject) + " is removed",
+                   "delete the light too, or keep its group");
+        setVec3(object, "color", light.color, was.color, owner, "color");
+        if (light.type != LightType::Directional)
+            setVec3(object, "attenuationCoeff", light.attenuation, was.attenuation, owner, "function");
+        if (light.type == LightType::Spot) {
+            setNumber(object, "angle", light.angleDegrees, was.angleDegrees, owner, "angle");
+            setNumber(object, "penumbra", light.penumbraDegrees, was.penumbraDegrees, owner, "penumbra");
+        }
+        Affine frame = worldFrame(*group->second);
+        if (light.type != LightType::Directional && !(frame.transformPoint({0, 0, 0}) == light.position))
+            frame = moveGroup(*group->second, groupObject, light, place);
+        if (light.type != LightType::Point) {
+            // The direction in the group's frame, written where it reads otherwise.
+            const Vec3 local = frame.inverse().transformVector(light.direction);
+            const JsonValue direction = member(object, "direction");
+            if (!direction) {
+                addMember(object, "direction", "[" + shortestNumber(local.x) + ", " + shortestNumber(local.y) + ", " +
+                                                   shortestNumber(local.z) + "]");
+            } else if (!(frame.transformVector(numbersOf(direction)) == light.direction)) {
+                int i = 0;
+                for (JsonValue item = direction.first(); item && i < 3; item = item.next(), ++i)
+                    if (item.number() != local[i]) replace(item, shortestNumber(local[i]));
+            }
+        }
+    }
+
+    Vec3 numbersOf(JsonValue array) const {
+        Vec3 v;
+        int i = 0;
+        for (JsonValue item = array.first(); item && i < 3; item = item.next(), ++i) v[i] = item.number();
+        return v;
+    }
+
+    // A light is at its group's origin: moved, its group moves when it holds nothing else.
+    Affine moveGroup(const Block& group, JsonValue groupObject, const Light& light, const std::string& place) {
+        const JsonValue lights = member(groupObject, "lights");
+        if (!group.items.empty() || !lights || lights.size() != 1)
+            refuse("the light " + place + " would not be where the scene has it: a JSON light sits at the origin of "
+                   "its group, " + placeOf(groupObject) + ", which holds more than this light",
+                   "move the group instead, or put the light in a group of its own in the .json file");
+        // The group's translate t such that parent · T(t) · R · S · Matrix · 0 = the light's position.
+        const Block* parent = now_.parentBlock.at(group.id);
+        const Affine parentFrame = parent ? worldFrame(*parent) : Affine::identity();
+        Block rest;
+        for (const TransformOp& op : group.transforms)
+            if (op.kind != TransformKind::Translate) rest.transforms.push_back(op);
+        composeBlock(rest);
+        const Vec3 t = parentFrame.inverse().transformPoint(light.position) - rest.toParent.transformPoint({0, 0, 0});
+        const std::string text = "[" + shortestNumber(t.x) + ", " + shortestNumber(t.y) + ", " + shortestNumber(t.z) + "]";
+        if (const JsonValue translate = member(groupObject, "translate")) replace(translate, text);
+        else addMember(groupObject, "translate", text);
+        Block moved;
+        moved.transforms.push_back(TransformOp{TransformKind::Translate, {t.x, t.y, t.z}});
+        moved.transforms.insert(moved.transforms.end(), rest.transforms.begin(), rest.transforms.end());
+        composeBlock(moved);
+        return parentFrame * moved.toParent;
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Removals
+
+    // The primitives and groups of the text that no node claims any more.
+    void removeUnclaimed() {
+        for (const auto& [source, node] : then_.primitives)
+            if (!now_.primitives.count(source)) removed_[parentOf(value(source)).index()].insert(source);
+        for (const auto& [source, block] : then_.blocks)
+            if (!now_.blocks.count(source)) removed_[parentOf(value(source)).index()].insert(source);
+    }
+
+    // Each container's removed items go with their own lines: an item followed by one that
+    // stays takes the text up to it; a run at the end takes the text from the end of the
+    // last item that stays (its comma with it); all of them leave the brackets empty.
+    void finishRemovals() {
+        for (const auto& [containerIndex, items] : removed_) {
+            const JsonValue container = src_.tree.at(containerIndex);
+            std::vector<JsonValue> all;
+            for (JsonValue item = container.first(); item; item = item.next()) all.push_back(item);
+            std::vector<bool> gone(all.size());
+            for (size_t i = 0; i < all.size(); ++i) gone[i] = items.count(all[i].index()) > 0;
+            const auto lastKept = std::find(gone.rbegin(), gone.rend(), false);
+            if (lastKept == gone.rend()) {  // none stays
+                removal(container.offset() + 1, valueEnd(container.offset()) - 1);
+                continue;
+            }
+            const size_t keptEnd = size_t(gone.rend() - lastKept);  // past the last that stays
+            for (size_t i = 0; i < keptEnd; ++i)
+                if (gone[i]) removal(ownLineStart(itemStart(all[i])), ownLineStart(itemStart(all[i + 1])));
+            if (keptEnd < all.size()) removal(valueEnd(all[keptEnd - 1].offset()), valueEnd(all.back().offset()));
+        }
+    }
+
+    void removal(size_t begin, size_t end) {
+        removals_.emplace_back(begin, end);
+        splices_.push_back({begin, end, ""});
+    }
+
+    // What lies inside a removed range goes with it.
+    std::vector<Splice> withoutNested() const {
+        std::vector<Splice> kept;
+        for (const Splice& s : splices_) {
+            const bool inside = std::any_of(removals_.begin(), removals_.end(), [&](const auto& r) {
+                if (s.begin == r.first && s.end == r.second && s.text.empty()) return false;  // itself
+                if (s.begin == s.end) return s.begin > r.first && s.begin < r.second;
+                return s.begin >= r.first && s.end <= r.second;
+            });
+            if (!inside) kept.push_back(s);
+        }
+        return kept;
+    }
+
+    const SceneDocument& doc_;
+    const JsonSource& src_;
+    const SceneDocument& was_;
+    const Resources& resources_;
+    FileReferences references_;
+    Index now_, then_;
+    std::vector<Splice> splices_;
+    std::map<uint32_t, std::set<uint32_t>> removed_;  // by container: the items it loses
+    std::vector<std::pair<size_t, size_t>> removals_;
+};
+
+}  // namespace
+
+std::vector<Splice> jsonDocumentSplices(const SceneDocument& document, const Resources& resources,
+                                        const fs::path& target) {
+    try {
+        return JsonSplicer(document, resources, target).splices();
+    } catch (const Unsaveable& why) {
+        throw InputError(document.file.string() + ": error: the scene is not saved, the file is kept as it was: " +
+                         why.what + "; " + why.remedy);
+    }
+}
+
+std::optional<std::string> jsonUnsaveable(const SceneDocument& document, const Resources& resources) {
+    if (!document.jsonSource) return std::nullopt;
+    try {
+        JsonSplicer(document, resources, document.file).splices();
+    } catch (const Unsaveable& why) {
+        return why.what + "; " + why.remedy;
+    } catch (const InputError& e) {  // a texture or mesh made in memory
+        return std::string(e.what());
+    }
+    return std::nullopt;
+}
+
+}  // namespace ray
