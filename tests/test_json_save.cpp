@@ -162,6 +162,13 @@ TEST_CASE("a JSON save removes a primitive or a group with its own lines", "[jso
     CHECK_THAT(text, Contains("\"shininess\": 10\n        }\n      ]"));
     CHECK(fromText(text).primitiveElements == 2);
 
+    SceneDocument allGone = fromText(kScene);
+    allGone.trees.at("root").tree.blocks[1].items.clear();  // an emptied array goes with its key
+    text = saved(allGone);
+    CHECK_THAT(text, Contains("      \"scale\": [2, 1, 2]\n    },"));
+    CHECK(text.find("\"primitives\": [\n") == std::string::npos);
+    CHECK(fromText(text).primitiveElements == 1);  // the template's cylinder
+
     SceneDocument groupGone = fromText(kScene);
     auto& groups = groupGone.trees.at("root").tree.blocks;
     groups.erase(groups.begin() + 3);  // the first post's placement

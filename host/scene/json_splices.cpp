@@ -656,6 +656,7 @@ private:
     // stays takes the text up to it; a run at the end takes the text from the end of the
     // last item that stays (its comma with it); all of them leave the brackets empty.
     void finishRemovals() {
+        emptiedArraysGo();
         for (const auto& [containerIndex, items] : removed_) {
             const JsonValue container = src_.tree.at(containerIndex);
             std::vector<JsonValue> all;
@@ -671,6 +672,24 @@ private:
             for (size_t i = 0; i < keptEnd; ++i)
                 if (gone[i]) removal(ownLineStart(itemStart(all[i])), ownLineStart(itemStart(all[i + 1])));
             if (keptEnd < all.size()) removal(valueEnd(all[keptEnd - 1].offset()), valueEnd(all.back().offset()));
+        }
+    }
+
+    // An array of an object's member that loses every item goes whole, its key with it
+    // ("primitives": [] says nothing); so, in turn, may the object's own array.
+    void emptiedArraysGo() {
+        for (bool again = true; again;) {
+            again = false;
+            for (auto it = removed_.begin(); it != removed_.end(); ++it) {
+                const JsonValue container = src_.tree.at(it->first);
+                if (!container.isArray() || it->second.size() != container.size() || it->first == 0) continue;
+                const JsonValue parent = parentOf(container);
+                if (!parent.isObject() || parent.index() == 0) continue;
+                removed_[parent.index()].insert(container.index());
+                removed_.erase(it);
+                again = true;
+                break;
+            }
         }
     }
 

@@ -407,8 +407,25 @@ void saveDocument(const SceneDocument& document, const Resources& resources, con
     saveDocument(document, resources, target, WriteOptions{});
 }
 
+namespace {
+
+// A scene is saved in its own format: a JSON scene to a .json file, an XML one to any other
+// name (.xml, or a name of the user's); `ray convert` turns one into the other.
+void checkFormatFits(const SceneDocument& document, const fs::path& target) {
+    const bool jsonName = sameName(target.extension().string().c_str(), ".json");
+    const bool json = document.format == SceneFormat::Json;
+    if (jsonName == json) return;
+    const char* format = json ? "a JSON scene" : "an XML scene";
+    throw InputError("error: the scene is not saved: it is " + std::string(format) + ", and " + target.string() +
+                     (jsonName ? " names a JSON file" : " does not end in .json") + "; save it as ." +
+                     (json ? "json" : "xml") + ", or convert it with `ray convert IN OUT`");
+}
+
+}  // namespace
+
 void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target,
                   const WriteOptions& options) {
+    checkFormatFits(document, target);
     const std::string bytes = documentFileBytes(document, resources, target);
     checkLoadsBack(document, bytes, target);
     writeFileAtomically(target, bytes, options);
