@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <set>
 #include <unordered_map>
 
@@ -54,6 +55,8 @@ struct Unsaveable {
     std::string what, remedy;
 };
 
+const std::string kIndentUnit = "  ";  // the course's files' step
+
 const char* const kTransformKeys[] = {"translate", "rotate", "scale", "matrix"};  // by TransformKind
 
 class JsonSplicer {
@@ -68,9 +71,10 @@ public:
         indexDocument(was_, then_);
         globals();
         camera();
-        for (const auto& [name, tree] : doc_.trees) treeNode(tree.tree, tree.name);
+        trees();
         lights();
         removeUnclaimed();
+        finishNewItems();
         finishRemovals();
         return withoutNested();
     }
@@ -315,20 +319,134 @@ private:
     // -----------------------------------------------------------------------------------
     // Groups, templates, primitives
 
-    void treeNode(const TreeNode& node, const std::string& tree) {
+    // -----------------------------------------------------------------------------------
+    // New items of an array: each written (json_writer.h) after the item before it that the
+    // text keeps, on a line of its own indented like its neighbours.
+
+    struct NewItems {
+        JsonValue holder;      // the object whose member the array is
+        std::string key;       // the member's key
+        JsonValue array;       // none: the object has no such member yet
+        JsonValue anchor;      // the last item kept so far (none: the start)
+        std::vector<std::pair<JsonValue, std::string>> texts;  // by anchor
+    };
+
+    // One for each array (or missing member) of the text.
+    NewItems& newItems(JsonValue holder, const std::string& key) {
+        std::unique_ptr<NewItems>& slot = pending_[{holder.index(), key}];
+        if (slot) return *slot;
+        slot = std::make_unique<NewItems>();
+        NewItems& items = *slot;
+        items.holder = holder;
+        items.key = key;
+        items.array = member(holder, key);
+        return items;
+    }
+
+    // The indentation of a member of `object` (its members' own, else one step past it).
+    std::string memberIndent(JsonValue object) const {
+        if (JsonValue first = object.first())
+            if (std::optional<std::string> indent = indentationAt(first.keyOffset())) return *indent;
+        return indentationAt(ownLineStart(object.offset())).value_or("") + kIndentUnit;
+    }
+
+    // The indentation of an item of `items` (a new array's: one step past its key's).
+    std::string itemIndent(const NewItems& items) const {
+        if (items.array && items.array.first())
+            if (std::optional<std::string> indent = indentationAt(items.array.first().offset())) return *indent;
+        return memberIndent(items.holder) + kIndentUnit;
+    }
+
+    void add(NewItems& items, std::string text) {
+        items.texts.emplace_back(items.anchor, std::move(text));
+        if (items.array) growing_.insert(items.array.index());
+    }
+
+    void finishNewItems() {
+        for (const auto& [where, items] : pending_)
+            if (!items->texts.empty()) finish(*items);
+    }
+
+    void finish(const NewItems& items) {
+        const std::string& nl = src_.newline;
+        const std::string indent = itemIndent(items);
+        std::vector<std::string> all;
+        for (const auto& [anchor, text] : items.texts) all.push_back(text);
+        auto joined = [&](const std::string& separator) {
+            std::string out;
+            for (size_t i = 0; i < all.size(); ++i) out += (i ? separator : "") + all[i];
+            return out;
+        };
+        if (!items.array)
+            return addMember(items.holder, items.key,
+                             "[" + nl + indent + joined("," + nl + indent) + nl + memberIndent(items.holder) + "]");
+        const JsonValue array = items.array;
+        const size_t close = valueEnd(array.offset()) - 1;
+        const auto removed = removed_.find(array.index());
+        const bool emptied = array.size() == 0 || (removed != removed_.end() && removed->second.size() == array.size());
+        if (emptied) {  // the brackets' inside is written anew (an emptied array's removal takes it)
+            const std::string closing = indentationAt(close).value_or(memberIndent(items.holder));
+            if (array.size() == 0)
+                splices_.push_back({array.offset() + 1, close, nl + indent + joined("," + nl + indent) + nl + closing});
+            else
+                splices_.push_back({array.offset() + 1, array.offset() + 1,
+                                    nl + indent + joined("," + nl + indent) + nl + closing});
+            return;
+        }
+        const bool ownLines = indentationAt(array.first().offset()).has_value();
+        for (const auto& [anchor, text] : items.texts) {
+            if (anchor) {
+                const size_t at = valueEnd(anchor.offset());
+                splices_.push_back({at, at, (ownLines ? "," + nl + indent : std::string(", ")) + text});
+            } else if (ownLines) {
+                const size_t at = ownLineStart(array.first().offset());
+                splices_.push_back({at, at, indent + text + "," + nl});
+            } else {
+                splices_.push_back({array.first().offset(), array.first().offset(), text + ", "});
+            }
+        }
+    }
+
+    // -----------------------------------------------------------------------------------
+    // Groups, templates, primitives
+
+    void trees() {
+        const JsonValue root = src_.tree.root();
+        const JsonValue templates = member(root, "templateGroups");
+        for (const auto& [name, tree] : doc_.trees) {
+            if (name == "root") {
+                NewItems& groups = newItems(root, "groups");
+                treeNode(tree.tree, name, groups);
+                continue;
+            }
+            const Block* top = tree.tree.blocks.empty() ? nullptr : &tree.tree.blocks.front();
+            if (tree.tree.blocks.size() == 1 && top->source != kNoSource && then_.blocks.count(top->source) &&
+                templates && parentOf(value(top->source)).index() == templates.index()) {
+                claim(top->source);
+                group(*top, *then_.blocks.at(top->source), value(top->source), name);
+                continue;
+            }
+            NewItems& templateItems = newItems(root, "templateGroups");
+            add(templateItems, newTemplateText(tree, itemIndent(templateItems)));
+        }
+    }
+
+    void treeNode(const TreeNode& node, const std::string& tree, NewItems& items) {
         for (const Block& block : node.blocks) {
-            if (block.source == kNoSource) needsWriter("a new group", tree);
             const auto was = then_.blocks.find(block.source);
-            if (was == then_.blocks.end()) needsWriter("a group moved to another place", tree);
+            const bool inPlace = block.source != kNoSource && was != then_.blocks.end() && items.array &&
+                                 parentOf(value(block.source)).index() == items.array.index();
+            if (!inPlace) {
+                add(items, newGroupText(block, itemIndent(items)));
+                continue;
+            }
+            claim(block.source);
+            items.anchor = value(block.source);
             group(block, *was->second, value(block.source), tree);
         }
     }
 
-    [[noreturn]] void needsWriter(const std::string& what, const std::string& tree) const {
-        refuse(what + (tree == "root" ? "" : " in template \"" + tree + "\"") +
-                   " cannot be written into the file's text yet",
-               "save the scene as XML, or add it in the .json file with a text editor");
-    }
+    void claim(SourceId source) { claimed_.insert(source); }
 
     void group(const Block& block, const Block& was, JsonValue object, const std::string& tree) {
         const std::string place = placeOf(object);
@@ -336,25 +454,24 @@ private:
             refuse("the group " + place + " has motion (<motion>), which a JSON scene cannot hold",
                    "set its motion to 0, or save the scene as XML");
         const MasterReference* placement = nullptr;
-        bool seenSubgroups = false;
+        NewItems& primitives = newItems(object, "primitives");
+        NewItems& groups = newItems(object, "groups");
+        // A JSON group lists its primitives, then its subgroups: the document's order within
+        // each is kept (between the two it only decides ties, SPEC §4).
         for (const SceneItem& item : block.items) {
             if (const auto* primitive = std::get_if<PrimitiveNode>(&item)) {
-                if (seenSubgroups)
-                    refuse("a primitive after the subgroups of " + place,
-                           "a JSON group lists its primitives before its subgroups; move it into a group of its own");
-                if (primitive->source == kNoSource) needsWriter("a new primitive in " + place, tree);
                 const auto then = then_.primitives.find(primitive->source);
-                if (then == then_.primitives.end() || then_.blockOf.at(primitive->source) != block.source)
-                    needsWriter("a primitive moved into " + place, tree);
+                const bool inPlace = primitive->source != kNoSource && then != then_.primitives.end() &&
+                                     then_.blockOf.at(primitive->source) == block.source;
+                if (!inPlace) {
+                    add(primitives, newPrimitiveText(*primitive, itemIndent(primitives)));
+                    continue;
+                }
+                claim(primitive->source);
+                primitives.anchor = value(primitive->source);
                 primitiveNode(*primitive, *then->second, value(primitive->source));
             } else if (const auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
-                if (seenSubgroups)
-                    refuse("two lists of subgroups in " + place, "a JSON group has one \"groups\" array");
-                seenSubgroups = true;
-                const JsonValue groups = member(object, "groups");
-                if (!groups || (*subtree)->source != groups.index())
-                    needsWriter("new subgroups of " + place, tree);
-                treeNode(**subtree, tree);
+                treeNode(**subtree, tree, groups);
             } else if (const auto* reference = std::get_if<MasterReference>(&item)) {
                 placement = reference;
             } else {
@@ -371,6 +488,28 @@ private:
         }
         templateName(block, object, tree);
         transforms(block, was, object, place);
+    }
+
+    // What the text does not hold yet, written by the JSON writer.
+    std::string newGroupText(const Block& block, const std::string& indent) {
+        (void)block, (void)indent;
+        refuse("a new or moved group cannot be written into the file's text yet",
+               "save the scene as XML, or add it in the .json file with a text editor");
+    }
+    std::string newPrimitiveText(const PrimitiveNode& node, const std::string& indent) {
+        (void)node, (void)indent;
+        refuse("a new or moved primitive cannot be written into the file's text yet",
+               "save the scene as XML, or add it in the .json file with a text editor");
+    }
+    std::string newTemplateText(const NamedTree& tree, const std::string& indent) {
+        (void)indent;
+        refuse("a new template (\"" + tree.name + "\") cannot be written into the file's text yet",
+               "save the scene as XML, or add it in the .json file with a text editor");
+    }
+    std::string newLightGroupText(size_t index, const std::string& indent) {
+        (void)index, (void)indent;
+        refuse("a new light cannot be written into the file's text yet",
+               "save the scene as XML, or add it in the .json file with a text editor");
     }
 
     // A template's group is the tree of its name: a renamed tree renames it.
@@ -517,7 +656,11 @@ private:
         std::map<SourceId, std::vector<size_t>> now, then;  // by light value: the lights placed from it
         for (size_t i = 0; i < doc_.lights.size(); ++i) {
             const SourceId source = i < doc_.lightSources.size() ? doc_.lightSources[i] : kNoSource;
-            if (source == kNoSource) needsWriter("a new light", "root");
+            if (source == kNoSource) {  // a group of its own at the end of the scene's
+                NewItems& groups = newItems(src_.tree.root(), "groups");
+                add(groups, newLightGroupText(i, itemIndent(groups)));
+                continue;
+            }
             now[source].push_back(i);
         }
         for (size_t i = 0; i < was_.lights.size(); ++i) then[was_.lightSources[i]].push_back(i);
@@ -647,9 +790,9 @@ private:
     // The primitives and groups of the text that no node claims any more.
     void removeUnclaimed() {
         for (const auto& [source, node] : then_.primitives)
-            if (!now_.primitives.count(source)) removed_[parentOf(value(source)).index()].insert(source);
+            if (!claimed_.count(source)) removed_[parentOf(value(source)).index()].insert(source);
         for (const auto& [source, block] : then_.blocks)
-            if (!now_.blocks.count(source)) removed_[parentOf(value(source)).index()].insert(source);
+            if (!claimed_.count(source)) removed_[parentOf(value(source)).index()].insert(source);
     }
 
     // Each container's removed items go with their own lines: an item followed by one that
@@ -682,7 +825,9 @@ private:
             again = false;
             for (auto it = removed_.begin(); it != removed_.end(); ++it) {
                 const JsonValue container = src_.tree.at(it->first);
-                if (!container.isArray() || it->second.size() != container.size() || it->first == 0) continue;
+                if (!container.isArray() || it->second.size() != container.size() || it->first == 0 ||
+                    growing_.count(it->first))
+                    continue;
                 const JsonValue parent = parentOf(container);
                 if (!parent.isObject() || parent.index() == 0) continue;
                 removed_[parent.index()].insert(container.index());
@@ -720,6 +865,9 @@ private:
     Index now_, then_;
     std::vector<Splice> splices_;
     std::map<uint32_t, std::set<uint32_t>> removed_;  // by container: the items it loses
+    std::set<SourceId> claimed_;                       // the values a node is compared with in place
+    std::map<std::pair<uint32_t, std::string>, std::unique_ptr<NewItems>> pending_;  // by holder and key
+    std::set<uint32_t> growing_;                       // arrays that gain items
     std::vector<std::pair<size_t, size_t>> removals_;
 };
 
