@@ -304,3 +304,18 @@ TEST_CASE("every course JSON scene saves unedited to its own bytes, and a materi
     CHECK(identical == loaded);
     CHECK(edited == loaded);
 }
+
+TEST_CASE("a JSON scene's nodes are named by their places in the file", "[json][save][edit]") {
+    edit::SessionOptions options;
+    options.load = quiet();
+    edit::EditSession session(fromText(kScene), options);
+    std::vector<std::string> objects, blocks;
+    for (const edit::OutlineEntry& entry : session.outline()) {
+        if (entry.id.kind == edit::NodeKind::Object) objects.push_back(session.describe(entry.id).path);
+        if (entry.id.kind == edit::NodeKind::Block) blocks.push_back(session.describe(entry.id).path);
+    }
+    CHECK(objects == std::vector<std::string>{"groups[1].primitives[0]", "groups[1].primitives[1]",
+                                              "templateGroups[0].primitives[0]"});
+    CHECK(blocks == std::vector<std::string>{"groups[0]", "groups[1]", "groups[2]", "groups[3]", "groups[3].groups[0]",
+                                             "groups[4]", "groups[4].groups[0]", "templateGroups[0]"});
+}
