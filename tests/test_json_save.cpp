@@ -10,6 +10,7 @@
 
 #include "edit/edit_error.h"
 #include "edit/edit_session.h"
+#include "ray/ray.h"
 #include "scene/json_splices.h"
 #include "scene/scene_document.h"
 #include "scene/scene_loader.h"
@@ -318,4 +319,25 @@ TEST_CASE("a JSON scene's nodes are named by their places in the file", "[json][
                                               "templateGroups[0].primitives[0]"});
     CHECK(blocks == std::vector<std::string>{"groups[0]", "groups[1]", "groups[2]", "groups[3]", "groups[3].groups[0]",
                                              "groups[4]", "groups[4].groups[0]", "templateGroups[0]"});
+}
+
+TEST_CASE("the C++ API edits a JSON scene and saves it as JSON, refusing what JSON cannot hold", "[json][save][api]") {
+    const fs::path folder = fs::temp_directory_path() / "ray_json_save_api";
+    fs::create_directories(folder);
+    const fs::path file = folder / "scene.json";
+    std::ofstream(file, std::ios::binary) << kScene;
+    ray::api::Scene scene = ray::api::Scene::load(file).scene;
+    std::string object;
+    for (const ray::api::OutlineEntry& entry : scene.outline())
+        if (entry.kind == "object" && object.empty()) object = entry.node;
+    scene.set(object, {{"diffuse", ray::api::Vec3{0, 0, 1}}, {"shininess", 20.0}});
+    CHECK_THROWS_WITH(scene.set(object, {{"emissive", ray::api::Vec3{1, 1, 1}}}), Contains("a JSON scene"));
+    scene.save(file);
+    const std::string text = bytesOf(file);
+    CHECK(linesChanged(kScene, text) == 2);
+    CHECK_THAT(text, Contains(R"("diffuse": [0, 0, 1],)"));
+    CHECK_THAT(text, Contains(R"("shininess": 20)"));
+    CHECK_THROWS_WITH(scene.save(folder / "scene.xml"), Contains("it is a JSON scene"));
+    CHECK(!fs::exists(folder / "scene.xml"));
+    fs::remove_all(folder);
 }
