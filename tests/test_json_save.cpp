@@ -170,9 +170,13 @@ TEST_CASE("a JSON save removes a primitive or a group with its own lines", "[jso
     CHECK(text.find("\"primitives\": [\n") == std::string::npos);
     CHECK(fromText(text).primitiveElements == 1);  // the template's cylinder
 
-    SceneDocument groupGone = fromText(kScene);
+    const SceneDocument before = fromText(kScene);
+    SceneDocument groupGone = before;
     auto& groups = groupGone.trees.at("root").tree.blocks;
-    groups.erase(groups.begin() + 3);  // the first post's placement
+    groups.erase(groups.begin() + 3);  // the first post's placement: its light goes with it
+    CHECK(jsonUnsaveable(groupGone, Resources{}));  // the document still has it
+    placeLightsByTheirGroups(before, groupGone);     // as the edit session does after an edit
+    CHECK(groupGone.lights.size() == 3);
     text = saved(groupGone);
     CHECK(text.find("[-2, 0, 0]") == std::string::npos);
     CHECK_THAT(text, Contains("    },\n    {\"translate\": [2, 0, 0]"));
@@ -340,4 +344,27 @@ TEST_CASE("the C++ API edits a JSON scene and saves it as JSON, refusing what JS
     CHECK_THROWS_WITH(scene.save(folder / "scene.xml"), Contains("it is a JSON scene"));
     CHECK(!fs::exists(folder / "scene.xml"));
     fs::remove_all(folder);
+}
+
+TEST_CASE("a JSON scene's lights follow their groups", "[json][save][edit]") {
+    edit::SessionOptions options;
+    options.load = quiet();
+    edit::EditSession session(fromText(kScene), options);
+    using edit::FieldOwner, edit::findField;
+    const SceneDocument& document = session.document();
+    const int lampGroup = document.trees.at("root").tree.blocks[2].id;
+    session.apply(edit::SetFields{{edit::NodeKind::Block, lampGroup},
+                                  {{findField(FieldOwner::Block, "transform"),
+                                    std::vector<TransformOp>{TransformOp{TransformKind::Translate, {1, 5, 0}}}}}});
+    CHECK(session.document().lights[1].position == Vec3{1, 5, 0});
+    const std::string text = saved(session.document());
+    CHECK(linesChanged(kScene, text) == 1);
+    CHECK_THAT(text, Contains("\"translate\": [1, 5, 0],"));
+
+    const int secondPost = document.trees.at("root").tree.blocks[4].id;  // its placement's group: the post's light goes
+    session.apply(edit::DeleteNodes{{{edit::NodeKind::Block, secondPost}}});
+    CHECK(session.document().lights.size() == 3);
+    CHECK(fromText(saved(session.document())).lights.size() == 3);
+    session.undo();
+    CHECK(session.document().lights.size() == 4);
 }

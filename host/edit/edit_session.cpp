@@ -80,6 +80,7 @@ Outcome EditSession::apply(const Operation& operation, std::string_view action) 
         return applyInPlace(operation);
     SceneDocument edited = document_;
     const Outcome outcome = perform(edited, operation, context());
+    placeLightsByTheirGroups(document_, edited);
     refuseWhatJsonCannotHold(edited);
     std::shared_ptr<Scene> scene = flattenEdited(edited, outcome.changes);
     commit(std::move(edited), std::move(scene), outcome, action);

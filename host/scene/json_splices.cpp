@@ -59,6 +59,106 @@ const std::string kIndentUnit = "  ";  // the course's files' step
 
 const char* const kTransformKeys[] = {"translate", "rotate", "scale", "matrix"};  // by TransformKind
 
+JsonValue jsonMember(JsonValue object, std::string_view key) {
+    if (!object || !object.isObject()) return {};
+    for (JsonValue m = object.first(); m; m = m.next())
+        if (m.key() == key) return m;
+    return {};
+}
+
+bool sameLight(const Light& a, const Light& b) {
+    return a.type == b.type && a.color == b.color && a.attenuation == b.attenuation && a.position == b.position &&
+           a.direction == b.direction && a.angleDegrees == b.angleDegrees && a.penumbraDegrees == b.penumbraDegrees &&
+           a.radius == b.radius && a.width == b.width && a.height == b.height;
+}
+
+// Where `document` places the text's lights, as the reader places them (the same products in
+// the same order, so that a group nothing moved gives the same bits): by light value, the
+// frame of each of its placements, in the document's order of lights.
+class LightPlacements {
+public:
+    LightPlacements(const SceneDocument& document, const JsonSource& source) : document_(document), source_(source) {
+        if (auto root = document.trees.find("root"); root != document.trees.end())
+            walk(root->second.tree, Affine::identity());
+    }
+    const std::vector<Affine>& of(SourceId light) const {
+        static const std::vector<Affine> none;
+        auto it = frames_.find(light);
+        return it == frames_.end() ? none : it->second;
+    }
+    const std::map<SourceId, std::vector<Affine>>& all() const { return frames_; }
+
+private:
+    // A group's lights: none for a template placement (the file ignores its other keys).
+    JsonValue lightsOf(const Block& block) const {
+        if (block.source == kNoSource) return {};
+        for (const SceneItem& item : block.items)
+            if (std::holds_alternative<MasterReference>(item)) return {};
+        return jsonMember(source_.tree.at(block.source), "lights");
+    }
+
+    bool holdsLights(const TreeNode& tree) {
+        auto [it, added] = holds_.try_emplace(&tree, false);
+        if (!added) return it->second;
+        bool holds = false;
+        for (const Block& block : tree.blocks) {
+            const JsonValue lights = lightsOf(block);
+            holds = holds || (lights && lights.isArray() && lights.size() > 0);
+            for (const SceneItem& item : block.items) holds = holds || holdsLights(item);
+        }
+        holds_[&tree] = holds;
+        return holds;
+    }
+
+    const TreeNode* treeOf(const SceneItem& item) const {
+        if (const auto* subtree = std::get_if<Box<TreeNode>>(&item)) return subtree->get();
+        if (const auto* reference = std::get_if<MasterReference>(&item)) {
+            auto it = document_.trees.find(reference->name);
+            return it == document_.trees.end() ? nullptr : &it->second.tree;
+        }
+        return nullptr;
+    }
+
+    bool holdsLights(const SceneItem& item) {
+        const TreeNode* tree = treeOf(item);
+        return tree && holdsLights(*tree);
+    }
+
+    void walk(const TreeNode& tree, const Affine& parent) {
+        for (const Block& block : tree.blocks) {
+            const Affine frame = parent * block.toParent;
+            if (const JsonValue lights = lightsOf(block); lights && lights.isArray())
+                for (JsonValue light = lights.first(); light; light = light.next()) frames_[light.index()].push_back(frame);
+            for (const SceneItem& item : block.items)
+                if (holdsLights(item)) walk(*treeOf(item), frame);
+        }
+    }
+
+    const SceneDocument& document_;
+    const JsonSource& source_;
+    std::map<SourceId, std::vector<Affine>> frames_;
+    std::map<const TreeNode*, bool> holds_;
+};
+
+// Light value `light` as the text says it, placed by `frame` (as the reader places it).
+Light placedLight(const JsonSource& source, SourceId light, const Affine& frame) {
+    const SceneDocument& read = source.asRead;
+    Light placed;
+    for (size_t i = 0; i < read.lights.size(); ++i)
+        if (read.lightSources[i] == light) {
+            placed = read.lights[i];  // its frame-free fields
+            break;
+        }
+    Vec3 direction{0, 0, -1};
+    if (const JsonValue written = jsonMember(source.tree.at(light), "direction"); written && written.size() == 3) {
+        int i = 0;
+        for (JsonValue item = written.first(); item; item = item.next(), ++i) direction[i] = item.number();
+    }
+    placed.position = frame.transformPoint({0, 0, 0});
+    placed.direction = frame.transformVector(direction);
+    return placed;
+}
+
 class JsonSplicer {
 public:
     JsonSplicer(const SceneDocument& document, const Resources& resources, const fs::path& target)
@@ -664,57 +764,37 @@ private:
             now[source].push_back(i);
         }
         for (size_t i = 0; i < was_.lights.size(); ++i) then[was_.lightSources[i]].push_back(i);
+        const LightPlacements placements(doc_, src_);
         for (const auto& [source, placed] : then) {
             const JsonValue object = value(source);
-            const auto it = now.find(source);
-            if (it == now.end()) {
+            const std::vector<size_t>& kept = now[source];
+            const std::vector<Affine>& frames = placements.of(source);
+            if (kept.empty() && frames.size() == placed.size()) {  // removed, its group kept
                 removed_[parentOf(object).index()].insert(object.index());
                 continue;
             }
-            const std::vector<size_t>& kept = it->second;
-            bool same = kept.size() == placed.size();
-            for (size_t k = 0; same && k < kept.size(); ++k) same = sameLight(doc_.lights[kept[k]], was_.lights[placed[k]]);
+            // Unedited, each light is where its group, as the document now places it, puts it.
+            bool same = kept.size() == frames.size();
+            for (size_t k = 0; same && k < kept.size(); ++k)
+                same = sameLight(doc_.lights[kept[k]], placedLight(src_, source, frames[k]));
+            if (same) continue;
             const JsonValue groupObject = parentOf(parentOf(object));
-            if (same && !frameMoved(groupObject)) continue;
-            if (placed.size() > 1)
+            if (frames.empty())
+                refuse("the light " + placeOf(object) + " stays while its group " + placeOf(groupObject) +
+                           " is removed",
+                       "delete the light too, or keep its group");
+            if (frames.size() > 1 || kept.size() != 1)
                 refuse("the light " + placeOf(object) + " is one light of a template placed " +
-                           std::to_string(placed.size()) + " times, and the edit changes " +
-                           (kept.size() == placed.size() ? "one of its places" : "how many there are"),
+                           std::to_string(frames.size()) + " times, and the edit changes " +
+                           (kept.size() == frames.size() ? "one of its places" : "how many there are"),
                        "edit the template's light in the .json file, or give this place a light of its own");
-            light(doc_.lights[kept.front()], was_.lights[placed.front()], object, groupObject, kept.front());
+            light(doc_.lights[kept.front()], was_.lights[placed.front()], object, groupObject, kept.front(),
+                  frames.front());
         }
     }
 
-    static bool sameLight(const Light& a, const Light& b) {
-        return a.type == b.type && a.color == b.color && a.attenuation == b.attenuation && a.position == b.position &&
-               a.direction == b.direction && a.angleDegrees == b.angleDegrees &&
-               a.penumbraDegrees == b.penumbraDegrees && a.radius == b.radius && a.width == b.width &&
-               a.height == b.height;
-    }
-
-    // Whether a group's frame in the world differs from what the file placed it with.
-    bool frameMoved(JsonValue groupObject) const {
-        const auto now = now_.blocks.find(groupObject.index());
-        const auto then = then_.blocks.find(groupObject.index());
-        if (now == now_.blocks.end() || then == then_.blocks.end()) return true;
-        const Affine a = worldFrame(*now->second), b = worldFrameThen(*then->second);
-        return std::memcmp(&a, &b, sizeof a) != 0;
-    }
-
-    Affine worldFrameThen(const Block& block) const {
-        std::vector<const Block*> chain;
-        for (const Block* b = &block; b;) {
-            chain.push_back(b);
-            const Block* parent = then_.parentBlock.at(b->id);
-            if (!parent && then_.treeOf.at(b->id) != "root") parent = then_.placer.at(then_.treeOf.at(b->id));
-            b = parent;
-        }
-        Affine frame = Affine::identity();
-        for (auto it = chain.rbegin(); it != chain.rend(); ++it) frame = frame * (*it)->toParent;
-        return frame;
-    }
-
-    void light(const Light& light, const Light& was, JsonValue object, JsonValue groupObject, size_t index) {
+    void light(const Light& light, const Light& was, JsonValue object, JsonValue groupObject, size_t index,
+               Affine frame) {
         const std::string place = placeOf(object), owner = "light " + std::to_string(index);
         if (light.type != was.type)
             refuse("the light " + place + " is now a " + std::string(lightTypeName(light.type)) + " light" +
@@ -734,7 +814,6 @@ private:
             setNumber(object, "angle", light.angleDegrees, was.angleDegrees, owner, "angle");
             setNumber(object, "penumbra", light.penumbraDegrees, was.penumbraDegrees, owner, "penumbra");
         }
-        Affine frame = worldFrame(*group->second);
         if (light.type != LightType::Directional && !(frame.transformPoint({0, 0, 0}) == light.position))
             frame = moveGroup(*group->second, groupObject, light, place);
         if (light.type != LightType::Point) {
@@ -880,6 +959,49 @@ std::vector<Splice> jsonDocumentSplices(const SceneDocument& document, const Res
     } catch (const Unsaveable& why) {
         throw InputError(document.file.string() + ": error: the scene is not saved, the file is kept as it was: " +
                          why.what + "; " + why.remedy);
+    }
+}
+
+void placeLightsByTheirGroups(const SceneDocument& before, SceneDocument& after) {
+    if (!after.jsonSource || before.lights.size() != after.lights.size() || after.lightSources.size() != after.lights.size())
+        return;  // an edit of the lights themselves: they are as it left them
+    const JsonSource& source = *after.jsonSource;
+    const LightPlacements was(before, source), now(after, source);
+    for (const auto& [light, frames] : was.all()) {
+        const std::vector<Affine>& moved = now.of(light);
+        if (moved.size() == frames.size() &&
+            std::equal(moved.begin(), moved.end(), frames.begin(),
+                       [](const Affine& a, const Affine& b) { return std::memcmp(&a, &b, sizeof a) == 0; }))
+            continue;
+        std::vector<size_t> places;  // the light's, in order
+        for (size_t i = 0; i < after.lights.size(); ++i)
+            if (after.lightSources[i] == light) places.push_back(i);
+        // Only lights as their groups put them follow them: one set on its own stays (the save
+        // writes it, or refuses what the file cannot say).
+        bool asPlaced = places.size() == frames.size();
+        for (size_t k = 0; asPlaced && k < places.size(); ++k)
+            asPlaced = sameLight(after.lights[places[k]], placedLight(source, light, frames[k]));
+        if (!asPlaced) continue;
+        if (moved.size() == places.size()) {
+            for (size_t k = 0; k < places.size(); ++k) after.lights[places[k]] = placedLight(source, light, moved[k]);
+            continue;
+        }
+        // Placed more or fewer times (a placement duplicated or deleted, a group removed): the
+        // light's places are made again where the first was.
+        const size_t at = places.empty() ? after.lights.size() : places.front();
+        std::vector<int> ids;
+        for (auto k = places.rbegin(); k != places.rend(); ++k) {
+            ids.insert(ids.begin(), after.lightIds[*k]);
+            after.lights.erase(after.lights.begin() + std::ptrdiff_t(*k));
+            after.lightSources.erase(after.lightSources.begin() + std::ptrdiff_t(*k));
+            after.lightIds.erase(after.lightIds.begin() + std::ptrdiff_t(*k));
+        }
+        for (size_t k = 0; k < moved.size(); ++k) {
+            const auto offset = std::ptrdiff_t(at + k);
+            after.lights.insert(after.lights.begin() + offset, placedLight(source, light, moved[k]));
+            after.lightSources.insert(after.lightSources.begin() + offset, light);
+            after.lightIds.insert(after.lightIds.begin() + offset, k < ids.size() ? ids[k] : after.nextNodeId++);
+        }
     }
 }
 

@@ -53,6 +53,12 @@ struct JsonSource {
 std::vector<Splice> jsonDocumentSplices(const SceneDocument& document, const Resources& resources,
                                         const std::filesystem::path& target);
 
+// A JSON scene's lights are placed by their groups: after an edit moved, placed again or
+// removed a group, the lights `before` had where their groups put them are put where the
+// groups in `after` put them (a light set on its own stays as it was set). The edit session
+// calls it after each operation on a JSON document.
+void placeLightsByTheirGroups(const SceneDocument& before, SceneDocument& after);
+
 // Why `document` (read from JSON) cannot be saved as JSON; nullopt when it can: the check
 // the editor makes before it keeps an edit.
 std::optional<std::string> jsonUnsaveable(const SceneDocument& document, const Resources& resources);
