@@ -34,6 +34,10 @@ set(RAY_TEST_COSTS
   [=[Undo history of 20,000 spheres and 200 colour edits stays small, and undo and redo give back each document exactly]=] 30
   [=[every course scene that loads saves unedited to its own bytes, and edited to its lines alone]=] 21
   [=[every course scene saves and loads back to a byte-identical 64x48 render]=] 15
+  # 199 scenes rendered twice at 64x48 (as the line above); the JSON corpus's two largest
+  # scenes (recursive_sphere_10) flatten to millions of instances, twice each
+  [=[every course XML scene converts to JSON that renders byte-identical at 64x48, or is refused with the reason]=] 20
+  [=[every course JSON scene converts to XML and back to the same JSON]=] 15
   [=[kernel matches host on the course's refraction and area-light scenes]=] 26
   [=[gpu_bundle]=] 18
   [=[concurrency]=] 16

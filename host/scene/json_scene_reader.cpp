@@ -1,6 +1,7 @@
 // The course's JSON scenefiles into the scene document (json_scene_reader.h).
 #include "scene/json_scene_reader.h"
 
+#include <algorithm>
 #include <array>
 #include <unordered_map>
 
@@ -72,6 +73,8 @@ public:
         NamedTree& root = addTree("root", scene.get("groups") ? scene.get("groups").keyOffset() : 0);
         if (JsonValue groups = scene.get("groups")) root.tree = readGroups(groups, "groups", "");
         if (templates) readTemplates(templates);
+        if (templates && scene.get("groups") && templates.keyOffset() < scene.get("groups").keyOffset())
+            rotateRootLast();  // the trees in the file's order: the templates written first
         checkTemplateCycles();
         countInstances(document_.trees, diagnostics_);  // nesting too deep: refused before lights are placed
         placeLights();
@@ -287,6 +290,11 @@ private:
             tree.tree.blocks.push_back(readGroup(value, place, true));
             currentTemplate_.clear();
         }
+    }
+
+    void rotateRootLast() {
+        std::vector<std::string>& order = document_.treeOrder;
+        std::rotate(order.begin(), order.begin() + 1, order.end());  // "root" is added first
     }
 
     NamedTree& addTree(const std::string& name, size_t offset) {

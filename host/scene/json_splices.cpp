@@ -10,6 +10,7 @@
 
 #include "scene/canonical_writer.h"
 #include "scene/json_scene_reader.h"
+#include "scene/json_writer.h"
 #include "scene/value_text.h"
 
 namespace fs = std::filesystem;
@@ -162,7 +163,7 @@ Light placedLight(const JsonSource& source, SourceId light, const Affine& frame)
 class JsonSplicer {
 public:
     JsonSplicer(const SceneDocument& document, const Resources& resources, const fs::path& target)
-        : doc_(document), src_(*document.jsonSource), was_(src_.asRead), resources_(resources),
+        : doc_(document), src_(*document.jsonSource), was_(src_.asRead), resources_(resources), target_(target),
           // Paths are relative to the folder above the scene's folder (SPEC §7).
           references_(fs::absolute(target).parent_path()) {}
 
@@ -513,7 +514,9 @@ private:
     void trees() {
         const JsonValue root = src_.tree.root();
         const JsonValue templates = member(root, "templateGroups");
-        for (const auto& [name, tree] : doc_.trees) {
+        for (const NamedTree* tree_ : treesInFileOrder()) {
+            const NamedTree& tree = *tree_;
+            const std::string& name = tree.name;
             if (name == "root") {
                 NewItems& groups = newItems(root, "groups");
                 treeNode(tree.tree, name, groups);
@@ -523,12 +526,35 @@ private:
             if (tree.tree.blocks.size() == 1 && top->source != kNoSource && then_.blocks.count(top->source) &&
                 templates && parentOf(value(top->source)).index() == templates.index()) {
                 claim(top->source);
+                newItems(root, "templateGroups").anchor = value(top->source);
                 group(*top, *then_.blocks.at(top->source), value(top->source), name);
                 continue;
             }
             NewItems& templateItems = newItems(root, "templateGroups");
             add(templateItems, newTemplateText(tree, itemIndent(templateItems)));
         }
+    }
+
+    // The document's trees in the file's order, then those made since.
+    std::vector<const NamedTree*> treesInFileOrder() const {
+        std::vector<const NamedTree*> trees;
+        std::set<std::string> listed;
+        for (const std::string& name : doc_.treeOrder)
+            if (auto it = doc_.trees.find(name); it != doc_.trees.end() && listed.insert(name).second)
+                trees.push_back(&it->second);
+        for (const auto& [name, tree] : doc_.trees)
+            if (!listed.count(name)) trees.push_back(&tree);
+        return trees;
+    }
+
+    // A group that placed a template and now places nothing (its placement deleted) goes:
+    // its text names the template still.
+    bool placementDeleted(const Block& block, const Block& was) const {
+        const auto placement = [](const Block& b) {
+            return std::any_of(b.items.begin(), b.items.end(),
+                               [](const SceneItem& item) { return std::holds_alternative<MasterReference>(item); });
+        };
+        return placement(was) && block.items.empty() && block.transforms.empty();
     }
 
     void treeNode(const TreeNode& node, const std::string& tree, NewItems& items) {
@@ -540,6 +566,7 @@ private:
                 add(items, newGroupText(block, itemIndent(items)));
                 continue;
             }
+            if (placementDeleted(block, *was->second)) continue;
             claim(block.source);
             items.anchor = value(block.source);
             group(block, *was->second, value(block.source), tree);
@@ -590,27 +617,20 @@ private:
         transforms(block, was, object, place);
     }
 
-    // What the text does not hold yet, written by the JSON writer.
-    std::string newGroupText(const Block& block, const std::string& indent) {
-        (void)block, (void)indent;
-        refuse("a new or moved group cannot be written into the file's text yet",
-               "save the scene as XML, or add it in the .json file with a text editor");
+    // What the text does not hold yet, written by the JSON writer in the course's style
+    // (json_writer.h), at the indentation of the items around it.
+    JsonWriter& writer() {
+        if (!writer_) writer_.emplace(doc_, resources_, target_, TextStyle{src_.newline, kIndentUnit});
+        return *writer_;
     }
+    std::string newGroupText(const Block& block, const std::string& indent) { return writer().group(block, indent); }
     std::string newPrimitiveText(const PrimitiveNode& node, const std::string& indent) {
-        (void)node, (void)indent;
-        refuse("a new or moved primitive cannot be written into the file's text yet",
-               "save the scene as XML, or add it in the .json file with a text editor");
+        return writer().primitive(node, indent);
     }
     std::string newTemplateText(const NamedTree& tree, const std::string& indent) {
-        (void)indent;
-        refuse("a new template (\"" + tree.name + "\") cannot be written into the file's text yet",
-               "save the scene as XML, or add it in the .json file with a text editor");
+        return writer().templateGroup(tree, indent);
     }
-    std::string newLightGroupText(size_t index, const std::string& indent) {
-        (void)index, (void)indent;
-        refuse("a new light cannot be written into the file's text yet",
-               "save the scene as XML, or add it in the .json file with a text editor");
-    }
+    std::string newLightGroupText(size_t index, const std::string& indent) { return writer().lightGroup(index, indent); }
 
     // A template's group is the tree of its name: a renamed tree renames it.
     void templateName(const Block& block, JsonValue object, const std::string& tree) {
@@ -940,7 +960,9 @@ private:
     const JsonSource& src_;
     const SceneDocument& was_;
     const Resources& resources_;
+    const fs::path target_;
     FileReferences references_;
+    std::optional<JsonWriter> writer_;  // made when something new is written
     Index now_, then_;
     std::vector<Splice> splices_;
     std::map<uint32_t, std::set<uint32_t>> removed_;  // by container: the items it loses

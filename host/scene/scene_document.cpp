@@ -1,6 +1,7 @@
 // The scene document (scene_document.h): its copies, its places and paths, its text.
 #include "scene/scene_document.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <set>
@@ -10,6 +11,7 @@
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
 #include "scene/json_splices.h"
+#include "scene/json_writer.h"
 #include "scene/scene_loader.h"
 #include "scene/value_text.h"
 
@@ -323,13 +325,31 @@ void removeLight(SceneDocument& document, size_t index) {
 // ---------------------------------------------------------------------------------------
 // Text
 
+namespace {
+
+// The format a save to `target` writes: the one its name says (.json, .xml, in any case),
+// else the document's own.
+SceneFormat savedFormat(const SceneDocument& document, const fs::path& target) {
+    const std::string extension = target.extension().string();
+    if (sameName(extension.c_str(), ".json")) return SceneFormat::Json;
+    if (sameName(extension.c_str(), ".xml")) return SceneFormat::Xml;
+    return document.format;
+}
+
+// Whether the save is the document's own text with splices: saved in the format it was read in.
+bool keepsSourceText(const SceneDocument& document, const fs::path& target) {
+    return document.source && savedFormat(document, target) == document.format;
+}
+
+}  // namespace
+
 std::string documentToText(const SceneDocument& document, const Resources& resources, const fs::path& target) {
-    if (document.jsonSource)
-        return applySplices(document.jsonSource->text, jsonDocumentSplices(document, resources, target));
-    if (document.format == SceneFormat::Json)  // the canonical writer writes XML; nothing is written over the JSON
-        throw InputError(document.file.string() + ": error: a JSON scene made from nothing cannot be saved yet; "
-                         "the file is left as it is (save it as .xml)");
-    if (document.source) {
+    if (savedFormat(document, target) == SceneFormat::Json) {
+        if (document.jsonSource)  // the JSON it was read from, with its edits (json_splices.h)
+            return applySplices(document.jsonSource->text, jsonDocumentSplices(document, resources, target));
+        return documentToJson(document, resources, target);  // a scene made in code, or an XML one converted
+    }
+    if (keepsSourceText(document, target)) {
         const std::vector<Splice> splices = documentSplices(document, resources, target);
         return applySplices(document.source->bytes(), splices);
     }
@@ -338,7 +358,7 @@ std::string documentToText(const SceneDocument& document, const Resources& resou
 
 std::string documentFileBytes(const SceneDocument& document, const Resources& resources, const fs::path& target) {
     std::string text = documentToText(document, resources, target);
-    return document.source ? document.source->fileBytes(text) : text;
+    return keepsSourceText(document, target) ? document.source->fileBytes(text) : text;
 }
 
 namespace {
@@ -372,7 +392,10 @@ size_t objectCount(const SceneDocument& document) {
 // What of `saved` its text, read back as `reread`, says otherwise (the trees' names, the
 // number of objects and lights); nullopt when it says the same.
 std::optional<std::string> readsOtherwise(const SceneDocument& saved, const SceneDocument& reread) {
-    if (treeNames(saved) != treeNames(reread)) return std::string("its trees' names read back otherwise");
+    std::vector<std::string> names = treeNames(saved);
+    if (reread.format == SceneFormat::Json && !saved.trees.count("root"))  // JSON's "groups" are the tree "root"
+        names.insert(std::lower_bound(names.begin(), names.end(), "root"), "root");
+    if (names != treeNames(reread)) return std::string("its trees' names read back otherwise");
     if (objectCount(saved) != objectCount(reread))
         return "it reads back as " + std::to_string(objectCount(reread)) + " objects, not " +
                std::to_string(objectCount(saved));
@@ -407,25 +430,8 @@ void saveDocument(const SceneDocument& document, const Resources& resources, con
     saveDocument(document, resources, target, WriteOptions{});
 }
 
-namespace {
-
-// A scene is saved in its own format: a JSON scene to a .json file, an XML one to any other
-// name (.xml, or a name of the user's); `ray convert` turns one into the other.
-void checkFormatFits(const SceneDocument& document, const fs::path& target) {
-    const bool jsonName = sameName(target.extension().string().c_str(), ".json");
-    const bool json = document.format == SceneFormat::Json;
-    if (jsonName == json) return;
-    const char* format = json ? "a JSON scene" : "an XML scene";
-    throw InputError("error: the scene is not saved: it is " + std::string(format) + ", and " + target.string() +
-                     (jsonName ? " names a JSON file" : " does not end in .json") + "; save it as ." +
-                     (json ? "json" : "xml") + ", or convert it with `ray convert IN OUT`");
-}
-
-}  // namespace
-
 void saveDocument(const SceneDocument& document, const Resources& resources, const fs::path& target,
                   const WriteOptions& options) {
-    checkFormatFits(document, target);
     const std::string bytes = documentFileBytes(document, resources, target);
     checkLoadsBack(document, bytes, target);
     writeFileAtomically(target, bytes, options);

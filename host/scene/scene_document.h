@@ -304,12 +304,15 @@ void removeLight(SceneDocument& document, size_t index);
 // the value `text` reads as. Throws InputError when `text` is not a plain finite number.
 void setTypedNumber(SceneDocument& document, const std::string& key, const std::string& text);
 
-// The scenefile text of the document (SPEC §1), in UTF-8, which loads back to the same
-// scene. A document that keeps its file's text is that text with splices for what it now
-// says differently (document_splices.h): unedited, the file byte for byte (for a file in
-// UTF-8; a file in another encoding is its text in UTF-8, its declaration kept: see
-// documentFileBytes). One made in code is written whole (canonical_writer.h). Texture and
-// mesh paths the document changed, and all of them when `target` is in another folder than
+// The scenefile text of the document, in UTF-8, which loads back to the same scene, in the
+// format `target`'s name says (.json: the course's JSON, SPEC §7; .xml: SPEC §1's XML; any
+// other name: the document's own). A document that keeps its file's text, saved in its
+// format, is that text with splices for what it now says differently (document_splices.h):
+// unedited, the file byte for byte (for a file in UTF-8; a file in another encoding is its
+// text in UTF-8, its declaration kept: see documentFileBytes). One made in code, or saved in
+// the other format, is written whole (canonical_writer.h, json_writer.h: what JSON cannot
+// hold, such as a torus, is refused with its line). A JSON document read from a file, saved
+// as JSON, is its text with splices likewise (json_splices.h). Texture and mesh paths the document changed, and all of them when `target` is in another folder than
 // the file, are written relative to `target`'s folder. Throws InputError for what a file
 // cannot hold (a texture or mesh made in memory, a name with a character XML cannot hold:
 // scene/xml_characters.h).
