@@ -3,6 +3,7 @@ light, rendered; nothing written until the page saves, then the file is there an
 renders it; a missing file that cannot become a scene file (not .xml, no such folder) is
 a file that cannot be opened, as before (exit status 2). No browser needed.
 Usage: python3 test_new_scene.py RAY_BINARY"""
+import json
 import os
 import subprocess
 import sys
@@ -25,6 +26,30 @@ try:
     ppm = os.path.join(viewer.folder, "new.ppm")
     subprocess.run([ray, viewer.scene, "16", "12", "--device", "cpu", "-o", ppm, "--quiet"], check=True)
     print(f"save: {viewer.scene} written ({os.path.getsize(viewer.scene)} bytes); ray renders it")
+finally:
+    viewer.close()
+
+# ray view new.json: the same new scene in the course's JSON; a sphere added, saved in the
+# course's style (2-space indent, arrays of numbers on one line), which ray renders.
+viewer = Viewer(ray, "new.json", "--device", "cpu", "--width", "64", "--height", "48", new_file=True)
+try:
+    viewer.wait_frame_done(final=True, timeout=120)
+    status, answer = viewer.json("POST", "/op", json.dumps({"op": "add-primitive", "shape": "sphere",
+                                                            "fields": {"diffuse": [1, 0, 0]}}).encode())
+    assert status == 200, answer
+    status, answer = viewer.json("POST", "/op", json.dumps({"op": "add-primitive", "shape": "torus"}).encode())
+    assert status == 400 and "JSON scene" in answer["error"] and "torus" in answer["error"], (status, answer)
+    assert not os.path.exists(viewer.scene), "written before any save"
+    status, answer = viewer.json("POST", "/save", b"{}")
+    assert status == 200, answer
+    text = open(viewer.scene).read()
+    scene = json.loads(text)
+    assert scene["groups"][0]["lights"][0]["type"] == "point", text
+    assert scene["groups"][1]["primitives"] == [{"type": "sphere", "diffuse": [1, 0, 0]}], text
+    assert '\n  "globalData": {\n    "ambientCoeff": 0.5,' in text and '"position": [4, 3, 5],' in text, text
+    ppm = os.path.join(viewer.folder, "new.ppm")
+    subprocess.run([ray, viewer.scene, "16", "12", "--device", "cpu", "-o", ppm, "--quiet"], check=True)
+    print(f"new.json: a sphere added (a torus refused: JSON has none), saved in the course's style; ray renders it")
 finally:
     viewer.close()
 
