@@ -19,7 +19,7 @@ static_assert(sizeof(MasterReference) == 56 && sizeof(CsgNode) == 48 && sizeof(T
               "a MasterReference, CsgNode or TreeNode member was added: compare it in sameItem");
 static_assert(sizeof(NamedTree) == 96, "a NamedTree member was added: compare it in sameTreeShell");
 // SceneDocument::format (XML or JSON) is the file's and no edit changes it: not in the header.
-static_assert(sizeof(SceneDocument) == 416, "a SceneDocument member was added: keep it in DocumentPatch::Header");
+static_assert(sizeof(SceneDocument) == 432, "a SceneDocument member was added: keep it in DocumentPatch::Header");
 #endif
 
 // Bit for bit: a value copied unchanged compares equal (a NaN too), a changed one does not.
@@ -181,7 +181,7 @@ private:
 DocumentPatch::Header headerOf(const SceneDocument& d) {
     return {d.file,         d.globals,        d.camera,      d.lights,      d.treeOrder,  d.scenefileLine,
             d.primitiveElements, d.nextObjectId, d.nextBlockId, d.nextNodeId, d.lightIds, d.source,
-            d.lightSources};
+            d.lightSources, d.jsonSource};
 }
 
 void setHeader(SceneDocument& d, DocumentPatch::Header h) {
@@ -198,6 +198,7 @@ void setHeader(SceneDocument& d, DocumentPatch::Header h) {
     d.lightIds = std::move(h.lightIds);
     d.source = std::move(h.source);
     d.lightSources = std::move(h.lightSources);
+    d.jsonSource = std::move(h.jsonSource);
 }
 
 // typedNumbers' entries as `before` has them, where `after` differs.

@@ -35,6 +35,7 @@ struct DocumentPatch {
         std::vector<int> lightIds;
         std::shared_ptr<const SourceText> source;
         std::vector<SourceId> lightSources;
+        std::shared_ptr<const JsonSource> jsonSource;
     };
     // A run of transblocks of a tree (or of items of one transblock) replaced: `count`
     // elements from `at` in the version the patch applies to become `blocks` (`items`).

@@ -5,6 +5,7 @@
 #include "core/message_text.h"
 #include "edit/edit_error.h"
 #include "edit/node_matching.h"
+#include "scene/json_splices.h"
 
 namespace ray::edit {
 
@@ -52,6 +53,13 @@ EditSession::EditSession(SceneDocument document, SessionOptions options, Resourc
     scene_ = std::make_shared<Scene>(flattenDocument(document_, resources_, options_.load));
 }
 
+// A document read from JSON is saved as JSON (scene/json_splices.h): an edit the format
+// cannot hold is refused now, not at the save.
+void EditSession::refuseWhatJsonCannotHold(const SceneDocument& edited) const {
+    if (std::optional<std::string> why = jsonUnsaveable(edited, resources_))
+        throw EditError("the edit was not made: the scene is a JSON scene, and " + *why);
+}
+
 FieldContext EditSession::context() { return FieldContext{resources_, *scene_, options_.resolveFile}; }
 
 std::shared_ptr<Scene> EditSession::flattenEdited(SceneDocument& document, const SceneChanges& changes) {
@@ -68,9 +76,12 @@ std::shared_ptr<Scene> EditSession::flattenEdited(SceneDocument& document, const
 
 Outcome EditSession::apply(const Operation& operation, std::string_view action) {
     if (setsSettingsOnly(operation)) return applyToSettings(std::get<SetFields>(operation), action);
-    if (!options_.history && appliesInPlace(document_, operation, resources_)) return applyInPlace(operation);
+    if (!options_.history && !document_.jsonSource && appliesInPlace(document_, operation, resources_))
+        return applyInPlace(operation);
     SceneDocument edited = document_;
     const Outcome outcome = perform(edited, operation, context());
+    placeLightsByTheirGroups(document_, edited);
+    refuseWhatJsonCannotHold(edited);
     std::shared_ptr<Scene> scene = flattenEdited(edited, outcome.changes);
     commit(std::move(edited), std::move(scene), outcome, action);
     return outcome;
@@ -101,6 +112,14 @@ Outcome EditSession::applyToSettings(const SetFields& set, std::string_view acti
     settings.lightIds = document_.lightIds;
     settings.typedNumbers = document_.typedNumbers;
     const Outcome outcome = perform(settings, set, context());
+    if (document_.jsonSource) {
+        SceneDocument edited = document_;
+        edited.camera = settings.camera;
+        edited.globals = settings.globals;
+        edited.lights = settings.lights;
+        edited.typedNumbers = settings.typedNumbers;
+        refuseWhatJsonCannotHold(edited);
+    }
     if (options_.history) pushStep(patchBetween(document_, settings, true), outcome, action);
     document_.camera = settings.camera;
     document_.globals = settings.globals;

@@ -111,6 +111,8 @@ public:
     NodeView describe(const NodeId& id) { return describeNode(document_, *scene_, id); }
 
 private:
+    void refuseWhatJsonCannotHold(const SceneDocument& edited) const;
+
     struct Step {
         // What gives the document before the step (undo_) or after it (redo_) back, in the
         // order they apply: the step's operations' patches, latest first.

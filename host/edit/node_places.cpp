@@ -1,6 +1,7 @@
 #include "edit/node_places.h"
 
 #include <charconv>
+#include <utility>
 
 #include "edit/edit_error.h"
 
@@ -11,7 +12,7 @@ namespace {
 class NodeWalk {
 public:
     NodeWalk(SceneDocument& document, const std::function<bool(const NodePlace&)>& visit)
-        : document_(document), visit_(visit) {}
+        : document_(document), visit_(visit), json_(document.format == SceneFormat::Json) {}
 
     void run() {
         if (emit({NodeKind::Camera, 0}, 0, std::nullopt) || emit({NodeKind::Globals, 0}, 0, std::nullopt)) return;
@@ -20,10 +21,13 @@ public:
             if (emit({NodeKind::Light, i < document_.lightIds.size() ? document_.lightIds[i] : -1}, 0, std::nullopt))
                 return;
         }
+        size_t templates = 0;  // a JSON scene's trees but "root" are its templateGroups, in order
         for (NamedTree* tree : treesInOrder(document_)) {
             place_ = {};
             place_.tree = tree;
             place_.path = tree->name;
+            templateGroup_ = json_ && tree->name != "root";
+            if (json_) place_.path = templateGroup_ ? "templateGroups[" + std::to_string(templates++) + "]" : "";
             const NodeId treeId{NodeKind::Tree, tree->id};
             if (emit(treeId, 0, std::nullopt) || walkTree(tree->tree, 1, treeId)) return;
         }
@@ -40,11 +44,15 @@ private:
     // place_.path is one buffer, each level's part appended and cut off again: a walk is made
     // for every lookup of a node (findNode), and a new string for every node of a scene of
     // 10^4 objects made each add of one cost more than the add itself.
-    bool walkTree(TreeNode& node, int depth, const NodeId& parent) {
+    // `first`: a JSON place's number of the first block (the groups of a group's inline
+    // trees are one "groups" array).
+    bool walkTree(TreeNode& node, int depth, const NodeId& parent, size_t first = 0) {
         const size_t prefix = place_.path.size();
+        const bool templateGroup = std::exchange(templateGroup_, false);
         for (size_t b = 0; b < node.blocks.size(); ++b) {
             Block& block = node.blocks[b];
-            appendPath("/transblock[", b);
+            if (!json_) appendPath("/transblock[", b);
+            else if (!templateGroup || b > 0) appendPath(prefix ? ".groups[" : "groups[", first + b);
             place_.blocks.push_back(&block);
             place_.holder = &node;
             place_.index = b;
@@ -58,10 +66,12 @@ private:
 
     bool walkItems(Block& block, int depth, const NodeId& parent) {
         const size_t blockPath = place_.path.size();
+        size_t primitives = 0, groups = 0;  // a JSON group's of each
         for (size_t i = 0; i < block.items.size(); ++i) {
             SceneItem& item = block.items[i];
             place_.path.resize(blockPath);
-            appendPath("/object[", i);
+            if (!json_) appendPath("/object[", i);
+            else if (std::holds_alternative<PrimitiveNode>(item)) appendPath(".primitives[", primitives++);
             auto at = [&] {
                 place_.holder = nullptr;
                 place_.index = i;
@@ -74,7 +84,8 @@ private:
                 if (emit({NodeKind::Placement, master->id}, depth, parent)) return true;
             } else if (auto* subtree = std::get_if<Box<TreeNode>>(&item)) {
                 // An inline tree is no node of its own: its transblocks are the block's children.
-                if (walkTree(**subtree, depth, parent)) return true;
+                if (walkTree(**subtree, depth, parent, groups)) return true;
+                groups += (*subtree)->blocks.size();
             } else if (auto* csg = std::get_if<Box<CsgNode>>(&item)) {
                 at();
                 const NodeId csgId{NodeKind::Csg, (*csg)->id};
@@ -100,6 +111,9 @@ private:
     SceneDocument& document_;
     const std::function<bool(const NodePlace&)>& visit_;
     NodePlace place_;
+    // A JSON scene's places are its file's: "groups[2].primitives[0]", "templateGroups[0]".
+    const bool json_;
+    bool templateGroup_ = false;  // the tree walked next is a template: its first block is its group
 };
 
 }  // namespace

@@ -22,7 +22,7 @@ struct NodePlace {
     TreeNode* holder = nullptr;   // Block: the tree (top-level or inline) whose block it is
     size_t index = 0;             // Block: its index in holder->blocks; items: in blocks.back()->items; Light: index
     int depth = 0;                // in the outline
-    std::string path;             // "root/transblock[1]/object[0]" (DocumentPlace's form)
+    std::string path;             // "root/transblock[1]/object[0]" (DocumentPlace's form); a JSON scene's "groups[1].primitives[0]"
     std::optional<NodeId> parent; // in the outline; none for the camera, globals, lights, trees
 
     Block& block() const { return *blocks.back(); }  // Block: itself; an item: the block holding it

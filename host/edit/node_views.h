@@ -31,7 +31,7 @@ std::vector<OutlineEntry> outline(SceneDocument& document);
 
 struct NodeView {
     OutlineEntry entry;
-    std::string path;  // its place in the file's tree: "root/transblock[1]/object[0]"
+    std::string path;  // its place in the file's tree: "root/transblock[1]/object[0]", "groups[1].primitives[0]" (JSON)
     int line = 0;      // in the file it was read from; 0 when made by an edit
     // Its fields that apply, in the table's order, with their values.
     std::vector<std::pair<const EditField*, FieldValue>> fields;

@@ -1,6 +1,7 @@
 // The course's JSON scenefiles into the scene document (json_scene_reader.h).
 #include "scene/json_scene_reader.h"
 
+#include <algorithm>
 #include <array>
 #include <unordered_map>
 
@@ -72,6 +73,8 @@ public:
         NamedTree& root = addTree("root", scene.get("groups") ? scene.get("groups").keyOffset() : 0);
         if (JsonValue groups = scene.get("groups")) root.tree = readGroups(groups, "groups", "");
         if (templates) readTemplates(templates);
+        if (templates && scene.get("groups") && templates.keyOffset() < scene.get("groups").keyOffset())
+            rotateRootLast();  // the trees in the file's order: the templates written first
         checkTemplateCycles();
         countInstances(document_.trees, diagnostics_);  // nesting too deep: refused before lights are placed
         placeLights();
@@ -130,6 +133,7 @@ private:
 
         const std::string& place() const { return place_; }
         size_t offset() const { return object_.offset(); }
+        JsonValue value() const { return object_; }
 
     private:
         size_t indexOf(std::string_view key) const {
@@ -288,6 +292,11 @@ private:
         }
     }
 
+    void rotateRootLast() {
+        std::vector<std::string>& order = document_.treeOrder;
+        std::rotate(order.begin(), order.begin() + 1, order.end());  // "root" is added first
+    }
+
     NamedTree& addTree(const std::string& name, size_t offset) {
         NamedTree& tree = document_.trees[name];
         tree.name = name;
@@ -354,6 +363,7 @@ private:
     TreeNode readGroups(JsonValue groups, const char* key, const std::string& place) {
         expectArray(groups, key, place, "[{...}, ...]");
         TreeNode tree;
+        tree.source = groups.index();
         tree.blocks.reserve(groups.size());
         size_t index = 0;
         for (JsonValue group = groups.first(); group; group = group.next(), ++index)
@@ -367,6 +377,7 @@ private:
         const Members m(*this, value, kGroupKeys, place);
         Block block;
         block.id = document_.nextBlockId++;
+        block.source = value.index();
         const JsonValue name = m.get("name");
         const std::string groupName = name ? text(name, "name", place) : std::string();
         if (!definesTemplate && templates_.count(groupName)) {
@@ -398,6 +409,7 @@ private:
         MasterReference reference;
         reference.name = groupName;
         reference.line = line(name.offset());
+        reference.source = m.value().index();
         references_[currentTemplate_.empty() ? "root" : currentTemplate_].push_back({groupName, name.offset()});
         return reference;
     }
@@ -466,7 +478,7 @@ private:
         expectArray(lights, "lights", place, "[{\"type\": \"point\", ...}]");
         size_t index = 0;
         for (JsonValue value = lights.first(); value; value = value.next(), ++index)
-            localLights_[blockId].push_back(readLight(value, item(place, "lights", index)));
+            localLights_[blockId].push_back({readLight(value, item(place, "lights", index)), value.index()});
     }
 
     Light readLight(JsonValue value, const std::string& place) const {
@@ -512,8 +524,8 @@ private:
                         std::to_string(kMaxJsonLights) + " ray takes",
                  "place the templates that hold lights fewer times");
         document_.lights.reserve(size_t(total));
+        document_.lightSources.reserve(size_t(total));
         placeLights(root.tree, Affine::identity());
-        document_.lightSources.assign(document_.lights.size(), kNoSource);
     }
 
     uint64_t lightsIn(const TreeNode& tree) {
@@ -540,10 +552,11 @@ private:
             const Affine frame = parent * block.toParent;
             auto own = localLights_.find(block.id);
             if (own != localLights_.end())
-                for (Light light : own->second) {
+                for (auto [light, source] : own->second) {
                     light.position = frame.transformPoint(light.position);
                     light.direction = frame.transformVector(light.direction);
                     document_.lights.push_back(light);
+                    document_.lightSources.push_back(source);  // a template's light: one value, placed each time
                 }
             for (const SceneItem& item : block.items) {
                 if (lightsIn(item) == 0) continue;
@@ -561,6 +574,7 @@ private:
         const Members m(*this, value, kPrimitiveKeys, place);
         ++document_.primitiveElements;
         PrimitiveNode node;
+        node.source = value.index();
         node.line = line(value.offset());
         node.id = document_.nextObjectId++;
         const JsonValue typeValue = m.required("type", "\"cube\" (or sphere, cylinder, cone, mesh)");
@@ -664,7 +678,8 @@ private:
     std::map<std::string, Template> templates_;
     std::string currentTemplate_;  // the template being read; empty in the scene's groups
     std::map<std::string, std::vector<Reference>> references_;  // by the tree ("root" or a template) making them
-    std::unordered_map<int, std::vector<Light>> localLights_;  // by block id, in the block's frame
+    // By block id, in the block's frame, with the value each was read from.
+    std::unordered_map<int, std::vector<std::pair<Light, SourceId>>> localLights_;
     std::unordered_map<const TreeNode*, uint64_t> lightCounts_;
     std::map<std::string, std::optional<fs::path>> resolvedImages_;  // by reference as written
 };

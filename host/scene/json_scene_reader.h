@@ -12,6 +12,9 @@
 //  - lights are the document's world-space lights: each is placed by the transforms of the
 //    groups around it, once for every time its template is placed, in the order of the
 //    groups (a group's own lights before its subgroups').
+// Each node keeps the JSON value it came from (its SourceId is the value's index in the
+// tree; SceneDocument::lightSources each light's), so that a save can keep the file
+// (json_splices.h).
 //
 // Every rule of SPEC §7 is checked, each error naming line and column ("scene.json:14:9:")
 // and the place in the file's terms ("groups[2].primitives[0]"): an unknown key, a key

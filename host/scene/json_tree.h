@@ -54,6 +54,8 @@ public:
     bool isObject() const { return kind() == JsonKind::Object; }
 
     size_t offset() const;  // of its first byte in the text
+    // Its place in the tree (JsonTree::at gives it back): document order, the root 0.
+    uint32_t index() const { return index_; }
     double number() const;  // numbers only
     std::string_view string() const;  // strings only (may hold NULs: JSON's \u0000)
     // Arrays and objects: the number of items or members, the first, and (of an item or a
@@ -86,6 +88,8 @@ public:
     JsonTree& operator=(const JsonTree&) = delete;
 
     JsonValue root() const { return nodes_.empty() ? JsonValue() : JsonValue(this, 0); }
+    // The value at `index` (JsonValue::index); none past the last.
+    JsonValue at(uint32_t index) const { return index < nodes_.size() ? JsonValue(this, index) : JsonValue(); }
     size_t valueCount() const { return nodes_.size(); }
 
 private:

@@ -10,6 +10,7 @@
 #include "scene/document_save.h"
 #include "scene/canonical_writer.h"
 #include "scene/document_splices.h"
+#include "scene/json_splices.h"
 #include "scene/json_writer.h"
 #include "scene/scene_loader.h"
 #include "scene/value_text.h"
@@ -90,7 +91,7 @@ SceneDocument::SceneDocument(const SceneDocument& other)
       treeOrder(other.treeOrder), scenefileLine(other.scenefileLine), primitiveElements(other.primitiveElements),
       nextObjectId(other.nextObjectId), nextBlockId(other.nextBlockId), nextNodeId(other.nextNodeId),
       lightIds(other.lightIds), source(other.source),
-      lightSources(other.lightSources), typedNumbers(other.typedNumbers) {
+      lightSources(other.lightSources), typedNumbers(other.typedNumbers), jsonSource(other.jsonSource) {
     resolveMasters();  // the copied references point into `other`
 }
 
@@ -344,9 +345,8 @@ bool keepsSourceText(const SceneDocument& document, const fs::path& target) {
 
 std::string documentToText(const SceneDocument& document, const Resources& resources, const fs::path& target) {
     if (savedFormat(document, target) == SceneFormat::Json) {
-        if (document.format == SceneFormat::Json)  // nothing is written over the JSON it was read from
-            throw InputError(document.file.string() + ": error: saving a JSON scene is not supported yet; "
-                             "the file is left as it is (edit the .json file in a text editor, or save it as .xml)");
+        if (document.jsonSource)  // the JSON it was read from, with its edits (json_splices.h)
+            return applySplices(document.jsonSource->text, jsonDocumentSplices(document, resources, target));
         return documentToJson(document, resources, target);  // a scene made in code, or an XML one converted
     }
     if (keepsSourceText(document, target)) {

@@ -32,6 +32,8 @@
 // and an edit changes the lines of what it touched alone. Edits need not say what they
 // changed in the text: they change the document, and the save compares it with the text.
 // A document with no text (made in code) is written afresh (canonical_writer.h).
+// A document read from a course JSON scene keeps its text as a JsonSource instead
+// (json_splices.h: its nodes' SourceIds are JSON values), and is saved as JSON the same way.
 #pragma once
 
 #include <array>
@@ -200,6 +202,8 @@ struct NamedTree {
 // The two formats of a scene file: the CS123 XML (SPEC §1) and the course's JSON (SPEC §7).
 enum class SceneFormat : uint8_t { Xml, Json };
 
+struct JsonSource;
+
 struct SceneDocument {
     std::filesystem::path file;  // the file it was read from (relative paths are found from its folder)
     SceneFormat format = SceneFormat::Xml;  // of the file it was read from
@@ -225,6 +229,9 @@ struct SceneDocument {
     // one): a save writes a changed number with this text when the text reads as the
     // number the field holds, in the shortest form that reads back as it otherwise.
     std::map<std::string, std::string> typedNumbers;
+    // A JSON document's text (format Json; null for XML and for a document made in code):
+    // the text, its values and the document as it reads (json_splices.h).
+    std::shared_ptr<const JsonSource> jsonSource;
 
     SceneDocument() = default;
     SceneDocument(const SceneDocument& other);  // deep, masters resolved in the copy
@@ -304,8 +311,8 @@ void setTypedNumber(SceneDocument& document, const std::string& key, const std::
 // unedited, the file byte for byte (for a file in UTF-8; a file in another encoding is its
 // text in UTF-8, its declaration kept: see documentFileBytes). One made in code, or saved in
 // the other format, is written whole (canonical_writer.h, json_writer.h: what JSON cannot
-// hold, such as a torus, is refused with its line); a JSON scene is not saved as JSON yet. Texture and
-// mesh paths the document changed, and all of them when `target` is in another folder than
+// hold, such as a torus, is refused with its line). A JSON document read from a file, saved
+// as JSON, is its text with splices likewise (json_splices.h). Texture and mesh paths the document changed, and all of them when `target` is in another folder than
 // the file, are written relative to `target`'s folder. Throws InputError for what a file
 // cannot hold (a texture or mesh made in memory, a name with a character XML cannot hold:
 // scene/xml_characters.h).

@@ -60,6 +60,7 @@
 
 #include "core/memory_limits.h"
 #include "scene/json_scene_reader.h"
+#include "scene/json_splices.h"
 #include "scene/scene_loader_passes.h"
 #include "scene/value_text.h"
 
@@ -118,6 +119,8 @@ SceneDocument jsonDocument(std::string_view text, const fs::path& file, const Di
     document.format = SceneFormat::Json;
     loader::readJsonSceneDocument(text, diagnostics, document);
     assignNodeIds(document);
+    // Its text and the document as read, which a save compares it with (json_splices.h).
+    document.jsonSource = std::make_shared<const JsonSource>(std::string(text), document);
     return document;
 }
 

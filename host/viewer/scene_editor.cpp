@@ -236,7 +236,10 @@ std::filesystem::path SceneEditor::save(const std::optional<std::string>& as, bo
     std::filesystem::path target = own;
     std::error_code ec;
     if (as) {
-        target = fileInFolder(own.parent_path(), *as, "save as", {".xml", ".json"});
+        // The name says the format (saveDocument): .json writes the course's JSON, .xml XML.
+        static constexpr std::string_view kXmlFirst[] = {".xml", ".json"}, kJsonFirst[] = {".json", ".xml"};
+        const bool json = session_.document().format == SceneFormat::Json;
+        target = fileInFolder(own.parent_path(), *as, "save as", json ? std::span(kJsonFirst) : std::span(kXmlFirst));
         if (!std::filesystem::equivalent(target, own, ec)) checkMayWrite(target, replace, "save as");
     }
     const bool ownFile = target == own || std::filesystem::equivalent(target, own, ec);

@@ -26,7 +26,7 @@ SceneEditor editorFor(const ViewerOptions& options) {
                              ", which do not load: open the scene without --recover, or remove that file)");
         }
     }
-    if (options.newScene) return SceneEditor(options.scene, newSceneText(), options.load, options.historyLimit);
+    if (options.newScene) return SceneEditor(options.scene, newSceneText(options.scene), options.load, options.historyLimit);
     return SceneEditor(options.scene, options.load, options.historyLimit);
 }
 

@@ -8,7 +8,11 @@ light, camera, globals and transblock fields, a delete.
 
 A step names nodes as "$N.added.K" (the K-th node step N added: the answers' `added`) or
 "@kind.K" (the K-th node of that kind in the outline, from the end when negative), so that
-each front end finds them through its own outline and answers."""
+each front end finds them through its own outline and answers.
+
+The same sequence from tests/data/edits/start.json (the same scene as the course's JSON,
+issue 50) saves one JSON file through the three front ends: its text kept, the edits spliced
+in, new groups written in the course's style."""
 import json
 import os
 import shutil
@@ -23,6 +27,7 @@ import cs123ray
 ROOT = Path(__file__).parents[2]
 SEQUENCE = ROOT / "tests" / "data" / "edits" / "sequence.json"
 START = ROOT / "tests" / "data" / "edits" / "start.xml"
+START_JSON = ROOT / "tests" / "data" / "edits" / "start.json"
 SCENES = Path(os.environ.get("RAY_SCENES_DIR", ROOT / "scenes"))
 ASSETS = [SCENES / "textures" / "wood.png", SCENES / "meshes" / "vase.obj"]  # the files the sequence names
 RAY = os.environ.get("RAY_BINARY")
@@ -33,13 +38,14 @@ needs_front_ends = pytest.mark.skipif(not RAY or not EDIT_SEQUENCE,
                                              "and the C++ front end")
 
 
-def folder_with_start(tmp_path, name):
-    """A folder holding start.xml and the files the sequence names, as a user's scene folder."""
-    folder = tmp_path / name
-    folder.mkdir()
-    for asset in [START, *ASSETS]:
+def folder_with_start(tmp_path, name, start=START):
+    """A folder holding the start scene and the files the sequence names, as a user's scene
+    folder (tmp_path/name/scene: a JSON scene names files from the folder above its own)."""
+    folder = tmp_path / name / "scene"
+    folder.mkdir(parents=True)
+    for asset in [start, *ASSETS]:
         shutil.copy(asset, folder)
-    return folder / START.name
+    return folder / start.name
 
 
 def resolve(node, answers, outline):
@@ -152,4 +158,36 @@ def test_one_sequence_of_edits_through_the_page_cpp_and_python_saves_one_file(tm
     for made in ['name="marble"', 'name="marble_2"', "wood.png", "vase.obj", "<type v=\"spot\"/>", 'v="0.4"']:
         assert made in text, (made, text)
     assert text.count('type="master"') == 1, text  # one placement of each leg left: the second deleted
-    cs123ray.load_scene(tmp_path / "python" / "python.xml")
+    cs123ray.load_scene(tmp_path / "python" / "scene" / "python.xml")
+
+
+@needs_front_ends
+def test_one_sequence_of_edits_on_a_json_scene_saves_one_json_file(tmp_path):
+    saved = {}
+    for name, front_end in [("python", through_python), ("cpp", through_cpp), ("page", through_the_page)]:
+        start = folder_with_start(tmp_path, name, START_JSON)
+        out = start.parent / f"{name}.json"
+        front_end(start, out)
+        saved[name] = out.read_text()
+    # A JSON scene names its files from the folder above its own (SPEC §7): the page's copy of
+    # the scene is in a folder of the viewer's, whose name its paths say.
+    saved["page"] = saved["page"].replace(page_folder_name(saved["page"]) + "/", "scene/")
+    assert saved["cpp"] == saved["python"], "C++ and Python saved different files"
+    assert saved["page"] == saved["python"], "the page's routes and Python saved different files"
+    text = saved["python"]
+    course = START_JSON.read_text()
+    for kept in ['"specularCoeff": 0.5', '"translate": [-2, 0, 0],', '"diffuse": [0.6, 0.4, 0.2]']:
+        assert kept in text, (kept, text)  # the lines no edit touched, as they were
+    for made in ['"name": "marble"', '"name": "marble_2"', "scene/wood.png", "scene/vase.obj", '"type": "spot"',
+                 '"ambientCoeff": 0.4']:
+        assert made in text, (made, text)
+    assert text.count('"groups": [{"name": "marble') == 1 and '"leg"' not in text, text  # one placement left
+    assert text.splitlines()[:3] == course.splitlines()[:3]
+    cs123ray.load_scene(tmp_path / "python" / "scene" / "python.json")
+
+
+def page_folder_name(text):
+    """The folder a path of the page's saved JSON names its texture in (the viewer's own)."""
+    marker = "/wood.png"
+    end = text.index(marker)
+    return text[text.rindex('"', 0, end) + 1:end]

@@ -1,7 +1,6 @@
 """`ray view new.xml` on a file that does not exist (issue 43): a new scene, a camera and a
 light, rendered; nothing written until the page saves, then the file is there and `ray`
-renders it (new.json: the course's JSON, issue 50); a missing file that cannot become a
-scene file (not .xml or .json, no such folder) is
+renders it; a missing file that cannot become a scene file (not .xml, no such folder) is
 a file that cannot be opened, as before (exit status 2). No browser needed.
 Usage: python3 test_new_scene.py RAY_BINARY"""
 import json
@@ -30,32 +29,27 @@ try:
 finally:
     viewer.close()
 
-# new.json (issue 50): the same new scene, saved as the course's JSON (2-space indent, the
-# light in a group placed by its translate), which `ray` renders; saved again after an edit.
+# ray view new.json: the same new scene in the course's JSON; a sphere added, saved in the
+# course's style (2-space indent, arrays of numbers on one line), which ray renders.
 viewer = Viewer(ray, "new.json", "--device", "cpu", "--width", "64", "--height", "48", new_file=True)
 try:
     viewer.wait_frame_done(final=True, timeout=120)
-    assert "new.json does not exist: a new scene" in viewer.log(), viewer.log()
+    status, answer = viewer.json("POST", "/op", json.dumps({"op": "add-primitive", "shape": "sphere",
+                                                            "fields": {"diffuse": [1, 0, 0]}}).encode())
+    assert status == 200, answer
+    status, answer = viewer.json("POST", "/op", json.dumps({"op": "add-primitive", "shape": "torus"}).encode())
+    assert status == 400 and "JSON scene" in answer["error"] and "torus" in answer["error"], (status, answer)
     assert not os.path.exists(viewer.scene), "written before any save"
     status, answer = viewer.json("POST", "/save", b"{}")
-    assert status == 200 and not answer["modified"], answer
+    assert status == 200, answer
     text = open(viewer.scene).read()
-    assert text.startswith('{\n  "name": "root",\n  "globalData": {\n    "ambientCoeff": 0.5,'), text
-    assert '"translate": [3, 5, 4],\n      "lights": [' in text, text
-    json.loads(text)
-    status, state = viewer.json("GET", "/state")
-    status, answer = viewer.json("POST", "/op", json.dumps({"op": "add-primitive", "shape": "cube",
-                                                            "revision": state["revision"]}).encode())
-    assert status == 200, answer
-    status, answer = viewer.json("POST", "/save", b"{}")
-    assert status == 200, answer
-    saved = json.loads(open(viewer.scene).read())
-    shapes = [p["type"] for g in saved["groups"] for g2 in [g] + g.get("groups", []) for p in g2.get("primitives", [])]
-    assert shapes == ["cube"], saved
+    scene = json.loads(text)
+    assert scene["groups"][0]["lights"][0]["type"] == "point", text
+    assert scene["groups"][1]["primitives"] == [{"type": "sphere", "diffuse": [1, 0, 0]}], text
+    assert '\n  "globalData": {\n    "ambientCoeff": 0.5,' in text and '"position": [4, 3, 5],' in text, text
     ppm = os.path.join(viewer.folder, "new.ppm")
     subprocess.run([ray, viewer.scene, "16", "12", "--device", "cpu", "-o", ppm, "--quiet"], check=True)
-    print(f"new.json: saved as the course's JSON ({os.path.getsize(viewer.scene)} bytes), again with a cube; "
-          "ray renders it")
+    print(f"new.json: a sphere added (a torus refused: JSON has none), saved in the course's style; ray renders it")
 finally:
     viewer.close()
 
