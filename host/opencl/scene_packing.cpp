@@ -301,6 +301,11 @@ size_t PackedScene::totalBytes() const {
     return bytes;
 }
 
+size_t PackedScene::meshBytes() const {
+    return (nodes.size() - sceneNodes) * sizeof(nodes[0]) + triangles.size() * sizeof(triangles[0]) +
+           triangleShading.size() * sizeof(triangleShading[0]);
+}
+
 PackedScene packScene(const Scene& scene, const RenderSettings& settings, bool cpuTables) {
     PackedScene packed;
     packed.cpuTables = cpuTables;

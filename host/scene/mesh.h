@@ -49,6 +49,11 @@ struct TriangleMesh {
     // v, is −(N × T) there. +1 without vt or where they are degenerate.
     double uvHandedness(size_t triangle) const;
     void computeBounds();
+    // What the arrays above hold, in bytes (--stats: a mesh's bytes a triangle).
+    size_t memoryBytes() const {
+        return positions.size() * sizeof(Vec3) + normals.size() * sizeof(Vec3) +
+               texCoords.size() * sizeof(texCoords[0]) + triangles.size() * sizeof(triangles[0]);
+    }
 };
 
 // Reads an OBJ file through core/input_file.h (a regular file of at most 1 GiB);
