@@ -197,7 +197,13 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
     FlatBvh bvh = buildBvh(bounds);
     std::vector<BoundingBox>().swap(bounds);
     const int nodeOffset = int(packed.nodes.size()), triangleOffset = int(packed.triangles.size());
-    for (gpu::RayWideBvhNode node : widenBvh(bvh.nodes)) {
+    const std::vector<gpu::RayWideBvhNode> wide = widenBvh(bvh.nodes);
+    std::vector<BinaryBvhNode>().swap(bvh.nodes);
+    // Grown once for the mesh, not node by node (each regrowth copies the table), and at
+    // least doubled, so that a scene of many meshes still copies it a few times only.
+    const size_t needed = packed.nodes.size() + wide.size();
+    if (packed.nodes.capacity() < needed) packed.nodes.reserve(std::max(needed, 2 * packed.nodes.capacity()));
+    for (gpu::RayWideBvhNode node : wide) {
         int* index = &node.index.x;
         const int* count = &node.count.x;
         for (int c = 0; c < 4; ++c)
