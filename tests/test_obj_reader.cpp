@@ -148,6 +148,11 @@ TEST_CASE("OBJ reader: edge cases read as tinyobjloader read them", "[mesh][obj]
         square + "f 1 2 99999999999\n",
         square + "f 1 2 -99999999999999999999\n",
         square + "f 1 2 4294967297\n",
+        square + "f 1 2 20000000000000000000\n",
+        square + "f 1 2 -20000000000000000000 3\n",
+        square + "f 1 2 9223372036854775807\nf 1 2 9223372036854775808\nf 1 2 -9223372036854775808\n",
+        square + "f 1 2 -9223372036854775809\nf 1 2 18446744073709551617\n",
+        square + "f 1 2 9223372036854775800\nf 3 2 -9223372036854775800\nf 1 2 922337203685477581\n",
         square + "f 1/\v2 2 3\n",
         // No faces: an error.
         "",

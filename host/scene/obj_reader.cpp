@@ -58,8 +58,10 @@ int cAtoi(const char* p, const char* end) {
     if (p < end && (*p == '+' || *p == '-')) negative = *p++ == '-';
     constexpr uint64_t kBeyond = (uint64_t(1) << 63) + 1;  // saturates the magnitude
     uint64_t magnitude = 0;
-    for (; p < end && isDigit(*p); ++p)
-        if (magnitude < kBeyond) magnitude = std::min(kBeyond, magnitude * 10 + uint64_t(*p - '0'));
+    for (; p < end && isDigit(*p); ++p) {  // checked before the multiplication, which could wrap
+        const uint64_t digit = uint64_t(*p - '0');
+        magnitude = magnitude > (kBeyond - digit) / 10 ? kBeyond : magnitude * 10 + digit;
+    }
     int64_t value;
     if (negative) value = magnitude >= (uint64_t(1) << 63) ? INT64_MIN : -int64_t(magnitude);
     else value = magnitude > uint64_t(INT64_MAX) ? INT64_MAX : int64_t(magnitude);
