@@ -691,7 +691,7 @@ struct CornerCheck {
 
 // The chunk's triangles in file order; false if one names a missing vertex.
 bool storeTriangles(const Chunk& chunk, const CornerCheck& check, TriangleMesh& mesh, Vec3* lo, Vec3* hi) {
-    auto* out = &mesh.triangles[chunk.firstTriangle];
+    auto* out = mesh.triangles.data() + chunk.firstTriangle;  // not [i]: it may be the end
     bool valid = true;
     auto put = [&](const RawCorner& a, const RawCorner& b, const RawCorner& c, bool resolved) {
         std::array<MeshCorner, 3>& t = *out++;
@@ -791,9 +791,11 @@ TriangleMesh readObjMesh(std::string_view text, const std::string& nameForErrors
     mesh.normals.resize(size_t(base.normals));
     mesh.texCoords.resize(size_t(base.texCoords));
     forEachChunk(chunks, [&](Chunk& chunk) {
-        copyFloats3(chunk.positions, &mesh.positions[size_t(chunk.base.positions)]);
-        copyFloats3(chunk.normals, &mesh.normals[size_t(chunk.base.normals)]);
-        auto* uv = &mesh.texCoords[size_t(chunk.base.texCoords)];
+        // data() + offset, not &[offset]: a chunk after the last normal starts at the end
+        // (and an empty array's data() may be null), where [] would bind a reference to nothing.
+        copyFloats3(chunk.positions, mesh.positions.data() + chunk.base.positions);
+        copyFloats3(chunk.normals, mesh.normals.data() + chunk.base.normals);
+        auto* uv = mesh.texCoords.data() + chunk.base.texCoords;
         for (size_t i = 0; i + 1 < chunk.texCoords.size(); i += 2) *uv++ = {chunk.texCoords[i], chunk.texCoords[i + 1]};
         std::vector<float>().swap(chunk.positions);
         std::vector<float>().swap(chunk.normals);
