@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/cli.h"
+#include "scene/scene_loader.h"
 #include "test_support.h"
 
 namespace {
@@ -156,6 +157,37 @@ TEST_CASE("renders write the image and statistics", "[cli]") {
                                     "\"bvh_build_seconds\"", "\"kernel_build_seconds\"", "\"render_seconds\"",
                                     "\"mrays_per_second\""})
                 CHECK_THAT(stats, Contains(key));
+        }
+    }
+}
+
+// --stats's memory line: the process's peak and, for a scene with meshes, their triangles
+// and bytes a triangle (as loaded; as packed on an OpenCL device). mesh_vase.xml: one mesh
+// (vase.obj) used by three instances, counted once.
+TEST_CASE("ray --stats reports peak memory and a mesh's bytes a triangle", "[cli][mesh]") {
+    const ray::Scene loaded = ray::loadScene(scene("mesh_vase.xml"));
+    REQUIRE(loaded.meshes.size() == 1);
+    const std::string triangles = std::to_string(loaded.meshes[0].triangles.size()) + " triangles";
+    for (std::string device : {"ref", "cpu"}) {
+        DYNAMIC_SECTION(device) {
+            fs::path json = freshOutput("memory_" + device + ".json");
+            auto r = runRay({scene("mesh_vase.xml"), "32", "24", "1", "--device", device, "--quiet", "-o",
+                             freshOutput("memory_" + device + ".png").string(), "--stats", "--stats-json",
+                             json.string()});
+            if (device == "cpu" && r.exitCode == 3) {
+                ray::test::skip("no OpenCL CPU device");
+                return;
+            }
+            REQUIRE(r.exitCode == 0);
+            CHECK_THAT(r.output, Contains("memory       peak ") && Contains("; meshes " + triangles + ", ") &&
+                                     Contains(" bytes a triangle loaded, ") && Contains(" at peak"));
+            // Only an OpenCL device packs the mesh.
+            CHECK((r.output.find(" packed, ") != std::string::npos) == (device == "cpu"));
+            const std::string stats = readText(json);
+            for (const char* key : {"\"peak_memory_bytes\"", "\"mesh_triangles\"", "\"mesh_loaded_bytes\"",
+                                    "\"mesh_packed_bytes\""})
+                CHECK_THAT(stats, Contains(key));
+            CHECK_THAT(stats, !Contains("\"peak_memory_bytes\": 0,"));
         }
     }
 }

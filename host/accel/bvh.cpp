@@ -124,6 +124,20 @@ constexpr uint32_t kExactSahMaxCount = 4;
 // costs more than it saves.
 constexpr size_t kParallelBuildThreshold = 65536;
 
+// Ranges of at least this many primitives are binned on every core (the top of the tree,
+// where the forks below have not yet spread the work): in blocks of kBinningBlock
+// primitives, each into bins of its own, merged in block order. Both are fixed, not drawn
+// from the thread count, and the merge is in order, so the bins, and the tree, are those
+// of one pass over the range, whatever the number of threads: a box's min and max keep
+// the same one of equal values (0 and -0) as the pass does, and counts add exactly.
+constexpr uint32_t kParallelBinningThreshold = uint32_t(1) << 18;
+constexpr uint32_t kBinningBlock = uint32_t(1) << 15;
+
+// The threads a build may use: options.threads, or one a core.
+int buildThreads(const BvhBuildOptions& options) {
+    return options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 // Four float lanes (x, y, z and a spare that is kept 0): the builder's inner loops work on
 // whole boxes at once, with SSE where the compiler offers it (every x86-64) and plain
 // loops elsewhere. Both give the same IEEE results lane by lane.
@@ -332,6 +346,7 @@ public:
           maxLeafSize_(uint32_t(std::max(options.maxLeafSize, 1))),
           maxDepth_(std::clamp(options.maxDepth, 1, kBvhMaxDepth)),
           maxBins_(std::clamp(options.bins, 2, 256)),
+          threads_(buildThreads(options)),
           bins_(size_t(3 * maxBins_)),
           binCounts_(size_t(3 * maxBins_)),
           rightHalfArea_(size_t(maxBins_)),
@@ -473,16 +488,32 @@ private:
     bool findSahSplit(const Range& range, SahSplit* best) {
         Binning binning(range.centroids, binsFor(range.count()));
         if (!binning.splitsAny()) return false;
-        for (int a = 0; a < 3; ++a) {
-            std::fill_n(bins_.begin() + a * maxBins_, binning.bins, Bin{});
-            std::fill_n(binCounts_.begin() + a * maxBins_, binning.bins, 0u);
+        if (threads_ > 1 && range.count() >= kParallelBinningThreshold) {
+            binInBlocks(range, binning);
+        } else {
+            clearBins(bins_.data(), binCounts_.data(), binning.bins);
+            binRange(range.begin, range.end, binning, bins_.data(), binCounts_.data());
         }
-        // Raw pointers: the compiler cannot tell that the bins do not alias the primitives
-        // through members, and would reload them every iteration.
-        Bin* bins = bins_.data();
-        uint32_t* counts = binCounts_.data();
-        const BuildPrimitive* end = primitives_.data() + range.end;
-        for (const BuildPrimitive* p = primitives_.data() + range.begin; p < end; ++p) {
+        bool found = false;
+        for (int a = 0; a < 3; ++a) {
+            if (binning.splits(a)) found |= sweepAxis(a, binning.bins, best, found);
+        }
+        return found;
+    }
+
+    void clearBins(Bin* bins, uint32_t* counts, int binCount) const {
+        for (int a = 0; a < 3; ++a) {
+            std::fill_n(bins + a * maxBins_, binCount, Bin{});
+            std::fill_n(counts + a * maxBins_, binCount, 0u);
+        }
+    }
+
+    // Adds primitives [begin, end) to the bins, in order. Raw pointers: the compiler cannot
+    // tell that the bins do not alias the primitives through members, and would reload
+    // them every iteration.
+    void binRange(uint32_t begin, uint32_t end, const Binning& binning, Bin* bins, uint32_t* counts) const {
+        const BuildPrimitive* last = primitives_.data() + end;
+        for (const BuildPrimitive* p = primitives_.data() + begin; p < last; ++p) {
             Float4 lo = p->lo(), hi = p->hi();
             Float4 c = (lo + hi) * Float4::broadcast(0.5f);
             std::array<int32_t, 4> k = binning.binsOf(c);
@@ -493,11 +524,38 @@ private:
                 ++counts[slot];
             }
         }
-        bool found = false;
-        for (int a = 0; a < 3; ++a) {
-            if (binning.splits(a)) found |= sweepAxis(a, binning.bins, best, found);
-        }
-        return found;
+    }
+
+    // binRange over the whole range on every thread: block b into bins of its own, the
+    // blocks then merged in order (kParallelBinningThreshold says why that is the same).
+    void binInBlocks(const Range& range, const Binning& binning) {
+        const uint32_t blocks = (range.count() + kBinningBlock - 1) / kBinningBlock;
+        const size_t slots = size_t(3 * maxBins_);
+        std::vector<Bin> blockBins(blocks * slots);
+        std::vector<uint32_t> blockCounts(blocks * slots);
+        auto work = [&](uint32_t thread, uint32_t threads) {
+            for (uint32_t b = thread; b < blocks; b += threads) {
+                Bin* bins = &blockBins[b * slots];
+                uint32_t* counts = &blockCounts[b * slots];
+                clearBins(bins, counts, binning.bins);
+                const uint32_t begin = range.begin + b * kBinningBlock;
+                binRange(begin, std::min(range.end, begin + kBinningBlock), binning, bins, counts);
+            }
+        };
+        const uint32_t threads = std::min(uint32_t(threads_), blocks);
+        std::vector<std::future<void>> others;
+        for (uint32_t t = 1; t < threads; ++t) others.push_back(std::async(std::launch::async, work, t, threads));
+        work(0, threads);
+        for (std::future<void>& f : others) f.get();
+        clearBins(bins_.data(), binCounts_.data(), binning.bins);
+        for (uint32_t b = 0; b < blocks; ++b)
+            for (int a = 0; a < 3; ++a)
+                for (int k = 0; k < binning.bins; ++k) {
+                    const size_t slot = size_t(a * maxBins_ + k);
+                    bins_[slot].bounds.expand(blockBins[b * slots + slot].bounds);
+                    bins_[slot].centroids.expand(blockBins[b * slots + slot].centroids);
+                    binCounts_[slot] += blockCounts[b * slots + slot];
+                }
     }
 
     // Evaluates the binCount − 1 boundaries along one axis; true if one beat *best.
@@ -593,6 +651,7 @@ private:
     uint32_t maxLeafSize_;
     int maxDepth_;
     int maxBins_;
+    int threads_;
     std::vector<Bin> bins_;  // [axis · maxBins_ + bin]
     std::vector<uint32_t> binCounts_;
     std::vector<double> rightHalfArea_;
@@ -720,7 +779,7 @@ FlatBvh buildBvh(const std::vector<BoundingBox>& primitiveBounds, const BvhBuild
     uint32_t count = uint32_t(primitiveBounds.size());
     auto storage = std::make_unique_for_overwrite<BuildPrimitive[]>(count);
     std::span<BuildPrimitive> primitives(storage.get(), count);
-    bool parallel = count >= kParallelBuildThreshold && std::thread::hardware_concurrency() >= 2;
+    bool parallel = count >= kParallelBuildThreshold && buildThreads(options) >= 2;
     std::future<Range> firstHalf = std::async(parallel ? std::launch::async : std::launch::deferred, [&] {
         return fillBuildPrimitives(primitiveBounds, 0, count / 2, storage.get());
     });

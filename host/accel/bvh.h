@@ -64,6 +64,9 @@ struct BvhBuildOptions {
     // The most inner nodes on any root-to-leaf path, capped at kBvhMaxDepth; it holds for
     // up to 2^maxDepth primitives. Lowered only by the tests of that guard.
     int maxDepth = kBvhMaxDepth;
+    // The threads the build may use; 0: one a core. The tree is the same for every count
+    // (the tests build it with several): only how fast it is built depends on it.
+    int threads = 0;
 };
 
 // Builds the hierarchy over the boxes (one per primitive). An empty input gives a root

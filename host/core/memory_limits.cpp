@@ -1,5 +1,7 @@
 #include "core/memory_limits.h"
 
+#include <sys/resource.h>
+
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -77,6 +79,12 @@ std::optional<std::string> hostMemoryShortfall(uint64_t bytes) {
     if (!available || bytes <= *available) return std::nullopt;
     return "needs about " + describeBytes(bytes) + " of memory, but only " + describeBytes(*available) +
            " is available" + (std::getenv("RAY_MEMORY_LIMIT") ? " (RAY_MEMORY_LIMIT counts)" : "");
+}
+
+uint64_t peakResidentBytes() {
+    struct rusage usage {};
+    if (::getrusage(RUSAGE_SELF, &usage) != 0 || usage.ru_maxrss < 0) return 0;
+    return uint64_t(usage.ru_maxrss) * 1024;  // Linux counts kilobytes
 }
 
 }  // namespace ray

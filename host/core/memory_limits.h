@@ -33,6 +33,10 @@ std::string describeBytes(uint64_t bytes);
 // available"; nullopt when it fits (or nothing is known).
 std::optional<std::string> hostMemoryShortfall(uint64_t bytes);
 
+// The most resident memory the process has held so far (getrusage's ru_maxrss), in bytes;
+// 0 where the system does not say.
+uint64_t peakResidentBytes();
+
 // Parses "512", "300M", "2G" (powers of 1024); nullopt for anything else.
 std::optional<uint64_t> parseByteCount(const std::string& text);
 

@@ -12,6 +12,7 @@
 #include "app/render_command.h"
 #include "app/mpi_launch.h"
 #include "core/huge_pages.h"
+#include "core/memory_limits.h"
 #include "devices/renderer.h"
 #include "explain/explain_command.h"
 
@@ -25,6 +26,15 @@ double secondsSince(Clock::time_point start) {
 }
 
 void printHelp();
+
+// --stats's memory line: the peak so far (the frame is done) and the meshes' triangles.
+void recordMemory(const Scene& scene, RenderStats& stats) {
+    stats.peakMemoryBytes = peakResidentBytes();
+    for (const TriangleMesh& mesh : scene.meshes) {
+        stats.meshTriangles += mesh.triangles.size();
+        stats.meshLoadedBytes += mesh.memoryBytes();
+    }
+}
 
 int run(const CliOptions& options) {
     if (options.help) {
@@ -59,6 +69,7 @@ int run(const CliOptions& options) {
     RenderedFrame result = render(job);
     progress.finish();
     result.stats.loadSeconds = loadSeconds;
+    recordMemory(scene, result.stats);
     return finishRender(result, output, options);
 }
 

@@ -44,6 +44,7 @@ void PackedSceneCache::update(const RenderSettings& settings, RenderStats& stats
     for (uint64_t& version : fresh->versions) version = ++tableVersions_;
     stats.packSeconds = secondsSince(start);
     stats.bvhBuildSeconds = fresh->bvhBuildSeconds;
+    stats.meshPackedBytes = fresh->meshBytes();
     stats.sceneUpdate.packing = "full";
     stats.sceneUpdate.bvh = "rebuilt";
     fresh->forEachBuffer([&](const auto&, SceneBufferName name) { stats.sceneUpdate.tables.push_back(name.name); });

@@ -134,49 +134,93 @@ gpu::float2 texCoord(const TriangleMesh& mesh, const MeshCorner& corner) {
     return {float(uv[0]), float(uv[1])};
 }
 
+// Below this many primitives the per-primitive loops run on one thread: starting threads
+// would cost more than they save.
+constexpr size_t kParallelPackThreshold = 65536;
+
+// Runs body(begin, end) over slices of [0, n), one per core when n is large: the bounds and
+// the primitive records of a scene of millions of instances (recursiveSpheres10: 2.9
+// million) are independent of one another, and each is a gather from the 200-byte
+// instances that waits on memory. The slices write disjoint elements.
+template <class Body>
+void forEachSlice(size_t n, const Body& body) {
+    const size_t threads = n < kParallelPackThreshold ? 1 : std::max(1u, std::thread::hardware_concurrency());
+    const size_t slice = (n + threads - 1) / threads;
+    std::vector<std::future<void>> others;
+    for (size_t t = 1; t < threads; ++t)
+        others.push_back(std::async(std::launch::async, body, std::min(n, t * slice), std::min(n, (t + 1) * slice)));
+    body(size_t(0), std::min(n, slice));
+    for (std::future<void>& f : others) f.get();
+}
+
 // One mesh: its BVH's nodes appended to packed.nodes (child indices rebased to their place
 // there, leaf ranges to the mesh's place in the triangle buffer), its triangles in BVH
 // order. Returns the root node's index.
+// Triangle i's shading record: its corners' normals (the face's where the file gave none),
+// texture coordinates and tangent frame.
+gpu::RayTriangleShading shadingRecord(const TriangleMesh& mesh, uint32_t i, float uvDensity) {
+    const std::array<MeshCorner, 3>& t = mesh.triangles[i];
+    gpu::RayTriangleShading s{};
+    bool smooth = t[0].normal >= 0 && t[1].normal >= 0 && t[2].normal >= 0;
+    Vec3 face = mesh.faceNormal(i);
+    storeFloat3(s.normal0, smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
+    storeFloat3(s.normal1, smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
+    storeFloat3(s.normal2, smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
+    storeFloat3(s.uTangent, mesh.uTangent(i));
+    if (t[0].texCoord >= 0 && t[1].texCoord >= 0 && t[2].texCoord >= 0) {
+        s.uv0 = texCoord(mesh, t[0]);
+        s.uv1 = texCoord(mesh, t[1]);
+        s.uv2 = texCoord(mesh, t[2]);
+    }
+    s.uvDensity = uvDensity;
+    s.uvHandedness = float(mesh.uvHandedness(i));
+    return s;
+}
+
+// One mesh: its BVH's nodes appended to packed.nodes (child indices rebased to their place
+// there, leaf ranges to the mesh's place in the triangle buffer), its triangles in BVH
+// order. Returns the root node's index. The per-triangle loops run on every core (each
+// triangle's box and records are its own), so a mesh of millions packs at memory speed.
 int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
     const float uvDensity = float(meshUvDensity(mesh));  // every triangle's (trilinear filtering)
     std::vector<BoundingBox> bounds(mesh.triangles.size());
-    for (size_t i = 0; i < bounds.size(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-            const Vec3& p = mesh.corner(i, k);
-            BoundingBox corner;
-            for (int axis = 0; axis < 3; ++axis) corner.min[axis] = corner.max[axis] = float(p[axis]);
-            bounds[i].expand(corner);
+    forEachSlice(bounds.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            for (int k = 0; k < 3; ++k) {
+                const Vec3& p = mesh.corner(i, k);
+                BoundingBox corner;
+                for (int axis = 0; axis < 3; ++axis) corner.min[axis] = corner.max[axis] = float(p[axis]);
+                bounds[i].expand(corner);
+            }
         }
-    }
+    });
     FlatBvh bvh = buildBvh(bounds);
+    std::vector<BoundingBox>().swap(bounds);
     const int nodeOffset = int(packed.nodes.size()), triangleOffset = int(packed.triangles.size());
-    for (gpu::RayWideBvhNode node : widenBvh(bvh.nodes)) {
+    const std::vector<gpu::RayWideBvhNode> wide = widenBvh(bvh.nodes);
+    std::vector<BinaryBvhNode>().swap(bvh.nodes);
+    // Grown once for the mesh, not node by node (each regrowth copies the table), and at
+    // least doubled, so that a scene of many meshes still copies it a few times only.
+    const size_t needed = packed.nodes.size() + wide.size();
+    if (packed.nodes.capacity() < needed) packed.nodes.reserve(std::max(needed, 2 * packed.nodes.capacity()));
+    for (gpu::RayWideBvhNode node : wide) {
         int* index = &node.index.x;
         const int* count = &node.count.x;
         for (int c = 0; c < 4; ++c)
             if (index[c] >= 0) index[c] += count[c] > 0 ? triangleOffset : nodeOffset;
         packed.nodes.push_back(node);
     }
-    for (uint32_t i : bvh.primitiveOrder) {
-        const std::array<MeshCorner, 3>& t = mesh.triangles[i];
-        Vec3 p0 = mesh.corner(i, 0), p1 = mesh.corner(i, 1), p2 = mesh.corner(i, 2);
-        packed.triangles.push_back({toFloat4(p0), toFloat4(p1 - p0), toFloat4(p2 - p0)});
-        gpu::RayTriangleShading s{};
-        bool smooth = t[0].normal >= 0 && t[1].normal >= 0 && t[2].normal >= 0;
-        Vec3 face = mesh.faceNormal(i);
-        storeFloat3(s.normal0, smooth ? normalize(mesh.normals[size_t(t[0].normal)]) : face);
-        storeFloat3(s.normal1, smooth ? normalize(mesh.normals[size_t(t[1].normal)]) : face);
-        storeFloat3(s.normal2, smooth ? normalize(mesh.normals[size_t(t[2].normal)]) : face);
-        storeFloat3(s.uTangent, mesh.uTangent(i));
-        if (t[0].texCoord >= 0 && t[1].texCoord >= 0 && t[2].texCoord >= 0) {
-            s.uv0 = texCoord(mesh, t[0]);
-            s.uv1 = texCoord(mesh, t[1]);
-            s.uv2 = texCoord(mesh, t[2]);
+    const size_t first = packed.triangles.size(), count = bvh.primitiveOrder.size();
+    packed.triangles.resize(first + count);
+    packed.triangleShading.resize(first + count);
+    forEachSlice(count, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t i = bvh.primitiveOrder[k];
+            Vec3 p0 = mesh.corner(i, 0), p1 = mesh.corner(i, 1), p2 = mesh.corner(i, 2);
+            packed.triangles[first + k] = {toFloat4(p0), toFloat4(p1 - p0), toFloat4(p2 - p0)};
+            packed.triangleShading[first + k] = shadingRecord(mesh, i, uvDensity);
         }
-        s.uvDensity = uvDensity;
-        s.uvHandedness = float(mesh.uvHandedness(i));
-        packed.triangleShading.push_back(s);
-    }
+    });
     return nodeOffset;
 }
 
@@ -203,25 +247,6 @@ void packTextures(const Scene& scene, bool mipmaps, PackedScene& packed) {
         }
         packed.textures.push_back({offset, image.width, image.height, levelCount});
     }
-}
-
-// Below this many primitives the per-primitive loops run on one thread: starting threads
-// would cost more than they save.
-constexpr size_t kParallelPackThreshold = 65536;
-
-// Runs body(begin, end) over slices of [0, n), one per core when n is large: the bounds and
-// the primitive records of a scene of millions of instances (recursiveSpheres10: 2.9
-// million) are independent of one another, and each is a gather from the 200-byte
-// instances that waits on memory. The slices write disjoint elements.
-template <class Body>
-void forEachSlice(size_t n, const Body& body) {
-    const size_t threads = n < kParallelPackThreshold ? 1 : std::max(1u, std::thread::hardware_concurrency());
-    const size_t slice = (n + threads - 1) / threads;
-    std::vector<std::future<void>> others;
-    for (size_t t = 1; t < threads; ++t)
-        others.push_back(std::async(std::launch::async, body, std::min(n, t * slice), std::min(n, (t + 1) * slice)));
-    body(size_t(0), std::min(n, slice));
-    for (std::future<void>& f : others) f.get();
 }
 
 // Each primitive's motion in BVH order, or nothing when nothing moves.
@@ -280,6 +305,11 @@ size_t PackedScene::totalBytes() const {
     size_t bytes = 0;
     forEachBuffer([&](const auto& table, SceneBufferName) { bytes += table.size() * sizeof(table[0]); });
     return bytes;
+}
+
+size_t PackedScene::meshBytes() const {
+    return (nodes.size() - sceneNodes) * sizeof(nodes[0]) + triangles.size() * sizeof(triangles[0]) +
+           triangleShading.size() * sizeof(triangleShading[0]);
 }
 
 PackedScene packScene(const Scene& scene, const RenderSettings& settings, bool cpuTables) {

@@ -59,6 +59,7 @@ struct PackedScene {
     }
 
     size_t totalBytes() const;  // of all the tables
+    size_t meshBytes() const;   // of the meshes' nodes, triangle and shading records
 };
 
 // Builds the BVHs (the scene's over instances, one per mesh over its triangles) and packs

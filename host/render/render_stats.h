@@ -65,6 +65,12 @@ struct RenderStats {
     std::vector<int> deviceRanks;  // parallel to devices when rendered through MPI, else empty
     std::vector<std::string> warnings;  // devices dropped
     DistributionStats distribution;
+    // Memory: the process's peak resident size (getrusage, at the end of the frame); the
+    // meshes' triangles (each mesh once, however many instances use it), what they took
+    // as loaded (positions, normals, texture coordinates, corners) and, on OpenCL devices,
+    // as packed (their BVH nodes, triangle and shading records) when the frame packed them.
+    uint64_t peakMemoryBytes = 0;
+    uint64_t meshTriangles = 0, meshLoadedBytes = 0, meshPackedBytes = 0;
 
     uint64_t totalRays() const { return primaryRays + shadowRays + secondaryRays; }
     double mraysPerSecond() const { return renderSeconds > 0 ? double(totalRays()) / renderSeconds / 1e6 : 0; }

@@ -1,6 +1,6 @@
-// Triangle meshes: Wavefront OBJ files read with tinyobjloader (SPEC §2: stored as given,
-// not rescaled; polygons are triangulated as fans; `vn` gives smooth shading and `vt`
-// texture coordinates, else the face normal and (0, 0)).
+// Triangle meshes: Wavefront OBJ files read by scene/obj_reader.h, in parallel, as
+// tinyobjloader read them (SPEC §2: stored as given, not rescaled; polygons triangulated;
+// `vn` gives smooth shading and `vt` texture coordinates, else the face normal and (0, 0)).
 //
 // A mesh is stored once however many primitives (masters) name its file: instances refer
 // to it by index (PrimitiveInstance::mesh into Scene::meshes).
@@ -49,12 +49,18 @@ struct TriangleMesh {
     // v, is −(N × T) there. +1 without vt or where they are degenerate.
     double uvHandedness(size_t triangle) const;
     void computeBounds();
+    // What the arrays above hold, in bytes (--stats: a mesh's bytes a triangle).
+    size_t memoryBytes() const {
+        return positions.size() * sizeof(Vec3) + normals.size() * sizeof(Vec3) +
+               texCoords.size() * sizeof(texCoords[0]) + triangles.size() * sizeof(triangles[0]);
+    }
 };
 
 // Reads an OBJ file through core/input_file.h (a regular file of at most 1 GiB);
 // InputError ("file: error: what") when it cannot be read or holds no triangles. Materials
 // are ignored (the scene file gives the material), but an `mtllib` is read, from the OBJ's
-// folder only: one outside it, or not a regular file of a library's size, is an InputError.
+// folder only (scene/obj_material_library.h): one outside it, or not a regular file of a
+// library's size, is an InputError.
 TriangleMesh loadObjMesh(const std::filesystem::path& file);
 // The same from text (tests, fuzzing). With `folder`, mtllib lines are read as an OBJ in
 // that folder would have them read; without, they are passed over.
