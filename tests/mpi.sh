@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # mpirun -n N ray ... (host/distributed/mpi_render.h), on this machine's PoCL CPU device:
 #   - -n 1 and -n 3 are byte-identical to a plain ray run (the showpiece; chess.xml from
-#     ../shared when present), with the statistics per rank (--stats-json);
+#     ../shared when present; the showpiece converted to the course's JSON, and a course JSON
+#     scene), with the statistics per rank (--stats-json);
 #   - odd sizes: not a multiple of the tile, more ranks than tiles;
-#   - a bad scene: exit 2, one message, no hang; a rank that cannot start: the same, its
+#   - a bad scene (XML or JSON): exit 2, one message, no hang; a rank that cannot start: the same, its
 #     message from rank 0; a rank whose scene file differs from rank 0's: refused;
 #   - a rank whose every device fails: its tiles go to the others, the same image, a warning;
 #   - a rank that hangs mid-frame (SIGSTOP): the same image within 30 s, the rank named,
@@ -50,6 +51,14 @@ if [ -f "$chess" ]; then
 else
     echo "note: chess.xml is absent (../shared/cs123); the showpiece only"
 fi
+# A course JSON scene (issue 50): the ranks read the same JSON, the image is a plain run's.
+if "$ray" convert "$showpiece" "$out/showpiece.json" >/dev/null; then
+    same_as_plain showpiece_json_3 3 "$out/showpiece.json" 160 120 --tile-size 16
+else
+    fail "ray convert of the showpiece to JSON exited $?"
+fi
+course_json="$src/../shared/cs1230/scenefiles/illuminate/required/texture_tests/texture_cube.json"
+[ -f "$course_json" ] && same_as_plain course_json_2 2 "$course_json" 120 90 --tile-size 16
 base="$src/scenes/shadows.xml"
 same_as_plain odd_multiple 3 "$base" 101 37 --tile-size 16   # not a multiple of the tile
 same_as_plain more_ranks_than_tiles 3 "$base" 5 3 --tile-size 64
@@ -61,6 +70,13 @@ code=$?
 [ $code -eq 2 ] || fail "bad scene: exit $code, not 2"
 [ "$(grep -c "bad.xml:" "$out/bad.err")" -eq 1 ] || { fail "bad scene: not one message"; cat "$out/bad.err"; }
 [ ! -e "$out/bad.png" ] || fail "bad scene: an image was written"
+# Bad JSON: every rank stops, exit 2, one message naming line and column.
+printf '{\n  "cameraData": [1,\n' > "$out/bad.json"
+mpi -n 3 "$ray" "$out/bad.json" 32 24 -o "$out/badjson.png" 2> "$out/badjson.err"
+code=$?
+[ $code -eq 2 ] || fail "bad JSON: exit $code, not 2"
+[ "$(grep -c "bad.json:[0-9]*:[0-9]*:" "$out/badjson.err")" -eq 1 ] || { fail "bad JSON: not one message with line and column"; cat "$out/badjson.err"; }
+[ ! -e "$out/badjson.png" ] || fail "bad JSON: an image was written"
 # Rank 2 alone cannot open its scene (as a host missing the file would): rank 0 says so.
 mpi -n 2 "$ray" "$base" 32 24 -o "$out/missing.png" : -n 1 "$ray" "$out/missing.xml" 32 24 -o "$out/missing.png" \
     2> "$out/missing.err"

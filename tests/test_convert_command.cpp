@@ -19,25 +19,13 @@ using namespace ray;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
-fs::path outputFolder(const std::string& name) {
-    const fs::path folder = ray::test::outputDir() / "convert_command" / name;
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
-}
+fs::path outputFolder(const std::string& name) { return ray::test::freshOutputFolder("convert_command", name); }
 
-std::string readFile(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
-}
+std::string readFile(const fs::path& file) { return ray::test::fileText(file); }
 
-void writeFile(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
+void writeFile(const fs::path& file, const std::string& text) { ray::test::writeFileText(file, text); }
 
 // A scene of a light and `root` as its root tree's body; the body's first line is line 7.
 std::string sceneWith(const std::string& root) {

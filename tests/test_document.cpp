@@ -20,11 +20,7 @@ namespace fs = std::filesystem;
 using namespace ray;
 using namespace ray::test;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
 // Renders at 64x48 on the reference renderer, one sample a pixel and one an area light:
 // the whole corpus twice in well under a minute on two cores (the course's antialiasing

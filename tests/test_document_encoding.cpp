@@ -22,12 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace ray;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    options.loadImages = false;
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(false); }
 
 fs::path scratchFolder(const std::string& name) {
     const fs::path folder = test::outputDir() / ("document_encoding_" + name + "_" + std::to_string(::getpid()));
@@ -36,12 +31,7 @@ fs::path scratchFolder(const std::string& name) {
     return folder;
 }
 
-std::string bytesOf(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
+std::string bytesOf(const fs::path& file) { return ray::test::fileText(file); }
 
 void write(const fs::path& file, const std::string& bytes) { std::ofstream(file, std::ios::binary) << bytes; }
 

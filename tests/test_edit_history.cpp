@@ -29,11 +29,7 @@ namespace fs = std::filesystem;
 using namespace ray;
 using namespace ray::edit;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
 fs::path scratchFolder(const std::string& name) {
     const fs::path folder = fs::temp_directory_path() / ("ray_edit_history_" + name + "_" + std::to_string(::getpid()));

@@ -30,11 +30,7 @@ using namespace ray;
 using namespace ray::edit;
 using nlohmann::json;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
 // A folder of its own with a copy of `scene` (from scenes/), its textures, a texture and a
 // mesh beside it: what an edit may name.

@@ -24,11 +24,7 @@ namespace {
 using namespace ray;
 using Names = std::vector<std::string>;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
 edit::EditSession shadowsSession() {
     return edit::EditSession(loadSceneDocument(test::scenesDir() / "shadows.xml", quiet()), {quiet(), true, {}});

@@ -22,26 +22,11 @@ namespace fs = std::filesystem;
 using namespace ray;
 using Catch::Matchers::Contains;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    options.loadImages = false;
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(false); }
 
-std::string bytesOf(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
+std::string bytesOf(const fs::path& file) { return ray::test::fileText(file); }
 
-std::vector<std::string> linesOf(const std::string& text) {
-    std::vector<std::string> lines;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-}
+std::vector<std::string> linesOf(const std::string& text) { return ray::test::textLines(text); }
 
 // How many lines differ between two texts, as a line diff counts them: the larger of the
 // lines it removes and the lines it adds (those off their longest common subsequence).

@@ -26,25 +26,13 @@ using namespace ray;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
 
-LoadOptions quiet() {
-    LoadOptions options;
-    options.warn = [](const std::string&) {};
-    return options;
-}
+LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
-fs::path outputFolder(const std::string& name) {
-    const fs::path folder = ray::test::outputDir() / "json_writer" / name;
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
-}
+fs::path outputFolder(const std::string& name) { return ray::test::freshOutputFolder("json_writer", name); }
 
-std::string readFile(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
-}
+std::string readFile(const fs::path& file) { return ray::test::fileText(file); }
 
-void writeFile(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
+void writeFile(const fs::path& file, const std::string& text) { ray::test::writeFileText(file, text); }
 
 // The JSON of XML text read as `file`.
 std::string jsonOf(const std::string& xml, const fs::path& file = "scene.xml") {

@@ -39,16 +39,12 @@ void checkSameAsOracle(const std::string& text, const std::optional<fs::path>& f
     CHECK(oracle::difference(newReading(text, folder, 0), expected) == "");
 }
 
-std::string readText(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::string readText(const fs::path& file) { return test::fileText(file); }
 
 // A folder holding materials.mtl (materials red and blue) and hostile names, as an OBJ's
-// folder might.
-fs::path materialFolder() {
-    const fs::path dir = test::outputDir() / "obj_reader_materials";
-    fs::remove_all(dir);
+// folder might; one a test case, as CTest runs the cases side by side.
+fs::path materialFolder(const std::string& testCase) {
+    const fs::path dir = test::freshOutputFolder("obj_reader_materials", testCase);
     fs::create_directories(dir / "sub");
     std::ofstream(dir / "materials.mtl") << "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n";
     std::ofstream(dir / "sub" / "other.mtl") << "newmtl green\nKd 0 1 0\n";
@@ -162,7 +158,7 @@ TEST_CASE("OBJ reader: edge cases read as tinyobjloader read them", "[mesh][obj]
         square + "s 1\ns off\nt crease 2/1/0 1 2 0.5\no name with spaces\ng a b\nusemtl\nf 1 2 3\n",
         square + "usemtlred\nmtllib\nmtllibx y\nvp 1 2\nf 1 2 3\n",
     };
-    const fs::path folder = materialFolder();
+    const fs::path folder = materialFolder("edge_cases");
     for (const std::string& text : cases) {
         checkSameAsOracle(text, folder, 6);
         checkSameAsOracle(text, std::nullopt, 3);
@@ -194,7 +190,7 @@ TEST_CASE("OBJ reader: random OBJ text reads as tinyobjloader read it", "[mesh][
         }
     };
     const char* const endings[] = {"\n", "\n", "\n", "\r\n", "\r", " \n", "\t\n"};
-    const fs::path folder = materialFolder();
+    const fs::path folder = materialFolder("random");
     for (int t = 0; t < 300; ++t) {
         std::string text;
         const int lines = 1 + pick(40);

@@ -23,6 +23,7 @@
 
 #include "app/cli.h"
 #include "image/image.h"
+#include "scene/scene_loader.h"
 
 namespace ray::test {
 
@@ -171,6 +172,42 @@ struct ReferenceCase {
     std::string scene;    // relative to cs123/
     std::string options;  // ray's command-line options that match the course's settings
 };
+
+// Load options that print no warning (a test checks what it means to), with or without
+// decoding the textures.
+inline LoadOptions quietLoadOptions(bool loadImages = true) {
+    LoadOptions options;
+    options.warn = [](const std::string&) {};
+    options.loadImages = loadImages;
+    return options;
+}
+
+// A whole file as text, byte for byte (empty when it cannot be read).
+inline std::string fileText(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Writes `text` as the whole file, byte for byte.
+inline void writeFileText(const std::filesystem::path& file, const std::string& text) {
+    std::ofstream(file, std::ios::binary) << text;
+}
+
+// A text's lines, without their line ends.
+inline std::vector<std::string> textLines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+// An empty folder of the tests' output, `outputDir()/group/name`, made anew.
+inline std::filesystem::path freshOutputFolder(const std::string& group, const std::string& name) {
+    const std::filesystem::path folder = outputDir() / group / name;
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    return folder;
+}
 
 // A whole file's bytes (empty when it cannot be read), for byte-for-byte comparisons.
 inline std::vector<char> readFileBytes(const std::filesystem::path& file) {

@@ -192,37 +192,24 @@ struct Counts {
 // one (atoi's 0).
 bool parseCorner(const char*& p, const char* end, const Counts& counts, RawCorner* corner) {
     RawCorner c;
-    bool relative = false;
-    if (!fixIndex(cAtoi(p, end), counts.positions, &c.position, &relative)) return false;
-    c.relative |= relative ? 1 : 0;
-    p = indexEnd(p, end);
-    if (p >= end || *p != '/') {
-        *corner = c;
-        return true;
-    }
-    ++p;
-    if (p < end && *p == '/') {  // i//k
-        ++p;
-        relative = false;
-        if (!fixIndex(cAtoi(p, end), counts.normals, &c.normal, &relative)) return false;
-        c.relative |= relative ? 4 : 0;
+    // One index, fixed as tinyobjloader fixes it, its relative flag kept; p past its digits.
+    const auto index = [&](int countSoFar, int32_t* out, uint8_t relativeFlag) {
+        bool relative = false;
+        if (!fixIndex(cAtoi(p, end), countSoFar, out, &relative)) return false;
+        if (relative) c.relative |= relativeFlag;
         p = indexEnd(p, end);
-        *corner = c;
         return true;
+    };
+    const auto slash = [&] { return p < end && *p == '/' ? (++p, true) : false; };
+    if (!index(counts.positions, &c.position, 1)) return false;
+    if (slash()) {
+        if (slash()) {  // i//k
+            if (!index(counts.normals, &c.normal, 4)) return false;
+        } else {  // i/j or i/j/k
+            if (!index(counts.texCoords, &c.texCoord, 2)) return false;
+            if (slash() && !index(counts.normals, &c.normal, 4)) return false;
+        }
     }
-    relative = false;
-    if (!fixIndex(cAtoi(p, end), counts.texCoords, &c.texCoord, &relative)) return false;
-    c.relative |= relative ? 2 : 0;
-    p = indexEnd(p, end);
-    if (p >= end || *p != '/') {
-        *corner = c;
-        return true;
-    }
-    ++p;
-    relative = false;
-    if (!fixIndex(cAtoi(p, end), counts.normals, &c.normal, &relative)) return false;
-    c.relative |= relative ? 4 : 0;
-    p = indexEnd(p, end);
     *corner = c;
     return true;
 }
