@@ -22,19 +22,7 @@ using namespace ray::test;
 
 LoadOptions quiet() { return ray::test::quietLoadOptions(); }
 
-// Renders at 64x48 on the reference renderer, one sample a pixel and one an area light:
-// the whole corpus twice in well under a minute on two cores (the course's antialiasing
-// and 16 area samples take four, for no more geometry, materials or lights seen).
-Image render(const Scene& scene) {
-    RenderSettings settings;
-    settings.width = 64;
-    settings.height = 48;
-    settings.antialias = AntialiasMode::Off;
-    settings.areaSamples = 1;
-    ReferenceRenderOptions options;
-    options.threads = 2;
-    return renderReference(scene, settings, options);
-}
+Image render(const Scene& scene) { return ray::test::renderSmallReference(scene); }
 
 fs::path outputFile(const std::string& name) {
     fs::path folder = ray::test::outputDir() / "document";

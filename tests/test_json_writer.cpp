@@ -50,18 +50,7 @@ std::string refusalOf(const std::string& xml) {
     return "";
 }
 
-// 64x48 on the reference renderer, one sample a pixel and one an area light, as the
-// document round trip of the corpus renders (test_document.cpp).
-Image render(const Scene& scene) {
-    RenderSettings settings;
-    settings.width = 64;
-    settings.height = 48;
-    settings.antialias = AntialiasMode::Off;
-    settings.areaSamples = 1;
-    ReferenceRenderOptions options;
-    options.threads = 2;
-    return renderReference(scene, settings, options);
-}
+Image render(const Scene& scene) { return ray::test::renderSmallReference(scene); }
 
 // The scene with each light's fields that its type does not use (document_fields.h) at
 // their defaults: a directional light in JSON has no position, a point light no direction.

@@ -23,6 +23,7 @@
 
 #include "app/cli.h"
 #include "image/image.h"
+#include "reference/reference_renderer.h"
 #include "scene/scene_loader.h"
 
 namespace ray::test {
@@ -207,6 +208,20 @@ inline std::filesystem::path freshOutputFolder(const std::string& group, const s
     std::filesystem::remove_all(folder);
     std::filesystem::create_directories(folder);
     return folder;
+}
+
+// A small render for comparing scenes, not images: 64x48 on the reference renderer, one
+// sample a pixel and one an area light (the course's antialiasing and 16 area samples cost
+// four times as much for no more geometry, materials or lights seen).
+inline Image renderSmallReference(const Scene& scene) {
+    RenderSettings settings;
+    settings.width = 64;
+    settings.height = 48;
+    settings.antialias = AntialiasMode::Off;
+    settings.areaSamples = 1;
+    ReferenceRenderOptions options;
+    options.threads = 2;
+    return renderReference(scene, settings, options);
 }
 
 // A whole file's bytes (empty when it cannot be read), for byte-for-byte comparisons.
