@@ -411,8 +411,18 @@ TEST_CASE("the C++ API edits a JSON scene and saves it as JSON, refusing what JS
     std::ofstream(file, std::ios::binary) << kScene;
     ray::api::Scene scene = ray::api::Scene::load(file).scene;
     std::vector<std::string> objects;  // the template's cylinder, the cube, the sphere
-    for (const ray::api::OutlineEntry& entry : scene.outline())
+    std::vector<std::string> labelled;  // the others, as "label text @ path"
+    for (const ray::api::OutlineEntry& entry : scene.outline()) {
         if (entry.kind == "object") objects.push_back(entry.node);
+        else if (entry.kind != "camera" && entry.kind != "globals" && entry.kind != "light")
+            labelled.push_back(entry.label + (entry.text.empty() ? "" : " " + entry.text) + " @ " + entry.path);
+    }
+    // The outline's words and places reach the API as the studio's (edit/node_views.h).
+    CHECK(labelled == std::vector<std::string>{"template group post @ templateGroups[0]", "group @ templateGroups[0]",
+                                               "groups @ ", "group @ groups[0]", "group @ groups[1]", "group @ groups[2]",
+                                               "group @ groups[3]", "group @ groups[3].groups[0]",
+                                               "template use post @ groups[3].groups[0]", "group @ groups[4]",
+                                               "group @ groups[4].groups[0]", "template use post @ groups[4].groups[0]"});
     const std::string object = objects.at(1);
     scene.set(object, {{"diffuse", ray::api::Vec3{0, 0, 1}}, {"shininess", 20.0}});
     CHECK_THROWS_WITH(scene.set(object, {{"emissive", ray::api::Vec3{1, 1, 1}}}), Contains("a JSON scene"));
