@@ -10,7 +10,8 @@ The outline speaks the JSON format: groups, template groups and template uses (n
 "transblock" or "master"), each entry's place in the file as its tooltip (a light's
 `groups[1].lights[0]`), and "save as" offers other.json; the same scene converted to XML
 (`ray convert`) keeps the XML outline as it was (transblock, tree, placement, "master post")
-and offers other.xml.
+and offers other.xml. The selection line and the panel's notes say "group", "primitives" and
+"template" for the JSON scene, "transblock", "objects" and "master" for the XML one.
 Usage: python3 test_browser_json.py RAY_BINARY SCENE (../shared/cs1230/.../phong_total.json)
 Prints SKIPPED when Selenium, Chromium or chromedriver is missing, or the scene is absent."""
 import difflib
@@ -71,10 +72,20 @@ TEMPLATE_SCENE = {
     "templateGroups": [{"name": "post", "lights": [{"type": "point", "color": [1, 1, 1], "attenuationCoeff": [1, 0, 0]}],
                         "primitives": [{"type": "cylinder", "diffuse": [0.5, 0.5, 0.5]}]}],
     "groups": [{"translate": [0, 4, 0], "lights": [{"type": "directional", "color": [1, 1, 1], "direction": [0, -1, 0]}]},
-               {"scale": [2, 1, 2], "primitives": [{"type": "cube", "diffuse": [1, 0, 0]}]},
+               {"scale": [2, 1, 2], "primitives": [{"type": "cube", "diffuse": [1, 0, 0]}, {"type": "sphere"}]},
                {"translate": [-2, 0, 0], "groups": [{"name": "post"}]},
                {"translate": [2, 0, 0], "groups": [{"name": "post"}]}],
 }
+
+
+def select_in_outline(driver, path):
+    """Clicks the outline's entry of the node at `path` (its tooltip); the selection line and
+    the properties panel's notes then."""
+    driver.execute_script("Array.from(document.querySelectorAll('#outline .node'))"
+                          ".find(e => e.title === arguments[0]).click()", path)
+    wait_for(driver, f"window.rayViewer.selected && window.rayViewer.selected.path === {json.dumps(path)}", timeout=30)
+    return driver.execute_script(
+        "return [document.getElementById('selection').textContent, document.getElementById('fields').textContent]")
 
 
 def check_outlines():
@@ -92,6 +103,14 @@ def check_outlines():
             shown, placeholder = shown_outline(driver)
             status, outline = page.json("GET", "/outline")
             nodes = outline["nodes"]
+            json_places = path == json_scene
+            # The selection line and the panel's notes in the format's words too.
+            template_object = "templateGroups[0].primitives[0]" if json_places else "post/transblock[0]/object[0]"
+            shared_object = "groups[1].primitives[0]" if json_places else "root/transblock[1]/object[0]"
+            group = "groups[1]" if json_places else "root/transblock[1]"
+            placed = select_in_outline(driver, template_object)
+            shared = select_in_outline(driver, shared_object)
+            selected_group = select_in_outline(driver, group)
         finally:
             page.close()
         assert len(shown) == len(nodes), (shown, nodes)
@@ -106,6 +125,10 @@ def check_outlines():
             assert ("", "cylinder", "templateGroups[0].primitives[0]") in shown, shown
             lights = [title for label, _, title in shown if label == "light"]
             assert lights == ["groups[0].lights[0]"] + ["templateGroups[0].lights[0]"] * 2, shown
+            assert placed[0].startswith("selected: cylinder templateGroups[0].primitives[0], line "), placed
+            assert "placed 2 times (a primitive of a template)" in placed[1], placed
+            assert "its group holds other primitives: moving it gives it a group of its own" in shared[1], shared
+            assert selected_group[0] == "selected: group groups[1]", selected_group
         else:
             assert placeholder == "other.xml", placeholder
             # As the page showed an XML scene before: the protocol's kind (none for an object),
@@ -116,8 +139,11 @@ def check_outlines():
             assert {"transblock", "tree", "placement"} <= set(labels), shown
             assert ("placement", "placementmaster post") in [(label, text) for label, text, _ in shown], shown
             assert not any("group" in label or "template" in label for label in labels), shown
+            assert "placed 2 times (an object of a master)" in placed[1], placed
+            assert "its transblock holds other objects: moving it gives it a transblock of its own" in shared[1], shared
+            assert selected_group[0] == "selected: transblock root/transblock[1]", selected_group
         print(f"outline of {os.path.basename(path)}: {len(shown)} entries, "
-              f"{sorted(set(labels) - {''})}; save as offers {placeholder}")
+              f"{sorted(set(labels) - {''})}; save as offers {placeholder}; '{placed[0]}'; '{selected_group[0]}'")
     shutil.rmtree(folder, ignore_errors=True)
 
 
