@@ -360,7 +360,7 @@ TEST_CASE("a JSON scene's outline speaks JSON and names its places (lights' too)
     CHECK(outlineLines(json) == jsonOutline);
 
     // A light's place is its group's as it is now: groups[1] deleted, the point light's group
-    // is groups[1]; a light added is in no place of the file until it is saved.
+    // is groups[1]; a light added has no place until the file it is saved to is read again.
     const edit::NodeId statues = json.outline().at(11).id;
     REQUIRE(statues.kind == edit::NodeKind::Block);
     json.apply(edit::DeleteNodes{{statues}});
