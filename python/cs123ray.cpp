@@ -951,10 +951,13 @@ void bindScene(py::class_<PyScene, std::shared_ptr<PyScene>>& scene) {
             py::list nodes;
             for (const api::OutlineEntry& entry : s.scene.outline())
                 nodes.append(py::dict("node"_a = entry.node, "parent"_a = entry.parent.empty() ? py::object(py::none()) : py::object(py::str(entry.parent)),
-                                      "depth"_a = entry.depth, "kind"_a = entry.kind, "text"_a = entry.text));
+                                      "depth"_a = entry.depth, "kind"_a = entry.kind, "label"_a = entry.label,
+                                      "text"_a = entry.text, "path"_a = entry.path));
             return nodes;
         }, "Every node of the scene's tree, in document order, as dicts of node (its id: 'object-3', 'light-0', "
-           "'block-2', 'tree-0', 'placement-1', 'camera', 'globals'), parent, depth, kind and text.")
+           "'block-2', 'tree-0', 'placement-1', 'camera', 'globals'), parent, depth, kind, label (the kind in the "
+           "words of the scene's format: a JSON scene's 'group', 'template group', 'template use'), text and path "
+           "(its place in the file: 'root/transblock[0]/object[1]', 'groups[1].primitives[0]').")
         .def("get", [](const PyScene& s, const py::handle& node, const std::string& field) {
             return fieldPython(s.scene.field(nodeArg("node", node), field));
         }, py::arg("node"), py::arg("field"), "Field `field` (its keyword or scenefile name) of `node`.")

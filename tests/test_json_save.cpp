@@ -306,14 +306,101 @@ TEST_CASE("a JSON scene's nodes are named by their places in the file", "[json][
     edit::EditSession session(fromText(kScene), options);
     std::vector<std::string> objects, blocks;
     for (const edit::OutlineEntry& entry : session.outline()) {
-        if (entry.id.kind == edit::NodeKind::Object) objects.push_back(session.describe(entry.id).path);
-        if (entry.id.kind == edit::NodeKind::Block) blocks.push_back(session.describe(entry.id).path);
+        if (entry.id.kind == edit::NodeKind::Object) objects.push_back(session.describe(entry.id).entry.path);
+        if (entry.id.kind == edit::NodeKind::Block) blocks.push_back(session.describe(entry.id).entry.path);
     }
     // The trees in the file's order: its templates are written first.
     CHECK(objects == std::vector<std::string>{"templateGroups[0].primitives[0]", "groups[1].primitives[0]",
                                               "groups[1].primitives[1]"});
     CHECK(blocks == std::vector<std::string>{"templateGroups[0]", "groups[0]", "groups[1]", "groups[2]", "groups[3]",
                                              "groups[3].groups[0]", "groups[4]", "groups[4].groups[0]"});
+}
+
+// The outline as the page shows it: each entry's label and text, and its place (the tooltip).
+std::vector<std::string> outlineLines(edit::EditSession& session) {
+    std::vector<std::string> lines;
+    for (const edit::OutlineEntry& entry : session.outline()) {
+        std::string line = std::string(size_t(entry.depth) * 2, ' ') + entry.label;
+        if (!entry.text.empty()) line += " " + entry.text;
+        if (!entry.path.empty()) line += " @ " + entry.path;
+        CHECK(session.describe(entry.id).entry.path == entry.path);  // /node says the same place
+        lines.push_back(line);
+    }
+    return lines;
+}
+
+TEST_CASE("a JSON scene's outline speaks JSON and names its places (lights' too), an XML scene's speaks XML",
+          "[json][save][edit][outline]") {
+    edit::SessionOptions options;
+    options.load = quiet();
+    edit::EditSession json(fromText(kScene), options);
+    // The trees in the file's order: the template first. Its light, placed twice, is one place.
+    const std::vector<std::string> jsonOutline{
+        "camera",
+        "globals",
+        "light directional light @ groups[0].lights[0]",
+        "light point light @ groups[2].lights[0]",
+        "light point light @ templateGroups[0].lights[0]",
+        "light point light @ templateGroups[0].lights[0]",
+        "template group post @ templateGroups[0]",
+        "  group @ templateGroups[0]",
+        "    object cylinder @ templateGroups[0].primitives[0]",
+        "groups",
+        "  group @ groups[0]",
+        "  group @ groups[1]",
+        "    object cube @ groups[1].primitives[0]",
+        "    object sphere @ groups[1].primitives[1]",
+        "  group @ groups[2]",
+        "  group @ groups[3]",
+        "    group @ groups[3].groups[0]",
+        "      template use post @ groups[3].groups[0]",
+        "  group @ groups[4]",
+        "    group @ groups[4].groups[0]",
+        "      template use post @ groups[4].groups[0]"};
+    CHECK(outlineLines(json) == jsonOutline);
+
+    // A light's place is its group's as it is now: groups[1] deleted, the point light's group
+    // is groups[1]; a light added has no place until the file it is saved to is read again.
+    const edit::NodeId statues = json.outline().at(11).id;
+    REQUIRE(statues.kind == edit::NodeKind::Block);
+    json.apply(edit::DeleteNodes{{statues}});
+    std::vector<std::string> lights;
+    for (const edit::OutlineEntry& entry : json.outline())
+        if (entry.id.kind == edit::NodeKind::Light) lights.push_back(entry.path);
+    CHECK(lights == std::vector<std::string>{"groups[0].lights[0]", "groups[1].lights[0]", "templateGroups[0].lights[0]",
+                                             "templateGroups[0].lights[0]"});
+    edit::AddLight light;
+    json.apply(light);
+    CHECK(json.outline().at(6).id.kind == edit::NodeKind::Light);
+    CHECK(json.outline().at(6).path.empty());
+
+    // The same scene as XML: its kinds' names, "master" before a template's name, XML paths,
+    // lights with no place.
+    SceneDocument jsonDocument = fromText(kScene);
+    edit::EditSession xml(fromText(documentToText(jsonDocument, Resources{}, "scene.xml"), "scene.xml"), options);
+    CHECK(outlineLines(xml) == std::vector<std::string>{
+                                   "camera",
+                                   "globals",
+                                   "light directional light",
+                                   "light point light",
+                                   "light point light",
+                                   "light point light",
+                                   "tree master post @ post",
+                                   "  transblock @ post/transblock[0]",
+                                   "    object cylinder @ post/transblock[0]/object[0]",
+                                   "tree root @ root",
+                                   "  transblock @ root/transblock[0]",
+                                   "  transblock @ root/transblock[1]",
+                                   "    object cube @ root/transblock[1]/object[0]",
+                                   "    object sphere @ root/transblock[1]/object[1]",
+                                   "  transblock @ root/transblock[2]",
+                                   "  transblock @ root/transblock[3]",
+                                   "    transblock @ root/transblock[3]/object[0]/transblock[0]",
+                                   "      placement master post @ root/transblock[3]/object[0]/transblock[0]/object[0]",
+                                   "  transblock @ root/transblock[4]",
+                                   "    transblock @ root/transblock[4]/object[0]/transblock[0]",
+                                   "      placement master post @ root/transblock[4]/object[0]/transblock[0]/object[0]"});
+    for (const edit::OutlineEntry& entry : xml.outline()) CHECK(entry.label == edit::nodeKindName(entry.id.kind));
 }
 
 TEST_CASE("the C++ API edits a JSON scene and saves it as JSON, refusing what JSON cannot hold",
@@ -324,8 +411,18 @@ TEST_CASE("the C++ API edits a JSON scene and saves it as JSON, refusing what JS
     std::ofstream(file, std::ios::binary) << kScene;
     ray::api::Scene scene = ray::api::Scene::load(file).scene;
     std::vector<std::string> objects;  // the template's cylinder, the cube, the sphere
-    for (const ray::api::OutlineEntry& entry : scene.outline())
+    std::vector<std::string> labelled;  // the others, as "label text @ path"
+    for (const ray::api::OutlineEntry& entry : scene.outline()) {
         if (entry.kind == "object") objects.push_back(entry.node);
+        else if (entry.kind != "camera" && entry.kind != "globals" && entry.kind != "light")
+            labelled.push_back(entry.label + (entry.text.empty() ? "" : " " + entry.text) + " @ " + entry.path);
+    }
+    // The outline's words and places reach the API as the studio's (edit/node_views.h).
+    CHECK(labelled == std::vector<std::string>{"template group post @ templateGroups[0]", "group @ templateGroups[0]",
+                                               "groups @ ", "group @ groups[0]", "group @ groups[1]", "group @ groups[2]",
+                                               "group @ groups[3]", "group @ groups[3].groups[0]",
+                                               "template use post @ groups[3].groups[0]", "group @ groups[4]",
+                                               "group @ groups[4].groups[0]", "template use post @ groups[4].groups[0]"});
     const std::string object = objects.at(1);
     scene.set(object, {{"diffuse", ray::api::Vec3{0, 0, 1}}, {"shininess", 20.0}});
     CHECK_THROWS_WITH(scene.set(object, {{"emissive", ray::api::Vec3{1, 1, 1}}}), Contains("a JSON scene"));

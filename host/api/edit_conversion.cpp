@@ -166,7 +166,7 @@ EditResult toPublic(const ray::edit::Outcome& outcome) {
 
 OutlineEntry toPublic(const ray::edit::OutlineEntry& entry) {
     return {entry.id.text(), entry.parent ? entry.parent->text() : "", entry.depth,
-            ray::edit::nodeKindName(entry.id.kind), entry.text};
+            ray::edit::nodeKindName(entry.id.kind), entry.label, entry.text, entry.path};
 }
 
 }  // namespace ray::api::detail

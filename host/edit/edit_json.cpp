@@ -470,8 +470,9 @@ json idsJson(const std::vector<NodeId>& ids) {
 json optionalId(const std::optional<NodeId>& id) { return id ? json(id->text()) : json(nullptr); }
 
 json entryJson(const OutlineEntry& entry) {
-    json out{{"node", entry.id.text()}, {"kind", nodeKindName(entry.id.kind)}, {"text", entry.text},
-             {"depth", entry.depth},    {"parent", optionalId(entry.parent)}};
+    json out{{"node", entry.id.text()}, {"kind", nodeKindName(entry.id.kind)}, {"label", entry.label},
+             {"text", entry.text},      {"path", entry.path},                  {"depth", entry.depth},
+             {"parent", optionalId(entry.parent)}};
     if (!entry.shape.empty()) out["shape"] = entry.shape;
     if (!entry.type.empty()) out["type"] = entry.type;
     if (entry.id.kind == NodeKind::Tree) out["name"] = entry.name;
@@ -496,7 +497,6 @@ json outlineJson(const std::vector<OutlineEntry>& entries) {
 json nodeJson(const NodeView& view) {
     json out = entryJson(view.entry);
     out.erase("depth");
-    out["path"] = view.path;
     out["line"] = view.line;
     json fields = json::array();
     for (const auto& [field, value] : view.fields) fields.push_back({{"name", field->name}, {"value", fieldValueJson(value)}});

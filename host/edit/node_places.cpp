@@ -1,9 +1,11 @@
 #include "edit/node_places.h"
 
 #include <charconv>
+#include <map>
 #include <utility>
 
 #include "edit/edit_error.h"
+#include "scene/json_splices.h"
 
 namespace ray::edit {
 
@@ -136,6 +138,34 @@ NodePlace requireNode(SceneDocument& document, const NodeId& id) {
     if (!place) throw EditError(id.text() + " does not exist (removed, or never made)", EditError::Kind::Value, "",
                                 id.text());
     return *place;
+}
+
+std::vector<std::string> jsonLightPlaces(SceneDocument& document) {
+    std::vector<std::string> places(document.lights.size());
+    if (document.format != SceneFormat::Json || !document.jsonSource) return places;
+    const JsonSource& source = *document.jsonSource;
+    // A light is a value in its group's "lights" array: the lights by the group's value, each
+    // with its text ".lights[K]".
+    std::map<SourceId, std::vector<std::pair<size_t, std::string>>> byGroup;
+    for (size_t i = 0; i < places.size() && i < document.lightSources.size(); ++i) {
+        const SourceId light = document.lightSources[i];
+        if (light == kNoSource || light >= source.tree.valueCount()) continue;
+        const JsonValue lights = source.tree.at(source.parents[light]);
+        if (!lights.isArray()) continue;
+        size_t k = 0;
+        for (JsonValue value = lights.first(); value && value.index() != light; value = value.next()) ++k;
+        byGroup[source.parents[lights.index()]].emplace_back(i, ".lights[" + std::to_string(k) + "]");
+    }
+    if (byGroup.empty()) return places;
+    walkNodes(document, [&](const NodePlace& place) {
+        if (place.id.kind != NodeKind::Block) return false;
+        auto group = byGroup.find(place.block().source);
+        if (group == byGroup.end()) return false;
+        for (const auto& [light, inGroup] : group->second) places[light] = place.path + inGroup;
+        byGroup.erase(group);  // a group duplicated by an edit keeps its value: its first place
+        return byGroup.empty();
+    });
+    return places;
 }
 
 }  // namespace ray::edit

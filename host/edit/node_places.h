@@ -43,4 +43,12 @@ std::optional<NodePlace> findNode(SceneDocument& document, const NodeId& id);
 // The same, or EditError: "there is no object-17 (removed, or never made)".
 NodePlace requireNode(SceneDocument& document, const NodeId& id);
 
+// The places of a JSON scene's lights in its file, in the order of SceneDocument::lights, as the
+// JSON reader sees them: the place of the group holding the light now, and its index in the
+// group's "lights" ("groups[0].lights[1]"; "templateGroups[0].lights[0]" for a template's light,
+// one place however many times the template is placed). "" for a light an edit added (a save
+// writes it in a group of its own, whose place is known when the file is read again) and for
+// every light of an XML scene. One walk at most.
+std::vector<std::string> jsonLightPlaces(SceneDocument& document);
+
 }  // namespace ray::edit

@@ -17,25 +17,44 @@ const char* csgName(CsgStepKind kind) {
     return "operand";
 }
 
-OutlineEntry entryOf(SceneDocument& document, const NodePlace& place) {
-    OutlineEntry entry{place.id, place.parent, place.depth, nodeKindName(place.id.kind), {}, {}, {}, {}};
+// The kind of node in the words of the scene's format (OutlineEntry::label).
+const char* labelOf(const SceneDocument& document, const NodePlace& place) {
+    if (document.format == SceneFormat::Json) {
+        switch (place.id.kind) {
+            case NodeKind::Tree: return place.tree->name == "root" ? "groups" : "template group";
+            case NodeKind::Block: return "group";
+            case NodeKind::Placement: return "template use";
+            default: break;
+        }
+    }
+    return nodeKindName(place.id.kind);
+}
+
+// lightPlaces: jsonLightPlaces(document), for a light.
+OutlineEntry entryOf(SceneDocument& document, const NodePlace& place, const std::vector<std::string>& lightPlaces) {
+    OutlineEntry entry{place.id, place.parent, place.depth, labelOf(document, place), {}, place.path, {}, {}, {}, {}};
+    // An XML scene says "master" before a tree's or a placement's name; a JSON scene's label
+    // says what it is already ("template group", "template use").
+    const std::string master = document.format == SceneFormat::Json ? "" : "master ";
     switch (place.id.kind) {
         case NodeKind::Light:
             entry.type = lightTypeName(document.lights[place.index].type);
             entry.text = entry.type + " light";
+            if (place.index < lightPlaces.size()) entry.path = lightPlaces[place.index];
             break;
         case NodeKind::Tree:
             entry.name = place.tree->name;
-            entry.text = entry.name == "root" ? "root" : "master " + entry.name;
+            if (entry.name != "root") entry.text = master + entry.name;
+            else if (document.format == SceneFormat::Xml) entry.text = "root";
             break;
         case NodeKind::Object:
             entry.shape = primitiveTypeName(place.object().type);
             entry.text = entry.shape;
             break;
         case NodeKind::Placement: {
-            const MasterReference& master = place.placement();
-            entry.text = "master " + master.name;
-            auto tree = document.trees.find(master.name);
+            const MasterReference& reference = place.placement();
+            entry.text = master + reference.name;
+            auto tree = document.trees.find(reference.name);
             if (tree != document.trees.end()) entry.master = NodeId{NodeKind::Tree, tree->second.id};
             break;
         }
@@ -51,8 +70,9 @@ OutlineEntry entryOf(SceneDocument& document, const NodePlace& place) {
 
 std::vector<OutlineEntry> outline(SceneDocument& document) {
     std::vector<OutlineEntry> entries;
+    const std::vector<std::string> lightPlaces = jsonLightPlaces(document);
     walkNodes(document, [&](const NodePlace& place) {
-        entries.push_back(entryOf(document, place));
+        entries.push_back(entryOf(document, place, lightPlaces));
         return false;
     });
     return entries;
@@ -61,8 +81,7 @@ std::vector<OutlineEntry> outline(SceneDocument& document) {
 NodeView describeNode(SceneDocument& document, const Scene& scene, const NodeId& id) {
     const NodePlace place = requireNode(document, id);
     NodeView view;
-    view.entry = entryOf(document, place);
-    view.path = place.path;
+    view.entry = entryOf(document, place, id.kind == NodeKind::Light ? jsonLightPlaces(document) : std::vector<std::string>{});
     for (const EditField* field : fieldsFor(document, place))
         view.fields.emplace_back(field, fieldValue(document, scene, place, *field));
     if (id.kind == NodeKind::Object) {

@@ -20,7 +20,16 @@ struct OutlineEntry {
     NodeId id;
     std::optional<NodeId> parent;  // none for the camera, the globals, lights and trees
     int depth = 0;
-    std::string text;   // what it is, for a person: "sphere", "point light", "master leg"
+    // What kind of node it is in the words of its file's format: an XML scene's are the kinds'
+    // names (nodeKindName: "transblock", "tree", "placement"); a JSON scene's are SPEC §7's:
+    // "group", "template group" (a tree but the root, which is the file's "groups"), "template
+    // use" (a placement: a group naming a template).
+    std::string label;
+    std::string text;   // what it is, for a person: "sphere", "point light", "master leg" (JSON: the template's name)
+    // Its place in the file's tree: "root/transblock[1]/object[0]"; a JSON scene's as its reader
+    // names it, "groups[1].primitives[0]", "groups[0].lights[0]" (jsonLightPlaces). "" for the
+    // camera and the globals, an XML scene's lights, and a JSON light an edit added.
+    std::string path;
     std::string shape;  // an object's: "sphere"
     std::string type;   // a light's: "point"
     std::string name;   // a tree's
@@ -31,7 +40,6 @@ std::vector<OutlineEntry> outline(SceneDocument& document);
 
 struct NodeView {
     OutlineEntry entry;
-    std::string path;  // its place in the file's tree: "root/transblock[1]/object[0]", "groups[1].primitives[0]" (JSON)
     int line = 0;      // in the file it was read from; 0 when made by an edit
     // Its fields that apply, in the table's order, with their values.
     std::vector<std::pair<const EditField*, FieldValue>> fields;

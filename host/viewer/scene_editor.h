@@ -75,6 +75,9 @@ public:
     // redo or reload, whose lineage says what changed (the frame source re-packs that alone).
     std::shared_ptr<const Scene> scene() const { return session_.scene(); }
     const std::filesystem::path& file() const { return file_; }
+    // The format of the scene's file (a new scene's: its name's), as /state says it: "xml" or
+    // "json", the extension a save under another name keeps the format with.
+    const char* formatName() const { return session_.document().format == SceneFormat::Json ? "json" : "xml"; }
 
     // What pixel (x, y) of a settings-sized image from `camera` shows (reference pickPixel):
     // {"node": "object-N", "object": id, "instance", "point", "normal", "distance"} and the

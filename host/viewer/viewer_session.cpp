@@ -95,10 +95,10 @@ uint64_t Session::request(const std::string& body) {
     return requested_;
 }
 
-// Where "save scene" writes, whether there is something to undo or redo, the lights.
+// Where "save scene" writes and in which format, whether there is something to undo or redo, the lights.
 json Session::editorStateLocked() {
     return {{"file", std::filesystem::absolute(editor_.file()).lexically_normal().string()},
-            {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
+            {"format", editor_.formatName()},      {"modified", editor_.modified()}, {"can_undo", editor_.canUndo()},
             {"can_redo", editor_.canRedo()}, {"lights", editor_.lightsJson()},
             {"editable", !options_.token.empty()}, {"scene_version", sceneVersion_},
             {"revision", editor_.version()}, {"history", editor_.historyJson()}};

@@ -197,7 +197,15 @@ struct OutlineEntry {
     NodeId parent;        ///< its parent's id; "" for the camera, globals, lights and trees
     int depth = 0;        ///< how deep it is in the tree
     std::string kind;     ///< camera, globals, light, tree, transblock, object, placement, csg
-    std::string text;     ///< what it is: "sphere", "point light", "master leg"
+    /// The kind in the words of the scene's file format, as ray view's outline shows it: an XML
+    /// scene's is `kind`; a JSON scene's (SPEC §7) "groups" (the tree "root"), "template group"
+    /// (another tree), "group" (a transblock), "template use" (a placement), else `kind`.
+    std::string label;
+    std::string text;     ///< what it is: "sphere", "point light", "master leg" (JSON: the template's name)
+    /// Its place in the file: "root/transblock[1]/object[0]"; a JSON scene's as its reader names
+    /// it, "groups[1].primitives[0]", "groups[0].lights[0]"; "" for the camera, the globals, an
+    /// XML scene's lights and a JSON light added since the file was read.
+    std::string path;
 };
 
 class Scene;

@@ -47,6 +47,11 @@ def test_a_json_scene_saves_its_edits_in_its_text(tmp_path: Path):
     file.write_text(SCENE)
     scene = cs123ray.load_scene(file)
     objects = [entry["node"] for entry in scene.outline() if entry["kind"] == "object"]
+    # The outline in the JSON format's words and places, as the studio shows it.
+    assert [(entry["label"], entry["text"], entry["path"]) for entry in scene.outline()][2:] == [
+        ("light", "point light", "groups[0].lights[0]"), ("groups", "", ""), ("group", "", "groups[0]"),
+        ("group", "", "groups[1]"), ("object", "sphere", "groups[1].primitives[0]"),
+        ("object", "cube", "groups[1].primitives[1]")]
     scene.set(objects[0], diffuse=(0.5, 0, 0))
     scene.set(objects[1], specular=(1, 1, 1))
     with pytest.raises(ValueError, match="JSON scene.*emissive colour"):

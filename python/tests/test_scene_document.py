@@ -47,6 +47,11 @@ def test_objects_are_the_files_with_paths_and_instances():
     assert leg.path == "leg/transblock[0]/object[0]" and leg.in_master and leg.instances == 2
     assert sphere.path == "root/transblock[2]/object[0]" and not sphere.in_master
     assert sphere.shape == "sphere"
+    # An XML scene's outline in XML's words (a JSON scene's: test_json_save.py), with its paths.
+    outline = scene.outline()
+    assert all(entry["label"] == entry["kind"] for entry in outline)
+    assert ("placement", "master leg") in [(entry["kind"], entry["text"]) for entry in outline]
+    assert "root/transblock[2]/object[0]" in [entry["path"] for entry in outline]
     assert sphere.material["diffuse"] == (0.2, 0.3, 0.9) and sphere.material["shininess"] == 10
     assert np.allclose(sphere.transform.matrix(), T.translate(x=0, y=1.5, z=0).matrix())
     assert scene.object_of_instance(2) == sphere

@@ -16,10 +16,15 @@ const editError = document.getElementById("edit-error");
 const selectionLine = document.getElementById("selection");
 const server = opsServer;
 
-// ---- What the server says about the editor: file, modified, undo and redo, editable.
+// ---- What the server says about the editor: file and its format, modified, undo and redo, editable.
 export function showEditorState(editor) {
   document.getElementById("file").textContent = editor.file;
   document.getElementById("file").title = editor.file;
+  // "save as" keeps the scene's format unless the name says another (.xml, .json).
+  if (editor.format) {
+    state.format = editor.format;
+    document.getElementById("save-as-name").placeholder = `other.${editor.format}`;
+  }
   document.getElementById("modified").textContent = editor.modified ? "(modified)" : "";
   state.modified = record.modified = Boolean(editor.modified);  // recovery.js warns before closing
   document.getElementById("undo").disabled = !editor.can_undo;

@@ -3,12 +3,20 @@
 // (POST /op: set, add-primitive, add-light, delete, duplicate, camera-from-view, revert),
 // each carrying the user action it belongs to, so that a drag is one undo step.
 import { getJson, postEdit } from "./api.js";
+import { state } from "./state.js";
 
 let table = [];  // GET /fields: every editable field, in the table's order
 let actions = 0;
 
 // A fresh user action: one committed field, one add, one delete.
 const newAction = kind => `${kind}-${Date.now().toString(36)}-${++actions}`;
+
+// The panel's notes in the words of the scene's format (/state's format; the outline's
+// words are the server's labels): a JSON scene has groups, primitives and templates.
+const NOTE_WORDS = {
+  xml: { block: "transblock", objects: "objects", placed: "an object of a master" },
+  json: { block: "group", objects: "primitives", placed: "a primitive of a template" },
+};
 
 // The 12 numbers of a `world` field as three rows of four.
 const rowsOf = w => [w.slice(0, 4), w.slice(4, 8), w.slice(8, 12)];
@@ -28,9 +36,11 @@ function groupsOf(node) {
   }
   const shared = node.kind === "object" && node.own_block === false;
   const transform = groups.find(g => g.title === "transform");
-  if (transform && shared) transform.note = "its transblock holds other objects: moving it gives it a transblock of its own";
+  const words = NOTE_WORDS[state.format] || NOTE_WORDS.xml;
+  if (transform && shared)
+    transform.note = `its ${words.block} holds other ${words.objects}: moving it gives it a ${words.block} of its own`;
   if (node.instances > 1) groups.push({ title: "placements", fields: [],
-    note: `placed ${node.instances} times (an object of a master): every placement changes` });
+    note: `placed ${node.instances} times (${words.placed}): every placement changes` });
   return groups;
 }
 
@@ -39,7 +49,8 @@ function selectionOf(node) {
   return {
     ...node,
     type: node.shape || node.type || node.kind,
-    description: `${node.text}${node.path ? " " + node.path : ""}${node.line ? `, line ${node.line}` : ""}`,
+    // What it is (its kind's label where its text says nothing: a group, the camera), its place.
+    description: `${node.text || node.label}${node.path ? " " + node.path : ""}${node.line ? `, line ${node.line}` : ""}`,
     worlds: world ? [rowsOf(world.value)] : undefined,
     groups: groupsOf(node),
   };

@@ -8,6 +8,7 @@ export const state = {
   selection: null,   // the selected object's description (pick, /object), or null
   editable: false,   // a viewer started with --no-token changes nothing
   modified: false,   // the scene has edits not saved to its file
+  format: "xml",     // the scene file's format, "xml" or "json" (/state's editor part)
 };
 
 // The page's own record of what it did, for tests and the drag bench: frames seen, the last
