@@ -25,7 +25,7 @@ void restartWithHugePageHeap(char** argv);
 // each such block freed (up to 32 MiB), so that after the packing of a mesh has freed its
 // triangles' boxes, the next blocks of a few MiB come from the heap, where what is freed
 // stays resident: on 1 M triangles 30 MB more at the peak (docs/performance.md, "Meshes:
-// memory"). Does nothing where malloc is not glibc's. Call it first in main().
+// memory and scaling"). Does nothing where malloc is not glibc's. Call it at the start of main().
 constexpr unsigned long kLargeBlockBytes = 4ul << 20;
 void returnLargeBlocksWhenFreed();
 
