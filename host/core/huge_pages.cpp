@@ -2,6 +2,10 @@
 
 #include <unistd.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -59,6 +63,15 @@ void restartWithHugePageHeap(char** argv) {
     execv(self.c_str(), argv);
     // Not replaced (no /proc, say): run on as we are. The variable stays, so that a program
     // this one starts does not try again.
+}
+
+void returnLargeBlocksWhenFreed() {
+    // Setting the threshold also ends its raising (mallopt(3), M_MMAP_THRESHOLD).
+    if constexpr (glibcMallocWithTunable()) {
+#if defined(__GLIBC__)
+        mallopt(M_MMAP_THRESHOLD, int(kLargeBlockBytes));
+#endif
+    }
 }
 
 }  // namespace ray

@@ -1,4 +1,4 @@
-// Transparent huge pages for the ray command's heap.
+// The ray command's heap: transparent huge pages, and large blocks given back when freed.
 //
 // Loading a large scene writes hundreds of megabytes of fresh memory (the XML, its tree, the
 // instances, the packed tables), and the kernel maps each 4 KiB page of it on first touch:
@@ -19,5 +19,14 @@ namespace ray {
 // that fails too: the program then runs on with 4 KiB pages). Call it first in main(),
 // before any thread starts.
 void restartWithHugePageHeap(char** argv);
+
+// Blocks of kLargeBlockBytes and more are mapped on their own and unmapped when freed, at any
+// time in the run. glibc's malloc does so at first, but raises that threshold to the size of
+// each such block freed (up to 32 MiB), so that after the packing of a mesh has freed its
+// triangles' boxes, the next blocks of a few MiB come from the heap, where what is freed
+// stays resident: on 1 M triangles 30 MB more at the peak (docs/performance.md, "Meshes:
+// memory and scaling"). Does nothing where malloc is not glibc's. Call it at the start of main().
+constexpr unsigned long kLargeBlockBytes = 4ul << 20;
+void returnLargeBlocksWhenFreed();
 
 }  // namespace ray

@@ -127,6 +127,7 @@ int dispatch(const std::vector<std::string>& args) {
 
 int main(int argc, char** argv) {
     restartWithHugePageHeap(argv);  // core/huge_pages.h: at most once, before any thread
+    returnLargeBlocksWhenFreed();
     const std::vector<std::string> args(argv + 1, argv + argc);
 #ifdef RAY_HAVE_MPI
     // Started by mpirun: the render command across every rank (distributed/mpi_render.h),

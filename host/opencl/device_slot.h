@@ -61,9 +61,9 @@ struct DeviceSlot {
     std::shared_ptr<const PackedScene> uploaded;  // the packing the scene's buffers are up to date with
     size_t checkedTilePixels = 0;  // the tile size checkDeviceLimits last passed with them
     // The scene's buffers, in the order of PackedScene::forEachBuffer (renderTile's), each
-    // with the version of the table it holds and the packing it was uploaded from: after an
-    // edit a buffer whose table kept its version is kept, and a CPU device, which reads the
-    // table in place, keeps that packing alive with it (scene_upload.h).
+    // with the version of the table it holds and, on a CPU device, which reads the table in
+    // place, the packing that table is in: after an edit a buffer whose table kept its
+    // version is kept (a CPU device's made again over the new packing: scene_upload.h).
     std::array<cl::Buffer, kSceneBufferCount> sceneBuffers;
     std::array<uint64_t, kSceneBufferCount> bufferVersions{};
     std::array<std::shared_ptr<const PackedScene>, kSceneBufferCount> bufferOwners;

@@ -197,7 +197,7 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
     FlatBvh bvh = buildBvh(bounds);
     std::vector<BoundingBox>().swap(bounds);
     const int nodeOffset = int(packed.nodes.size()), triangleOffset = int(packed.triangles.size());
-    const std::vector<gpu::RayWideBvhNode> wide = widenBvh(bvh.nodes);
+    std::vector<gpu::RayWideBvhNode> wide = widenBvh(bvh.nodes);
     std::vector<BinaryBvhNode>().swap(bvh.nodes);
     // Grown once for the mesh, not node by node (each regrowth copies the table), and at
     // least doubled, so that a scene of many meshes still copies it a few times only.
@@ -210,6 +210,9 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
             if (index[c] >= 0) index[c] += count[c] > 0 ? triangleOffset : nodeOffset;
         packed.nodes.push_back(node);
     }
+    // Copied into the node table: freed before the triangle tables grow, so that the mesh's
+    // nodes are not held twice at the process's peak (on 1 M triangles a 65 MB block, 32 MB written).
+    std::vector<gpu::RayWideBvhNode>().swap(wide);
     const size_t first = packed.triangles.size(), count = bvh.primitiveOrder.size();
     packed.triangles.resize(first + count);
     packed.triangleShading.resize(first + count);

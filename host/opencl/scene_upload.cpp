@@ -66,14 +66,19 @@ bool uploadScene(DeviceSlot& slot, const std::shared_ptr<const PackedScene>& pac
     bool uploadedAny = false;
     packed->forEachBuffer([&](const auto& table, SceneBufferName name) {
         const size_t i = next++;
-        if (slot.sceneBuffers[i]() && slot.bufferVersions[i] == packed->versions[i]) return;
+        const bool current = slot.sceneBuffers[i]() && slot.bufferVersions[i] == packed->versions[i];
+        // A table an edit kept is the same bytes in the new packing: a device reading it in
+        // place moves onto the new packing's (a buffer made, nothing copied), so that the old
+        // packing is freed rather than held beside the new one for the rest of the session.
+        if (current && (!inPlace || slot.bufferOwners[i] == packed)) return;
         slot.sceneBuffers[i] = cl::Buffer();  // before its table's owner may go
         slot.bufferOwners[i].reset();
         const std::remove_cvref_t<decltype(table)> unread;  // a table the device's kernel never reads
         slot.sceneBuffers[i] = uploadBuffer(slot.context, slot.variant.reads(name) ? table : unread, inPlace);
         slot.bufferVersions[i] = packed->versions[i];
-        slot.bufferOwners[i] = packed;
-        uploadedAny = true;
+        // A copy is the device's own: the host's table need not outlive it.
+        if (inPlace) slot.bufferOwners[i] = packed;
+        uploadedAny = uploadedAny || !current;
     });
     slot.uploaded = packed;
     return uploadedAny;

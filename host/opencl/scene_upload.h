@@ -20,10 +20,12 @@ void checkDeviceLimits(const OpenClDevice& device, const KernelVariant& variant,
 
 // Uploads the tables of `packed` that the slot does not hold at their version (every one for
 // a new packing, only those an edit changed for a repacked one). A CPU device reads the
-// host's tables in place, so that each buffer keeps the packing it came from alive; other
-// devices get a copy in their memory. A table the slot's kernel does not read
+// host's tables in place, so that each buffer keeps the packing it came from alive: its
+// buffers of the tables an edit kept are made again over `packed`'s (no copy), so that it
+// holds one packing, not the old one beside the new. Other devices get a copy in their
+// memory and hold no packing. A table the slot's kernel does not read
 // (KernelVariant::reads) becomes a buffer of one unused element. Returns whether any table
-// was uploaded.
+// was uploaded (copied or changed).
 bool uploadScene(DeviceSlot& slot, const std::shared_ptr<const PackedScene>& packed);
 
 }  // namespace ray::engine
