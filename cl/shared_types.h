@@ -199,18 +199,27 @@ RAY_TABLE_STRUCT(RayPrimitive) {
                      program's first record in the primitives; -1 for the unit shapes */
 } RAY_END_STRUCT(RayPrimitive);
 
-/* A mesh triangle for intersection: 48 bytes. Corner p0 and the edges e1 = p1 − p0,
- * e2 = p2 − p0, in the mesh's object space. Each mesh's triangles are stored once, in the
- * order of its own BVH, whose nodes follow the scene's in the node buffer
- * (RayPrimitive.geometry is a mesh instance's root node there); leaves of a mesh's BVH index
- * this buffer. */
-RAY_STRUCT(RayTriangle) {
-    float4 p0;
-    float4 e1;
-    float4 e2;
-} RAY_END_STRUCT(RayTriangle);
+/* A mesh leaf's triangles for intersection, four side by side (Embree's triangle4): 144
+ * bytes. Lane k of p0x..p0z is triangle k's corner p0, of e1x..e2z its edges e1 = p1 − p0
+ * and e2 = p2 − p0, in the mesh's object space; one ray tests the four at once in float4s,
+ * a packet each of them for every ray (cl/geometry/triangle_records.cl). A mesh's leaf is one
+ * record: its tree is built with leaves of at most RAY_TRIANGLES_PER_RECORD triangles, costed
+ * by the record (host/accel/bvh.h leafBlock), so that they are nearly full (3.9 triangles a
+ * leaf on a scanned surface). A lane a leaf leaves unused has zero edges, which no ray hits.
+ *
+ * A triangle's index is its slot, 4 · record + lane: the triangle shading table is indexed
+ * by it, and a mesh leaf's node link (index, count) is its first slot and its triangle
+ * count. Each mesh's records are stored once, in the order of its own BVH, whose nodes
+ * follow the scene's in the node buffer (RayPrimitive.geometry is a mesh instance's root
+ * node there). */
+#define RAY_TRIANGLES_PER_RECORD 4
+RAY_STRUCT(RayTriangle4) {
+    float4 p0x, p0y, p0z;
+    float4 e1x, e1y, e1z;
+    float4 e2x, e2y, e2z;
+} RAY_END_STRUCT(RayTriangle4);
 
-/* What shading needs of a triangle, parallel to the triangle buffer: 80 bytes. The corner
+/* What shading needs of a triangle, one a slot of the triangle records (RayTriangle4): 80 bytes. The corner
  * normals (the file's vn, or the face normal for every corner of a face without them) and
  * texture coordinates ((0, 0) without vt). Its directions are three floats each, read with
  * vload3, not float4s: this table grows with a mesh's triangles (a million: 80 MB, where
@@ -342,8 +351,8 @@ RAY_STRUCT(RayRenderParams) {
     X(RayTexture, textures, "texture records", RAY_EVERY_DEVICE)                                \
     /* every texture (and its mipmap levels) back to back */                                    \
     X(RayTexel, texels, "textures", RAY_EVERY_DEVICE)                                           \
-    /* every mesh's triangles once, each mesh's in the order of its own BVH */                  \
-    X(RayTriangle, triangles, "mesh triangles", RAY_EVERY_DEVICE)                               \
+    /* every mesh's triangles once, four a record, each mesh's in the order of its own BVH */   \
+    X(RayTriangle4, triangles, "mesh triangles", RAY_EVERY_DEVICE)                              \
     X(RayTriangleShading, triangleShading, "mesh normals and texture coordinates", RAY_EVERY_DEVICE) \
     /* each primitive's world-space motion (.xyz), parallel to primitives, or empty when        \
      * nothing moves: a buffer of its own rather than a fifth float4 in RayPrimitive, so that   \
@@ -374,7 +383,9 @@ RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayCpuBvhNode, count) == 448);
 RAY_LAYOUT_CHECK(sizeof(RayPrimitive) == 64);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayPrimitive, type) == 48);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayPrimitive, geometry) == 60);
-RAY_LAYOUT_CHECK(sizeof(RayTriangle) == 48);
+RAY_LAYOUT_CHECK(sizeof(RayTriangle4) == 144);
+RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangle4, e1x) == 48);
+RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangle4, e2x) == 96);
 RAY_LAYOUT_CHECK(sizeof(RayTriangleShading) == 80);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uTangent) == 36);
 RAY_LAYOUT_CHECK(RAY_OFFSET_OF(RayTriangleShading, uv0) == 48);

@@ -276,6 +276,34 @@ TEST_CASE("BVH structure on random sets", "[bvh]") {
     }
 }
 
+TEST_CASE("BVH leaves costed by blocks (a mesh's records of four) are nearly full", "[bvh]") {
+    // A surface of small boxes side by side, as a scanned mesh's triangles: costed one
+    // primitive at a time, the heuristic splits nearly every leaf down to one or two; costed
+    // by blocks of four (one record tested at once), a leaf of up to four costs one test,
+    // and the leaves fill.
+    std::vector<BoundingBox> boxes;
+    for (int i = 0; i < 200; ++i) {
+        for (int j = 0; j < 200; ++j) {
+            BoundingBox b;
+            b.min[0] = float(i), b.max[0] = float(i + 1);
+            b.min[1] = float(j), b.max[1] = float(j + 1);
+            b.min[2] = b.max[2] = 0.01f * float((i * 7 + j * 13) % 5);
+            boxes.push_back(b);
+        }
+    }
+    BvhBuildOptions single;
+    single.maxLeafSize = 4;
+    BvhBuildOptions blocks = single;
+    blocks.leafBlock = 4;
+    const TreeStats one = requireValidTree(boxes, single), four = requireValidTree(boxes, blocks);
+    CHECK(four.largestLeaf <= 4);
+    const double perLeafOne = double(boxes.size()) / double(one.leaves);
+    const double perLeafFour = double(boxes.size()) / double(four.leaves);
+    INFO("primitives a leaf: " << perLeafOne << " costed one at a time, " << perLeafFour << " by blocks of four");
+    CHECK(perLeafOne < 2.5);
+    CHECK(perLeafFour > 3.5);
+}
+
 TEST_CASE("BVH structure on sets large enough for the parallel build", "[bvh]") {
     // Above 65536 primitives the top levels fork onto threads and are stitched together.
     Random random(10);

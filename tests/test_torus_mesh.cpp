@@ -3,6 +3,8 @@
 // vt; the mesh intersector; one mesh stored once for many instances).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -117,8 +119,59 @@ TEST_CASE("a mesh used by several instances is stored once", "[mesh]") {
     for (const PrimitiveInstance& p : scene.primitives) instances += p.type == PrimitiveType::Mesh;
     CHECK(instances == 3);
     PackedScene packed = packScene(scene);
-    CHECK(packed.triangles.size() == scene.meshes[0].triangles.size());
-    CHECK(packed.triangleShading.size() == packed.triangles.size());
+    const size_t triangles = scene.meshes[0].triangles.size();
+    CHECK(packed.triangles.size() * RAY_TRIANGLES_PER_RECORD >= triangles);
+    CHECK(packed.triangles.size() * RAY_TRIANGLES_PER_RECORD < triangles + 2 * packed.triangles.size());
+    CHECK(packed.triangleShading.size() == packed.triangles.size() * RAY_TRIANGLES_PER_RECORD);
+}
+
+// A lane of a record's float4 row.
+static float lane(const gpu::float4& row, int k) { return (&row.x)[k]; }
+
+TEST_CASE("a mesh's leaves are records of up to four triangles, each triangle in one slot, nearly full",
+          "[mesh][packing]") {
+    Scene scene = loadScene(test::scenesDir() / "mesh_vase.xml");
+    REQUIRE(scene.meshes.size() == 1);
+    const TriangleMesh& mesh = scene.meshes[0];
+    PackedScene packed = packScene(scene);
+    // Every leaf link of the mesh's tree: a record's first slot and its triangle count.
+    std::vector<int> slotTaken(packed.triangles.size() * RAY_TRIANGLES_PER_RECORD, 0);
+    size_t leaves = 0;
+    for (size_t n = packed.sceneNodes; n < packed.nodes.size(); ++n) {
+        for (int c = 0; c < 4; ++c) {
+            const int index = (&packed.nodes[n].index.x)[c], count = (&packed.nodes[n].count.x)[c];
+            if (index < 0 || count == 0) continue;
+            ++leaves;
+            REQUIRE(index % RAY_TRIANGLES_PER_RECORD == 0);
+            REQUIRE(count >= 1);
+            REQUIRE(count <= RAY_TRIANGLES_PER_RECORD);
+            REQUIRE(size_t(index / RAY_TRIANGLES_PER_RECORD) < packed.triangles.size());
+            for (int k = 0; k < count; ++k) ++slotTaken[size_t(index + k)];
+        }
+    }
+    CHECK(leaves == packed.triangles.size());  // one record a leaf
+    // The slots that leaves name hold the mesh's triangles, each once; the others no triangle.
+    std::vector<std::array<float, 9>> stored, expected;
+    for (size_t slot = 0; slot < slotTaken.size(); ++slot) {
+        REQUIRE(slotTaken[slot] <= 1);
+        const gpu::RayTriangle4& r = packed.triangles[slot / RAY_TRIANGLES_PER_RECORD];
+        const int k = int(slot % RAY_TRIANGLES_PER_RECORD);
+        std::array<float, 9> t = {lane(r.p0x, k), lane(r.p0y, k), lane(r.p0z, k), lane(r.e1x, k), lane(r.e1y, k),
+                                  lane(r.e1z, k), lane(r.e2x, k), lane(r.e2y, k), lane(r.e2z, k)};
+        if (slotTaken[slot]) stored.push_back(t);
+        else CHECK(t == std::array<float, 9>{});  // zero edges: no ray hits an unused slot
+    }
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const Vec3 p0 = mesh.corner(i, 0), e1 = mesh.corner(i, 1) - p0, e2 = mesh.corner(i, 2) - p0;
+        expected.push_back({float(p0[0]), float(p0[1]), float(p0[2]), float(e1[0]), float(e1[1]), float(e1[2]),
+                            float(e2[0]), float(e2[1]), float(e2[2])});
+    }
+    std::sort(stored.begin(), stored.end());
+    std::sort(expected.begin(), expected.end());
+    CHECK(stored == expected);
+    // The tree is built for records (BvhBuildOptions::leafBlock): its leaves are nearly full,
+    // where a tree costed a triangle at a time leaves about two triangles a leaf.
+    CHECK(double(mesh.triangles.size()) / double(leaves) > 3.0);
 }
 
 // A square in the z = 0 plane, facing +z, as two triangles: the left one with its texture

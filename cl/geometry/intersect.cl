@@ -12,13 +12,8 @@ static inline float3 normalToWorld(__global const float4* m, float3 n) {
  * in h (TriangleHit, cl/geometry/triangle.cl). */
 RAY_INLINED_ON_GPU void intersectTorus(float3 o, float3 d, float* best, int* part, float3* normal);
 RAY_INLINED_ON_GPU
-void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
+void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle4* triangles, int root, float3 o,
                    float3 d, BvhStackEntry* spare, int spareCount, TriangleHit* h);
-
-/* The outward object normal (unnormalized) of a mesh's hit: its triangle's face normal. */
-static inline float3 triangleFaceNormal(__global const RayTriangle* triangle) {
-    return cross(triangle->e1.xyz, triangle->e2.xyz);
-}
 
 /* Constructive solid geometry: cl/geometry/csg.cl. prims is the primitive buffer (the
  * program's records are indexed in it), csg the object's own record. */
@@ -37,7 +32,7 @@ void intersectCsg(__global const RayPrimitive* prims, __global const RayPrimitiv
  * space), which is the same as moving the ray's origin back by it. The host sets every
  * time to 0 when nothing moves, and then the motion buffer (a placeholder) is never read. */
 static RAY_CALL_ON_CPU void intersectPrimitive(__global const RayWideBvhNode* nodes,
-                                               __global const RayTriangle* triangles, __global const float4* motions,
+                                               __global const RayTriangle4* triangles, __global const float4* motions,
                                                __global const RayPrimitive* prim, int index, Ray ray,
                                                bool courseMeshes, BvhStackEntry* spare, int spareCount, Hit* hit) {
     float3 origin = ray.origin;
@@ -61,7 +56,7 @@ static RAY_CALL_ON_CPU void intersectPrimitive(__global const RayWideBvhNode* no
             if (triangle.part < 0) break;
             h.best = triangle.best;
             h.part = triangle.part;
-            h.normal = triangleFaceNormal(&triangles[triangle.part]);
+            h.normal = triangleFaceNormal(triangles, triangle.part);
             barycentric = (float2)(triangle.b1, triangle.b2);
             break;
         }

@@ -121,15 +121,16 @@ static inline float torusV(float3 p) {
 
 /* The mesh's own BVH (two-level: instances above, one tree per mesh below, the triangles
  * stored once however many instances use them), walked as traceBvh walks the scene's; its
- * nodes live in the same node buffer from `root` on, its leaves index the triangle buffer.
+ * nodes live in the same node buffer from `root` on, its leaves' links are slots of the
+ * triangle records (RayTriangle4), tested as the device tests them (intersectLeafTriangles).
  * Its stack is the scene walk's `spareCount` entries from `spare` on (BvhStack,
  * cl/traversal/wide_walk.cl): it starts empty there and is empty again when the walk ends, an
  * overflow included (afterOverflow), so the scene walk's own entries below are never touched.
- * The search h goes on from where it stands (intersectTriangle, cl/geometry/triangle.cl, whose
+ * The search h goes on from where it stands (takesTriangleHit, cl/geometry/triangle.cl, whose
  * tie rule makes the triangle found independent of the order of the walk): a box entered
  * exactly at the nearest hit so far is visited (enteredBy), since it may hold a tie. */
 RAY_INLINED_ON_GPU
-void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root, float3 o,
+void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle4* triangles, int root, float3 o,
                    float3 d, BvhStackEntry* spare, int spareCount, TriangleHit* h) {
     float3 inverseDirection = safeInverse(d);
     BvhStack stack = emptyBvhStack(spare, spareCount);
@@ -144,7 +145,7 @@ void intersectMesh(__global const RayWideBvhNode* nodes, __global const RayTrian
             if (!enteredBy(children.entry[c], limit)) continue;
             const int first = children.index[c], count = children.count[c];
             if (count > 0) {
-                intersectTriangles(triangles, first, count, o, d, h);
+                intersectLeafTriangles(triangles, first, count, o, d, h);
                 limit = h->best;
             } else {
                 addInnerChild(&inner, first, children.entry[c], true);

@@ -24,8 +24,15 @@
  *   laneAlong(o, t, d)     the LaneVec3 o + t·d (a point along a ray)
  *   laneDot(a, b)          the dot product of two LaneVec3s
  *   laneRowDot(row, v)     the dot product of a float4 row's .xyz and a LaneVec3
- *   laneCrossUniform(v, u) the cross product v × u of a LaneVec3 and a float3 that every
- *                          lane shares (a triangle's edge) */
+ *   laneCross(a, b)        the cross product a × b of two LaneVec3s
+ * Every instance computes a dot and a cross product as one ray's dot and cross do, with no
+ * fused multiply-add, so that a lane's result is one ray's to the bit.
+ * A third vocabulary, cl/lanes/quad.h, makes the lanes a record's four triangles, for the
+ * triangle test alone (RAY_LANES_ARE_TRIANGLES). */
+/* A template function that some device's build leaves unused in some instance (a CPU tests a
+ * leaf's triangles for one ray in the quad instance, not in one ray's): no warning for it. */
+#define RAY_LANE_TEMPLATE static inline __attribute__((unused))
+
 #define RAY_PASTE(a, b) RAY_PASTE_EXPANDED(a, b)
 #define RAY_PASTE_EXPANDED(a, b) a##b
 #define RAY_LANE_FN(name) RAY_PASTE(name, RAY_LANE_SUFFIX)
@@ -44,4 +51,4 @@
 #define laneAlong(o, t, d) ((o) + (t) * (d))
 #define laneDot(a, b) dot(a, b)
 #define laneRowDot(row, v) dot((row).xyz, v)
-#define laneCrossUniform(v, u) cross(v, u)
+#define laneCross(a, b) cross(a, b)

@@ -3,23 +3,8 @@
  * is listed in cl/lanes/one_ray.h), in a build for packets of RAY_PACKET_WIDTH rays (CPU devices:
  * cl/device/variant.h). A lane is one ray of the packet, LaneFloat an OpenCL vector of a
  * float a ray, and the functions' names end in Packet (intersectSpherePacket, pushNodePacket).
- * In other builds the vocabulary is left undefined, and the templates' second listing
+ * In other builds the vocabulary is left undefined, and the templates' last listing
  * compiles to nothing. */
-#undef RAY_LANE_VOCABULARY
-#undef RAY_LANE_SUFFIX
-#undef LaneFloat
-#undef LaneInt
-#undef LaneVec3
-#undef laneVec3
-#undef laneSelect
-#undef laneSelectVec3
-#undef laneAny
-#undef laneNot
-#undef laneEarlyOut
-#undef laneAlong
-#undef laneDot
-#undef laneRowDot
-#undef laneCrossUniform
 
 #ifdef RAY_PACKET_WIDTH
 
@@ -66,10 +51,10 @@ static inline PacketFloat packetDot(PacketVec3 a, PacketVec3 b) {
     return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
-/* cross(v, u) of float3s, a lane a v, u shared: PoCL's cross, like its dot, fuses nothing. */
-static inline PacketVec3 packetCrossUniform(PacketVec3 v, float3 u) {
+/* cross(a, b) of float3s, a lane a pair: PoCL's cross, like its dot, fuses nothing. */
+static inline PacketVec3 packetCross(PacketVec3 a, PacketVec3 b) {
 #pragma OPENCL FP_CONTRACT OFF
-    return packetVec3(v.y * u.z - v.z * u.y, v.z * u.x - v.x * u.z, v.x * u.y - v.y * u.x);
+    return packetVec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
 
 /* Whether any lane of a mask is set (-1), as OpenCL's any: PoCL 3.1 lowers any(int16) to
@@ -103,6 +88,6 @@ static inline bool packetAny(PacketInt m) {
 #define laneDot(a, b) packetDot(a, b)
 #define laneRowDot(row, v) \
     packetDot(packetVec3((PacketFloat)((row).x), (PacketFloat)((row).y), (PacketFloat)((row).z)), v)
-#define laneCrossUniform(v, u) packetCrossUniform(v, u)
+#define laneCross(a, b) packetCross(a, b)
 
 #endif /* RAY_PACKET_WIDTH */

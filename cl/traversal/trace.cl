@@ -10,7 +10,7 @@
  * nodes, a CPU the sixteen-wide one, cpuNodes (walkScene); both find the same hit, hits
  * being ranked by distance and then by order (hitLimit) whatever the order of the walk. */
 RAY_INLINED_ON_GPU bool traceBvh(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
-                                 __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+                                 __global const RayPrimitive* prims, __global const RayTriangle4* triangles,
                                  __global const float4* motions, Ray ray, float tMax, bool anyHit,
                                  bool courseMeshes, Hit* hit) {
     startTrace(hit, tMax);

@@ -142,7 +142,7 @@ static inline void startTrace(Hit* hit, float tMax) {
 /* Intersects the primitives [first, first + count) (a leaf) for the ray, a mesh's walk among
  * them using the stack's free entries. */
 static inline void intersectLeaf(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
-                                 __global const RayTriangle* triangles, __global const float4* motions, Ray ray,
+                                 __global const RayTriangle4* triangles, __global const float4* motions, Ray ray,
                                  bool courseMeshes, const BvhStack* stack, int first, int count, Hit* hit) {
     for (int i = first; i < first + count; ++i)
         intersectPrimitive(nodes, triangles, motions, &prims[i], i, ray, courseMeshes, stack->entries + stack->top,
@@ -157,7 +157,7 @@ static inline void intersectLeaf(__global const RayWideBvhNode* nodes, __global 
  * sixteen-wide walk of CPU devices (fourWideRef). */
 static inline RAY_INLINED_ON_GPU
 int fourWideStep(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
-                 __global const RayTriangle* triangles, __global const float4* motions, Ray ray,
+                 __global const RayTriangle4* triangles, __global const float4* motions, Ray ray,
                  float3 inverseDirection, bool anyHit, bool courseMeshes, bool fourWideRefs, BvhStack* stack,
                  int node, Hit* hit) {
     /* The prune distance, read once for the node's boxes and children and again only after a

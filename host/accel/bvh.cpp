@@ -344,6 +344,7 @@ public:
     SubtreeBuilder(std::span<BuildPrimitive> primitives, const BvhBuildOptions& options)
         : primitives_(primitives),
           maxLeafSize_(uint32_t(std::max(options.maxLeafSize, 1))),
+          leafBlock_(uint32_t(std::max(options.leafBlock, 1))),
           maxDepth_(std::clamp(options.maxDepth, 1, kBvhMaxDepth)),
           maxBins_(std::clamp(options.bins, 2, 256)),
           threads_(buildThreads(options)),
@@ -405,11 +406,14 @@ public:
     std::vector<BinaryBvhNode> nodes;
 
 private:
+    // The tests a leaf of n primitives costs: one a block of leafBlock_ (BvhBuildOptions).
+    double blocks(uint32_t n) const { return double((n + leafBlock_ - 1) / leafBlock_); }
+
     bool splittingPays(const Range& range, const SahSplit& split) const {
         // Both sides multiplied by the node's area, so that a node of zero area (all
         // boxes degenerate to one point or segment) compares without dividing by 0.
         double area = halfArea(range.bounds);
-        double leafCost = kPrimitiveTestCost * range.count() * area;
+        double leafCost = kPrimitiveTestCost * blocks(range.count()) * area;
         double splitCost = kNodeVisitCost * area + kPrimitiveTestCost * split.cost;
         return splitCost < leafCost;
     }
@@ -460,7 +464,7 @@ private:
             for (uint32_t k = 1; k < n; ++k) {
                 const BuildPrimitive& p = primitives_[range.begin + order[k - 1]];
                 accumulated.expand(p.lo(), p.hi());
-                double cost = halfArea(accumulated) * k + rightHalfArea[k] * (n - k);
+                double cost = halfArea(accumulated) * blocks(k) + rightHalfArea[k] * blocks(n - k);
                 if (!found || cost < best.cost) best = {axis, 0, int(k), k, cost};
                 found = true;
             }
@@ -577,7 +581,8 @@ private:
             accumulated.expand(bins[k - 1].bounds);
             accumulatedCount += counts[k - 1];
             if (accumulatedCount == 0 || rightCount_[size_t(k)] == 0) continue;
-            double cost = halfArea(accumulated) * accumulatedCount + rightHalfArea_[size_t(k)] * rightCount_[size_t(k)];
+            double cost = halfArea(accumulated) * blocks(accumulatedCount) +
+                          rightHalfArea_[size_t(k)] * blocks(rightCount_[size_t(k)]);
             if (!haveBest || cost < best->cost) {
                 *best = {axis, binCount, k, accumulatedCount, cost};
                 haveBest = improved = true;
@@ -649,6 +654,7 @@ private:
 
     std::span<BuildPrimitive> primitives_;
     uint32_t maxLeafSize_;
+    uint32_t leafBlock_;
     int maxDepth_;
     int maxBins_;
     int threads_;

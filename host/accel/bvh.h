@@ -60,6 +60,9 @@ constexpr int kBvhMaxDepth = 64;
 
 struct BvhBuildOptions {
     int maxLeafSize = 4;
+    // Primitives a leaf tests at once (a mesh's triangles, four to a record): a leaf of n
+    // costs ceil(n / leafBlock) tests in the surface-area heuristic.
+    int leafBlock = 1;
     int bins = 16;
     // The most inner nodes on any root-to-leaf path, capped at kBvhMaxDepth; it holds for
     // up to 2^maxDepth primitives. Lowered only by the tests of that guard.

@@ -153,9 +153,6 @@ void forEachSlice(size_t n, const Body& body) {
     for (std::future<void>& f : others) f.get();
 }
 
-// One mesh: its BVH's nodes appended to packed.nodes (child indices rebased to their place
-// there, leaf ranges to the mesh's place in the triangle buffer), its triangles in BVH
-// order. Returns the root node's index.
 // Triangle i's shading record: its corners' normals (the face's where the file gave none),
 // texture coordinates and tangent frame.
 gpu::RayTriangleShading shadingRecord(const TriangleMesh& mesh, uint32_t i, float uvDensity) {
@@ -177,10 +174,33 @@ gpu::RayTriangleShading shadingRecord(const TriangleMesh& mesh, uint32_t i, floa
     return s;
 }
 
+// The first BVH-order position of each leaf of a mesh's tree, ascending: the leaves cover
+// the positions in order, so leaf j holds [starts[j], starts[j + 1]) and is record j.
+std::vector<int> leafStarts(const std::vector<gpu::RayWideBvhNode>& wide) {
+    std::vector<int> starts;
+    for (const gpu::RayWideBvhNode& node : wide)
+        for (int c = 0; c < 4; ++c)
+            if ((&node.count.x)[c] > 0) starts.push_back((&node.index.x)[c]);
+    std::sort(starts.begin(), starts.end());
+    return starts;
+}
+
+// Triangle `i` of the mesh into lane `lane` of a record (RayTriangle4).
+void storeTriangle(const TriangleMesh& mesh, uint32_t i, int lane, gpu::RayTriangle4& record) {
+    const Vec3 p0 = mesh.corner(i, 0), e1 = mesh.corner(i, 1) - p0, e2 = mesh.corner(i, 2) - p0;
+    gpu::float4* rows[9] = {&record.p0x, &record.p0y, &record.p0z, &record.e1x, &record.e1y,
+                            &record.e1z, &record.e2x, &record.e2y, &record.e2z};
+    const Vec3* vectors[3] = {&p0, &e1, &e2};
+    for (int v = 0; v < 3; ++v)
+        for (int axis = 0; axis < 3; ++axis) (&rows[3 * v + axis]->x)[lane] = float((*vectors[v])[axis]);
+}
+
 // One mesh: its BVH's nodes appended to packed.nodes (child indices rebased to their place
-// there, leaf ranges to the mesh's place in the triangle buffer), its triangles in BVH
-// order. Returns the root node's index. The per-triangle loops run on every core (each
-// triangle's box and records are its own), so a mesh of millions packs at memory speed.
+// there), its triangles in BVH order, a leaf's (at most four) in one record, each leaf's link
+// rebased to its record's first slot. Returns the root node's index. The tree is built for
+// records (BvhBuildOptions::leafBlock), so that its leaves are nearly full. The per-leaf loop
+// runs on every core (each leaf's records are its own), so a mesh of millions packs at
+// memory speed.
 int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
     const float uvDensity = float(meshUvDensity(mesh));  // every triangle's (trilinear filtering)
     std::vector<BoundingBox> bounds(mesh.triangles.size());
@@ -194,11 +214,15 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
             }
         }
     });
-    FlatBvh bvh = buildBvh(bounds);
+    BvhBuildOptions recordLeaves;
+    recordLeaves.maxLeafSize = RAY_TRIANGLES_PER_RECORD;
+    recordLeaves.leafBlock = RAY_TRIANGLES_PER_RECORD;
+    FlatBvh bvh = buildBvh(bounds, recordLeaves);
     std::vector<BoundingBox>().swap(bounds);
-    const int nodeOffset = int(packed.nodes.size()), triangleOffset = int(packed.triangles.size());
+    const int nodeOffset = int(packed.nodes.size()), recordOffset = int(packed.triangles.size());
     std::vector<gpu::RayWideBvhNode> wide = widenBvh(bvh.nodes);
     std::vector<BinaryBvhNode>().swap(bvh.nodes);
+    const std::vector<int> starts = leafStarts(wide);
     // Grown once for the mesh, not node by node (each regrowth copies the table), and at
     // least doubled, so that a scene of many meshes still copies it a few times only.
     const size_t needed = packed.nodes.size() + wide.size();
@@ -206,22 +230,33 @@ int packMesh(const TriangleMesh& mesh, PackedScene& packed) {
     for (gpu::RayWideBvhNode node : wide) {
         int* index = &node.index.x;
         const int* count = &node.count.x;
-        for (int c = 0; c < 4; ++c)
-            if (index[c] >= 0) index[c] += count[c] > 0 ? triangleOffset : nodeOffset;
+        for (int c = 0; c < 4; ++c) {
+            if (index[c] < 0) continue;
+            if (count[c] == 0) {
+                index[c] += nodeOffset;
+            } else {
+                const int record = int(std::lower_bound(starts.begin(), starts.end(), index[c]) - starts.begin());
+                index[c] = (recordOffset + record) * RAY_TRIANGLES_PER_RECORD;
+            }
+        }
         packed.nodes.push_back(node);
     }
     // Copied into the node table: freed before the triangle tables grow, so that the mesh's
-    // nodes are not held twice at the process's peak (on 1 M triangles a 65 MB block, 32 MB written).
+    // nodes are not held twice at the process's peak.
     std::vector<gpu::RayWideBvhNode>().swap(wide);
-    const size_t first = packed.triangles.size(), count = bvh.primitiveOrder.size();
-    packed.triangles.resize(first + count);
-    packed.triangleShading.resize(first + count);
-    forEachSlice(count, [&](size_t begin, size_t end) {
-        for (size_t k = begin; k < end; ++k) {
-            const uint32_t i = bvh.primitiveOrder[k];
-            Vec3 p0 = mesh.corner(i, 0), p1 = mesh.corner(i, 1), p2 = mesh.corner(i, 2);
-            packed.triangles[first + k] = {toFloat4(p0), toFloat4(p1 - p0), toFloat4(p2 - p0)};
-            packed.triangleShading[first + k] = shadingRecord(mesh, i, uvDensity);
+    const size_t records = starts.size(), triangles = bvh.primitiveOrder.size();
+    packed.triangles.resize(size_t(recordOffset) + records);
+    packed.triangleShading.resize((size_t(recordOffset) + records) * RAY_TRIANGLES_PER_RECORD);
+    forEachSlice(records, [&](size_t begin, size_t end) {
+        for (size_t leaf = begin; leaf < end; ++leaf) {
+            const size_t first = size_t(starts[leaf]);
+            const size_t last = leaf + 1 < records ? size_t(starts[leaf + 1]) : triangles;
+            const size_t record = size_t(recordOffset) + leaf;
+            for (size_t k = 0; first + k < last; ++k) {
+                const uint32_t i = bvh.primitiveOrder[first + k];
+                storeTriangle(mesh, i, int(k), packed.triangles[record]);
+                packed.triangleShading[record * RAY_TRIANGLES_PER_RECORD + k] = shadingRecord(mesh, i, uvDensity);
+            }
         }
     });
     return nodeOffset;

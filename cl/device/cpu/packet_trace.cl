@@ -249,9 +249,20 @@ static inline PacketFloat meshPrune(const TriangleHitPacket* h, bool anyHit) {
     return anyHit ? select(h->best, (PacketFloat)(-1.0f), h->part >= (PacketInt)(0)) : h->best;
 }
 
+/* The triangles in slots [first, first + count) (a leaf of a mesh's tree, or on an overflow
+ * every leaf under its root: leafRange) for every ray of the packet, in slot order. */
+static inline void packetIntersectTriangleSlots(__global const RayTriangle4* records, int first, int count,
+                                                const PacketRays* r, TriangleHitPacket* h) {
+    for (int slot = first; slot < first + count; ++slot) {
+        float3 p0, e1, e2;
+        triangleOfSlot(records, slot, &p0, &e1, &e2);
+        intersectTrianglePacket(p0, e1, e2, slot, r->origin, r->direction, h);
+    }
+}
+
 /* The rays of `lanes` search the subtree under `node` each alone (intersectMesh), going on
  * from where their searches in h stand: the tie rule makes the triangle found the same. */
-static void walkMeshLanesAlone(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int node,
+static void walkMeshLanesAlone(__global const RayWideBvhNode* nodes, __global const RayTriangle4* triangles, int node,
                                const PacketRays* r, PacketInt lanes, BvhStackEntry* spare, TriangleHitPacket* h) {
     int take[RAY_PACKET_WIDTH], part[RAY_PACKET_WIDTH];
     float best[RAY_PACKET_WIDTH], b1[RAY_PACKET_WIDTH], b2[RAY_PACKET_WIDTH];
@@ -291,7 +302,7 @@ static void walkMeshLanesAlone(__global const RayWideBvhNode* nodes, __global co
  * finds, whatever the order of the packet's. With anyHit, a ray stops at its first triangle
  * (a shadow ray asks only whether something blocks it). `spare`: RAY_BVH_SHORT_STACK entries
  * for the walks alone. */
-static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles, int root,
+static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle4* triangles, int root,
                                   const PacketRays* r, bool anyHit, BvhStackEntry* spare, TriangleHitPacket* h) {
     BvhStackEntryPacket entries[RAY_PACKET_MESH_STACK];
     BvhStackPacket stack = emptyBvhStackPacket(entries, RAY_PACKET_MESH_STACK);
@@ -316,8 +327,10 @@ static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global
             if (index < 0) break;
             const int count = ((__global const int*)&node->count)[c];
             if (count > 0) {
-                packetPrefetch(&triangles[index]);
-                if (count > 1) packetPrefetch(&triangles[index + count - 1]);
+                __global const char* record = (__global const char*)&triangles[index >> 2];
+                packetPrefetch(record);
+                packetPrefetch(record + 64);
+                packetPrefetch(record + 128);
             } else {
                 packetPrefetch(&nodes[index]);
                 packetPrefetch((__global const char*)&nodes[index] + 64);
@@ -330,7 +343,7 @@ static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global
             if (!packetAny(enteredByPacket(entry, limit))) continue;
             const int count = ((__global const int*)&node->count)[c];
             if (count > 0) {
-                intersectTrianglesPacket(triangles, index, count, r->origin, r->direction, h);
+                packetIntersectTriangleSlots(triangles, index, count, r, h);
                 limit = select((PacketFloat)(-1.0f), meshPrune(h, anyHit), active);
             } else {
                 addInnerPacket(inner, key, &innerCount, index, entry, anyHit ? 0.0f : packetMinimum(entry));
@@ -341,12 +354,12 @@ static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global
     if (!stack.overflowed) return;
     /* As a ray's walk does on overflow (afterOverflow): every triangle under the root. */
     int2 range = leafRange(nodes, root);
-    intersectTrianglesPacket(triangles, range.x, range.y - range.x, r->origin, r->direction, h);
+    packetIntersectTriangleSlots(triangles, range.x, range.y - range.x, r, h);
 }
 
 /* intersectPrimitive for the rays of `entering` and one mesh primitive (not under
  * courseMeshes, no motion: the caller leaves those to intersectPrimitive). */
-static inline void packetIntersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle* triangles,
+static inline void packetIntersectMesh(__global const RayWideBvhNode* nodes, __global const RayTriangle4* triangles,
                                        __global const RayPrimitive* prim, int index, const PacketRays* r,
                                        PacketInt entering, bool anyHit, BvhStackEntry* spare, PacketHitKeys* keys,
                                        Hit* hits) {
@@ -375,7 +388,7 @@ static inline void packetIntersectMesh(__global const RayWideBvhNode* nodes, __g
     for (int l = 0; l < RAY_PACKET_WIDTH; ++l) {
         if (!take[l]) continue;
         takeHit(&hits[l], t[l], index, order, part[l], (float3)(px[l], py[l], pz[l]),
-                triangleFaceNormal(&triangles[part[l]]), (float2)(b1[l], b2[l]));
+                triangleFaceNormal(triangles, part[l]), (float2)(b1[l], b2[l]));
     }
     keepPacketKeys(keys, h.best, index, order, better);
 }
@@ -386,7 +399,7 @@ static inline void packetIntersectMesh(__global const RayWideBvhNode* nodes, __g
  * unless their hits are keyed by the course's distance (courseMeshes); the others ray by
  * ray. */
 static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global const RayPrimitive* prims,
-                              __global const RayTriangle* triangles, __global const float4* motions,
+                              __global const RayTriangle4* triangles, __global const float4* motions,
                               const Ray* rays, const PacketRays* packet, bool moving, PacketInt entering, int first,
                               int count, bool anyHit, bool courseMeshes, BvhStackEntry* spare, Hit* hits,
                               PacketHitKeys* keys, PacketLanes* limits) {
@@ -420,7 +433,7 @@ static inline void packetLeaf(__global const RayWideBvhNode* nodes, __global con
  * they were. The children of a node are visited nearest first for the packet's nearest ray
  * (closest hits), or in node order (anyHit). */
 RAY_CALL_ON_CPU void traceBvhPacket(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
-                                     __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+                                     __global const RayPrimitive* prims, __global const RayTriangle4* triangles,
                                      __global const float4* motions,
                                      const Ray* rays, const float* tMax, const int* lanes, bool anyHit,
                                      bool courseMeshes, Hit* hits) {

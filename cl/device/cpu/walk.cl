@@ -76,7 +76,7 @@ static inline int nextCpuNode(__global const RayCpuBvhNode* node, float16 entry,
 
 static inline RAY_INLINED_ON_GPU
 void walkScene(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
-               __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+               __global const RayPrimitive* prims, __global const RayTriangle4* triangles,
                __global const float4* motions, Ray ray, float3 inverseDirection, bool anyHit, bool courseMeshes,
                Hit* hit) {
     BvhStackEntry entries[RAY_CPU_BVH_STACK];

@@ -5,7 +5,7 @@
 
 static inline RAY_INLINED_ON_GPU
 void walkScene(__global const RayWideBvhNode* nodes, __global const RayCpuBvhNode* cpuNodes,
-               __global const RayPrimitive* prims, __global const RayTriangle* triangles,
+               __global const RayPrimitive* prims, __global const RayTriangle4* triangles,
                __global const float4* motions, Ray ray, float3 inverseDirection, bool anyHit, bool courseMeshes,
                Hit* hit) {
     (void)cpuNodes; /* a CPU's tree (cl/device/cpu/walk.cl): a placeholder here */
