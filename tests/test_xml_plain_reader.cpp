@@ -42,6 +42,16 @@ XmlTree parseWithExpat(const std::string& xml, bool spans, int maxDepth = kDepth
         maxDepth, 0, spans);
 }
 
+// `xml` handed over `piece` bytes at a time.
+ray::XmlSource inPieces(const std::string& xml, size_t piece) {
+    return [&xml, piece, at = size_t(0)](char* buffer, size_t capacity) mutable {
+        const size_t n = std::min({capacity, piece, xml.size() - at});
+        std::memcpy(buffer, xml.data() + at, n);
+        at += n;
+        return n;
+    };
+}
+
 // Everything a tree holds, element by element in document order: name, line, attributes,
 // first child and next sibling, and the span when there is one.
 std::string everything(const XmlTree& tree) {
@@ -70,14 +80,22 @@ std::string outcome(const std::function<XmlTree()>& parse) {
     }
 }
 
-// The plain reader takes `xml`, and gives expat's tree, with and without spans.
+// The plain reader takes `xml`, whole or fed in pieces down to a byte at a time, and gives
+// expat's tree, with and without spans.
 void checkReadAsExpatReadsIt(const std::string& xml) {
     INFO(xml);
     for (bool spans : {false, true}) {
+        const std::string expat = everything(parseWithExpat(xml, spans));
         std::optional<XmlTree> plain = readPlainXml(xml, kDepth, spans);
         REQUIRE(plain);
         CHECK(plain->hasSpans() == spans);
-        CHECK(everything(*plain) == everything(parseWithExpat(xml, spans)));
+        CHECK(everything(*plain) == expat);
+        for (size_t piece : {1, 2, 3, 7, 64}) {
+            INFO("pieces of " << piece);
+            std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, piece), 0, kDepth, spans);
+            REQUIRE(streamed);
+            CHECK(everything(*streamed) == expat);
+        }
     }
 }
 
@@ -149,6 +167,7 @@ TEST_CASE("plain XML reader: what it does not take, expat reads, with the same t
     for (const std::string& xml : notPlain) {
         INFO(xml);
         CHECK_FALSE(readPlainXml(xml, kDepth, false));
+        CHECK_FALSE(readPlainXml(inPieces(xml, 2), 0, kDepth, false));
         // XmlTree::parse gives what expat gives.
         for (bool spans : {false, true})
             CHECK(outcome([&] { return XmlTree::parse(xml, kDepth, spans); }) ==
@@ -181,12 +200,27 @@ std::string mutated(std::string text, std::mt19937& random, int edits) {
 
 }  // namespace
 
+TEST_CASE("plain XML reader: tags and comments longer than a piece read from a source", "[xml]") {
+    // A value of 3 MB and a comment of 3 MB, past the window's 1 MB pieces, and many small
+    // elements before them, so that they fall across the pieces' ends.
+    std::string xml = "<a>\n";
+    for (int i = 0; i < 40000; ++i) xml += "<b x=\"" + std::to_string(i) + "\"/>\r\n";
+    xml += "<c v=\"" + std::string(3 << 20, 'v') + "\"/>\n<!--" + std::string(3 << 20, '-') + "-->\n<d/></a>";
+    const std::string expat = everything(parseWithExpat(xml, true));
+    std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, size_t(1) << 20), xml.size(), kDepth, true);
+    REQUIRE(streamed);
+    CHECK(everything(*streamed) == expat);
+}
+
 TEST_CASE("plain XML reader: random edits of a scene read as expat reads them", "[xml]") {
     std::mt19937 random(51);
     int taken = 0;
     for (int round = 0; round < 3000; ++round) {
         const std::string xml = mutated(kScene, random, 1 + round % 3);
         std::optional<XmlTree> plain = readPlainXml(xml, kDepth, true);
+        std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, 1 + size_t(round % 13)), 0, kDepth, true);
+        CHECK(bool(streamed) == bool(plain));
+        if (plain && streamed) CHECK(everything(*streamed) == everything(*plain));
         const std::string expat = outcome([&] { return parseWithExpat(xml, true); });
         if (plain) {
             ++taken;

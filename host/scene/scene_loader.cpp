@@ -63,6 +63,7 @@
 #include "scene/json_splices.h"
 #include "scene/scene_loader_passes.h"
 #include "scene/value_text.h"
+#include "scene/xml_plain_reader.h"
 
 namespace fs = std::filesystem;
 
@@ -225,21 +226,21 @@ void readWholeFile(std::ifstream& in, std::uintmax_t size, const Diagnostics& di
     if (in.bad()) diagnostics.fileError("the scene file could not be read to its end", "check the disk");
 }
 
-// The file as XML. A regular file is read whole and parsed in memory, in one pass when it
-// is plain XML (xml_plain_reader.h: ten times expat's speed on a large flat scene); a FIFO
-// or a device is read and parsed by expat a piece at a time, to its end. With `keep`, its
-// bytes are kept there, and its elements' places recorded (for a document's text).
+// The file as XML, read a piece at a time: the text of a large flat scene, tens of
+// megabytes, is never held whole. A regular file is read in one pass when it is plain XML
+// (xml_plain_reader.h: five times expat's speed on a large flat scene), else read again
+// from its start by expat; a FIFO or a device is read by expat, to its end. With `keep`,
+// its bytes are kept there (read whole first), and its elements' places recorded (for a
+// document's text).
 XmlTree readXmlFile(const fs::path& file, const Diagnostics& diagnostics, std::string* keep = nullptr) {
     std::ifstream in = openSceneFile(file, diagnostics);
     std::error_code ec;
     const bool regular = fs::is_regular_file(file, ec);
     std::uintmax_t size = regular ? fs::file_size(file, ec) : 0;
     if (ec) size = 0;
-    if (regular) {
-        std::string own;
-        std::string& text = keep ? *keep : own;
-        readWholeFile(in, size, diagnostics, text);
-        return parseXml(diagnostics, [&] { return XmlTree::parse(text, kMaxElementDepth, keep != nullptr); });
+    if (regular && keep) {
+        readWholeFile(in, size, diagnostics, *keep);
+        return parseXml(diagnostics, [&] { return XmlTree::parse(*keep, kMaxElementDepth, true); });
     }
     const XmlSource read = [&](char* buffer, size_t capacity) {
         in.read(buffer, std::streamsize(capacity));
@@ -248,7 +249,13 @@ XmlTree readXmlFile(const fs::path& file, const Diagnostics& diagnostics, std::s
         if (keep) keep->append(buffer, size_t(in.gcount()));
         return size_t(in.gcount());
     };
-    return parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, 0, keep != nullptr); });
+    if (regular) {
+        if (std::optional<XmlTree> plain = readPlainXml(read, size_t(size), kMaxElementDepth, false))
+            return std::move(*plain);
+        in.clear();
+        in.seekg(0);
+    }
+    return parseXml(diagnostics, [&] { return XmlTree::parse(read, kMaxElementDepth, size_t(size), keep != nullptr); });
 }
 
 }  // namespace

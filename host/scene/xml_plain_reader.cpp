@@ -21,6 +21,9 @@ namespace {
 
 // Thrown where the text leaves the plain subset (or is wrong): expat reads it then.
 struct NotPlain {};
+// Thrown where a tag runs past the window's end (a source's piece): the tag is read again
+// once the next piece is in. Elsewhere it means what NotPlain means.
+struct PastTheWindow : NotPlain {};
 
 // What each byte may be, as bits.
 enum ByteClass : uint8_t {
@@ -59,21 +62,27 @@ bool equalsIgnoringCase(std::string_view a, std::string_view b) {
 
 class PlainXmlReader {
 public:
+    // Reads `text`, whole in memory.
     PlainXmlReader(std::string_view text, int maxDepth, bool recordSpans)
-        : begin_(text.data()),
-          end_(text.data() + text.size()),
-          at_(begin_),
-          counted_(begin_),
-          maxDepth_(maxDepth),
-          recordSpans_(recordSpans),
-          carriageReturns_(std::memchr(text.data(), '\r', text.size()) != nullptr) {
+        : begin_(text.data()), end_(text.data() + text.size()), at_(begin_), counted_(begin_), ended_(true),
+          maxDepth_(maxDepth), recordSpans_(recordSpans) {
         tree_.reserveFor(text.size());
+    }
+    // Reads what `source` gives, a piece at a time.
+    PlainXmlReader(const XmlSource& source, size_t expectedBytes, int maxDepth, bool recordSpans)
+        : source_(&source), maxDepth_(maxDepth), recordSpans_(recordSpans) {
+        tree_.reserveFor(expectedBytes);
     }
 
     XmlTree read() {
         constexpr std::string_view kUtf8Mark = "\xEF\xBB\xBF";
+        ensureBytes(kUtf8Mark.size());
         if (startsWith(kUtf8Mark)) at_ += kUtf8Mark.size();
-        if (startsWith("<?xml") && end_ - at_ > 5 && is(at_[5], kBlank)) readDeclaration();
+        ensureBytes(6);
+        if (startsWith("<?xml") && end_ - at_ > 5 && is(at_[5], kBlank)) {
+            ensureThrough("?>", 5);
+            readDeclaration();
+        }
         skipBlanksAndComments();
         if (at_ == end_ || *at_ != '<') throw NotPlain();
         while (!readMarkup()) skipText();
@@ -84,8 +93,53 @@ private:
     struct Open {
         uint32_t element;
         uint32_t lastChild;  // 0: none yet
-        std::string_view name;
     };
+
+    // Where `place` in the window lies in the whole text.
+    uint64_t offsetOf(const char* place) const { return base_ + uint64_t(place - begin_); }
+
+    std::string_view nameOf(uint32_t element) const { return &tree_.text_[tree_.elements_[element].name]; }
+
+    // The window: a text in memory is one; a source's pieces come into buffer_, and what
+    // the reader has not passed yet (at_ on) moves to its front as the next piece comes.
+    // A construct (a tag, a comment) is made whole in the window before it is read, so
+    // that no pointer into the window outlives a move.
+
+    // Reads the next piece after what is left of the window; false once the source has
+    // ended (the window unchanged then).
+    bool more() {
+        if (ended_) return false;
+        lineAt(at_);  // lines of what leaves the window are counted before it goes
+        const size_t kept = size_t(end_ - at_);
+        if (buffer_.size() < kept + kXmlPieceBytes) {  // grows only for a construct longer than a piece
+            std::vector<char> larger(kept + kXmlPieceBytes);
+            if (kept) std::memcpy(larger.data(), at_, kept);
+            buffer_.swap(larger);
+        } else if (kept) {
+            std::memmove(buffer_.data(), at_, kept);
+        }
+        base_ += uint64_t(at_ - begin_);
+        const size_t got = (*source_)(buffer_.data() + kept, kXmlPieceBytes);
+        begin_ = at_ = counted_ = buffer_.data();
+        end_ = begin_ + kept + got;
+        ended_ = got == 0;
+        return !ended_;
+    }
+
+    void ensureBytes(size_t count) {
+        while (size_t(end_ - at_) < count && more()) {
+        }
+    }
+
+    // Makes the window hold `marker` after at_ + `from`, if the text does.
+    void ensureThrough(std::string_view marker, size_t from) {
+        for (;;) {
+            const std::string_view rest(at_, size_t(end_ - at_));
+            if (rest.size() >= from && rest.find(marker, from) != std::string_view::npos) return;
+            if (rest.size() > marker.size()) from = std::max(from, rest.size() - marker.size());
+            if (!more()) return;
+        }
+    }
 
     bool startsWith(std::string_view prefix) const {
         return size_t(end_ - at_) >= prefix.size() && std::memcmp(at_, prefix.data(), prefix.size()) == 0;
@@ -97,22 +151,32 @@ private:
         return at_ != from;
     }
 
+    // At the window's end, inside a tag.
+    [[noreturn]] void pastTheEnd() const {
+        if (ended_) throw NotPlain();
+        throw PastTheWindow();
+    }
+
     void expect(char c) {
-        if (at_ == end_ || *at_ != c) throw NotPlain();
+        if (at_ == end_) pastTheEnd();
+        if (*at_ != c) throw NotPlain();
         ++at_;
     }
 
     std::string_view readName() {
         const char* name = at_;
-        if (at_ == end_ || !is(*at_, kNameStart)) throw NotPlain();
+        if (at_ == end_) pastTheEnd();
+        if (!is(*at_, kNameStart)) throw NotPlain();
         while (at_ < end_ && is(*at_, kNameByte)) ++at_;
+        if (at_ == end_) pastTheEnd();  // the name may go on
         return {name, size_t(at_ - name)};
     }
 
     // At '"' or '\'': the quoted text after it, up to its closing quote, passed. Its bytes
     // must all be `allowed`; whether a tab or a line break is among them goes to `breaks`.
     std::string_view readQuoted(ByteClass allowed, bool& breaks) {
-        if (at_ == end_ || (*at_ != '"' && *at_ != '\'')) throw NotPlain();
+        if (at_ == end_) pastTheEnd();
+        if (*at_ != '"' && *at_ != '\'') throw NotPlain();
         const char quote = *at_++;
         const char* value = at_;
         breaks = false;
@@ -120,7 +184,7 @@ private:
             if (!is(*at_, allowed)) throw NotPlain();
             breaks |= *at_ == '\t' || *at_ == '\n';
         }
-        if (at_ == end_) throw NotPlain();
+        if (at_ == end_) pastTheEnd();
         return {value, size_t(at_++ - value)};
     }
 
@@ -154,6 +218,7 @@ private:
     // At "<!--": past the first "-->" after it. A "--" inside is taken, as the loader
     // takes it (xml_tree.cpp, CommentDashes).
     void skipComment() {
+        ensureThrough("-->", 4);
         const std::string_view rest(at_ + 4, size_t(end_ - at_) - 4);
         const size_t close = rest.find("-->");
         if (close == std::string_view::npos) throw NotPlain();
@@ -163,26 +228,48 @@ private:
     }
 
     void skipBlanksAndComments() {
-        for (skipBlanks(); startsWith("<!--"); skipBlanks()) skipComment();
+        for (;;) {
+            skipBlanks();
+            if (at_ == end_ && more()) continue;
+            ensureBytes(4);
+            if (!startsWith("<!--")) return;
+            skipComment();
+        }
     }
 
     // Text between tags, up to the next '<'.
     void skipText() {
-        for (; at_ < end_ && *at_ != '<'; ++at_)
-            if (!is(*at_, kTextByte)) throw NotPlain();
-        if (at_ == end_) throw NotPlain();  // an element is not closed
+        for (;;) {
+            for (; at_ < end_ && *at_ != '<'; ++at_)
+                if (!is(*at_, kTextByte)) throw NotPlain();
+            if (at_ < end_) return;
+            if (!more()) throw NotPlain();  // an element is not closed
+        }
     }
 
     // At '<': a start tag, an end tag or a comment, read. True once the root is closed.
     bool readMarkup() {
+        ensureBytes(4);
         if (end_ - at_ < 2) throw NotPlain();
-        if (at_[1] == '/') return readEndTag();
         if (at_[1] == '!') {
             if (!startsWith("<!--")) throw NotPlain();  // CDATA, or a declaration
             skipComment();
             return false;
         }
-        return readStartTag();
+        // A tag cut off by the window's end is read again, whole, from its '<'.
+        const char* tag = at_;
+        const size_t elements = tree_.elements_.size(), attributes = tree_.attributes_.size();
+        for (;;) {
+            try {
+                return at_[1] == '/' ? readEndTag() : readStartTag();
+            } catch (const PastTheWindow&) {
+                tree_.elements_.resize(elements);  // a start tag added its element and attributes
+                tree_.attributes_.resize(attributes);
+                at_ = tag;
+                if (!more()) throw NotPlain();
+                tag = at_;
+            }
+        }
     }
 
     bool readStartTag() {
@@ -192,13 +279,12 @@ private:
         const auto index = uint32_t(tree_.elements_.size());
         XmlTree::ElementRecord& element = tree_.elements_.emplace_back();
         element.line = lineAt(tag);
-        const std::string_view name = readName();
-        element.name = intern(name);
+        element.name = intern(readName());
         element.firstAttribute = uint32_t(tree_.attributes_.size());
         bool selfClosing = false;
         for (;;) {
             const bool blank = skipBlanks();
-            if (at_ == end_) throw NotPlain();
+            if (at_ == end_) pastTheEnd();
             if (*at_ == '>') {
                 ++at_;
                 break;
@@ -215,11 +301,11 @@ private:
         element.attributeCount = uint32_t(tree_.attributes_.size()) - element.firstAttribute;
         refuseRepeatedAttributes(element);
         if (recordSpans_) {
-            const auto startTagEnd = uint64_t(at_ - begin_);
-            tree_.spans_.push_back({uint64_t(tag - begin_), startTagEnd, startTagEnd});
+            const uint64_t startTagEnd = offsetOf(at_);
+            tree_.spans_.push_back({offsetOf(tag), startTagEnd, startTagEnd});
         }
         linkToParent(index);
-        if (!selfClosing) open_.push_back({index, 0, name});
+        if (!selfClosing) open_.push_back({index, 0});
         return open_.empty();
     }
 
@@ -251,23 +337,31 @@ private:
 
     bool readEndTag() {
         at_ += 2;
-        if (open_.empty() || readName() != open_.back().name) throw NotPlain();
+        if (open_.empty() || readName() != nameOf(open_.back().element)) throw NotPlain();
         skipBlanks();
         expect('>');
-        if (recordSpans_) tree_.spans_[open_.back().element].end = uint64_t(at_ - begin_);
+        if (recordSpans_) tree_.spans_[open_.back().element].end = offsetOf(at_);
         open_.pop_back();
         return open_.empty();
     }
 
     // The line of `place`, counted as expat counts: a line feed, a carriage return and the
-    // two together each end a line. Places are asked for in document order.
+    // two together each end a line. Places are asked for in document order; a "\r\n"
+    // may fall across two counts (the window's end between them).
     uint32_t lineAt(const char* place) {
-        if (!carriageReturns_) {
-            line_ += uint32_t(std::count(counted_, place, '\n'));
+        if (place <= counted_) return line_;
+        const char* from = counted_;
+        if (afterCarriageReturn_ && *from == '\n') ++from;  // counted with its '\r'
+        const std::string_view range(from, size_t(place - from));
+        if (range.find('\r') == std::string_view::npos) {
+            line_ += uint32_t(std::count(range.begin(), range.end(), '\n'));
         } else {
-            for (const char* c = counted_; c < place; ++c)
-                if (*c == '\n' || (*c == '\r' && (c + 1 == end_ || c[1] != '\n'))) ++line_;
+            for (size_t i = 0; i < range.size(); ++i) {
+                if (range[i] == '\n' || range[i] == '\r') ++line_;
+                if (range[i] == '\r' && i + 1 < range.size() && range[i + 1] == '\n') ++i;
+            }
         }
+        afterCarriageReturn_ = place[-1] == '\r';
         counted_ = place;
         return line_;
     }
@@ -280,7 +374,7 @@ private:
             std::memcmp(&tree_.text_[recent.offset], name.data(), name.size()) == 0)
             return recent.offset;
         auto it = names_.find(name);
-        if (it == names_.end()) it = names_.emplace(name, store(name, false)).first;
+        if (it == names_.end()) it = names_.emplace(std::string(name), store(name, false)).first;
         recent = {it->second, uint32_t(name.size())};
         return recent.offset;
     }
@@ -297,17 +391,27 @@ private:
         return offset;
     }
 
-    const char* const begin_;
-    const char* const end_;
-    const char* at_;
-    const char* counted_;  // lines are counted up to here
+    const XmlSource* source_ = nullptr;  // null: the text is in memory, whole
+    std::vector<char> buffer_;           // a source's window
+    const char* begin_ = nullptr;        // the window
+    const char* end_ = nullptr;
+    const char* at_ = nullptr;           // the next byte to read
+    const char* counted_ = nullptr;      // lines are counted up to here
+    uint64_t base_ = 0;                  // the offset of begin_ in the whole text
+    bool ended_ = false;                 // no bytes after end_
     uint32_t line_ = 1;
+    bool afterCarriageReturn_ = false;   // counted_ follows a '\r'
     int maxDepth_;
     bool recordSpans_;
-    bool carriageReturns_;
     XmlTree tree_;
     std::vector<Open> open_;
-    std::unordered_map<std::string_view, uint32_t> names_;  // views into the text read
+    // Names read, and where the tree's text holds them (a view into the window would not
+    // outlive it). Looked up only when the small table of recent names misses.
+    struct NameHash {
+        using is_transparent = void;
+        size_t operator()(std::string_view name) const { return std::hash<std::string_view>()(name); }
+    };
+    std::unordered_map<std::string, uint32_t, NameHash, std::equal_to<>> names_;
     static constexpr size_t kRecentNames = 64;
     static constexpr uint32_t kNoName = std::numeric_limits<uint32_t>::max();
     struct RecentName {
@@ -320,6 +424,14 @@ private:
 std::optional<XmlTree> readPlainXml(std::string_view text, int maxDepth, bool recordSpans) {
     try {
         return PlainXmlReader(text, maxDepth, recordSpans).read();
+    } catch (const NotPlain&) {
+        return std::nullopt;
+    }
+}
+
+std::optional<XmlTree> readPlainXml(const XmlSource& source, size_t expectedBytes, int maxDepth, bool recordSpans) {
+    try {
+        return PlainXmlReader(source, expectedBytes, maxDepth, recordSpans).read();
     } catch (const NotPlain&) {
         return std::nullopt;
     }

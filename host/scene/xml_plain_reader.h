@@ -31,5 +31,9 @@ namespace ray {
 // The tree of `text` when it is plain XML as above, with each element's span when
 // `recordSpans`; nullopt otherwise.
 std::optional<XmlTree> readPlainXml(std::string_view text, int maxDepth, bool recordSpans);
+// The same from what `source` gives, read a piece at a time (`expectedBytes`, the size when
+// known, sizes the tree's arrays): the text is never held whole. On nullopt the caller
+// reads the text again from its start for expat (the source is read part of the way).
+std::optional<XmlTree> readPlainXml(const XmlSource& source, size_t expectedBytes, int maxDepth, bool recordSpans);
 
 }  // namespace ray

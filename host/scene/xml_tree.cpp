@@ -24,10 +24,6 @@
 namespace ray {
 namespace {
 
-// The size of each piece read and parsed: large enough that the calls cost nothing, small
-// enough that a scene of tens of megabytes is never held whole.
-constexpr size_t kPieceBytes = 1 << 20;
-
 // XML forbids "--" inside a comment, but tinyxml2, the loader's parser before expat, took
 // it, and scene files write it (our own scenes quote command-line options such as
 // --no-dof in comments). This rewrites such dashes to blanks before expat sees them, with
@@ -172,11 +168,11 @@ public:
         std::string carry;  // bytes the comment filter held back, parsed with the next piece
         bool last = false;
         while (!last) {
-            const size_t request = carry.size() + kPieceBytes;
+            const size_t request = carry.size() + kXmlPieceBytes;
             char* buffer = static_cast<char*>(XML_GetBuffer(parser_, int(request)));
             if (!buffer) throw std::bad_alloc();
             std::memcpy(buffer, carry.data(), carry.size());
-            const size_t got = source(buffer + carry.size(), kPieceBytes);
+            const size_t got = source(buffer + carry.size(), kXmlPieceBytes);
             last = got == 0;
             if (!sawNonBlank_) sawNonBlank_ = !isBlank(buffer + carry.size(), got);
             const size_t size = carry.size() + got;

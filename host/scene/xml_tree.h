@@ -42,6 +42,10 @@ public:
 // the document has ended. It may throw (a read error): the exception passes through parse.
 using XmlSource = std::function<size_t(char* buffer, size_t capacity)>;
 
+// The size of each piece read from an XmlSource and parsed: large enough that the calls
+// cost nothing, small enough that a scene of tens of megabytes is never held whole.
+constexpr size_t kXmlPieceBytes = 1 << 20;
+
 class XmlTree;
 
 // Where an element lies in the bytes parsed: [begin, end) is the whole element, start tag
