@@ -17,6 +17,7 @@
 #include "scene/scene_loader.h"
 #include "scene/xml_plain_reader.h"
 #include "scene/xml_tree.h"
+#include "scene_comparison.h"
 #include "test_support.h"
 
 using ray::readPlainXml;
@@ -255,4 +256,42 @@ TEST_CASE("plain XML reader: every course scene reads to expat's tree", "[xml][c
             CHECK((plain && everything(*plain) == expat));
         CHECK(outcome([&] { return XmlTree::parse(xml, ray::kMaxElementDepth, true); }) == expat);
     }
+}
+
+namespace {
+
+// A flat scene of `spheres` spheres, about 200 bytes each, the last one's diffuse colour
+// written as `lastDiffuse`.
+std::string sphereScene(int spheres, const std::string& lastDiffuse) {
+    std::string xml =
+        "<scenefile>\n<cameradata><pos x=\"0\" y=\"0\" z=\"9\"/><focus x=\"0\" y=\"0\" z=\"0\"/>"
+        "<up x=\"0\" y=\"1\" z=\"0\"/><heightangle v=\"45\"/></cameradata>\n<object type=\"tree\" name=\"root\">\n";
+    for (int i = 0; i < spheres; ++i) {
+        const std::string diffuse = i + 1 < spheres ? "r=\"0.9\" g=\"0.2\" b=\"0.9\"" : lastDiffuse;
+        xml += "  <transblock><translate x=\"" + std::to_string(i % 97) + "\" y=\"" + std::to_string(i % 89) +
+               "\" z=\"-3.5\"/><scale x=\"0.1\" y=\"0.1\" z=\"0.1\"/><object type=\"primitive\" "
+               "name=\"sphere\"><diffuse " + diffuse + "/><shininess v=\"20\"/></object></transblock>\n";
+    }
+    return xml + "</object>\n</scenefile>\n";
+}
+
+}  // namespace
+
+TEST_CASE("a scene file that is not plain XML is read again from its start by expat", "[xml][loader]") {
+    const std::filesystem::path folder = ray::test::freshOutputFolder("xml_plain_reader", "files");
+    // Over 3 MB, so that the plain reader has read pieces of it before it meets what is not
+    // plain, near the end.
+    const int spheres = 20000;
+    ray::test::writeFileText(folder / "plain.xml", sphereScene(spheres, "r=\"0.5\" g=\"0.5\" b=\"0.5\""));
+    ray::test::writeFileText(folder / "entity.xml", sphereScene(spheres, "r=\"0.5\" g=\"&#48;.5\" b=\"0.5\""));
+    REQUIRE(std::filesystem::file_size(folder / "entity.xml") > (3 << 20));
+    const ray::Scene plain = ray::loadScene(folder / "plain.xml", ray::test::quietLoadOptions());
+    const ray::Scene entity = ray::loadScene(folder / "entity.xml", ray::test::quietLoadOptions());
+    CHECK(plain.primitives.size() == size_t(spheres));
+    CHECK(ray::test::sameTables(plain, entity));
+    // An error there: expat's words, with the file and the line.
+    ray::test::writeFileText(folder / "twice.xml", sphereScene(spheres, "r=\"0.5\" g=\"0.5\" g=\"0.5\""));
+    CHECK_THROWS_WITH(ray::loadScene(folder / "twice.xml", ray::test::quietLoadOptions()),
+                      (folder / "twice.xml").string() + ":" + std::to_string(spheres + 3) +
+                          ": error: malformed XML: <diffuse> has the same attribute twice; fix the XML syntax at that line");
 }
