@@ -208,9 +208,21 @@ TEST_CASE("plain XML reader: tags and comments longer than a piece read from a s
     for (int i = 0; i < 40000; ++i) xml += "<b x=\"" + std::to_string(i) + "\"/>\r\n";
     xml += "<c v=\"" + std::string(3 << 20, 'v') + "\"/>\n<!--" + std::string(3 << 20, '-') + "-->\n<d/></a>";
     const std::string expat = everything(parseWithExpat(xml, true));
-    std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, size_t(1) << 20), xml.size(), kDepth, true);
-    REQUIRE(streamed);
-    CHECK(everything(*streamed) == expat);
+    for (size_t piece : {size_t(1) << 20, size_t(4096)}) {
+        std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, piece), xml.size(), kDepth, true);
+        REQUIRE(streamed);
+        CHECK(everything(*streamed) == expat);
+    }
+}
+
+TEST_CASE("plain XML reader: an element with thousands of attributes, one of them twice or not", "[xml]") {
+    std::string attributes;
+    for (int i = 0; i < 20000; ++i) attributes += " a" + std::to_string(i) + "=\"" + std::to_string(i) + "\"";
+    checkReadAsExpatReadsIt("<a>\n<b" + attributes + "/></a>");
+    const std::string twice = "<a>\n<b" + attributes + " a7=\"x\"/></a>";
+    CHECK_FALSE(readPlainXml(twice, kDepth, false));
+    CHECK(outcome([&] { return XmlTree::parse(twice, kDepth); }) ==
+          "error 2 line 2: <b> has the same attribute twice");
 }
 
 TEST_CASE("plain XML reader: random edits of a scene read as expat reads them", "[xml]") {

@@ -105,25 +105,32 @@ private:
     // A construct (a tag, a comment) is made whole in the window before it is read, so
     // that no pointer into the window outlives a move.
 
-    // Reads the next piece after what is left of the window; false once the source has
-    // ended (the window unchanged then).
+    // Reads more after what is left of the window: a piece, or as much as is left when that
+    // is more (a tag longer than a piece is read again from its start each time the window
+    // grows: doubling it keeps that linear). False once the source has ended (the window
+    // unchanged then).
     bool more() {
         if (ended_) return false;
         lineAt(at_);  // lines of what leaves the window are counted before it goes
         const size_t kept = size_t(end_ - at_);
-        if (buffer_.size() < kept + kXmlPieceBytes) {  // grows only for a construct longer than a piece
-            std::vector<char> larger(kept + kXmlPieceBytes);
+        const size_t wanted = std::max(kXmlPieceBytes, kept);
+        if (buffer_.size() < kept + wanted) {
+            std::vector<char> larger(kept + wanted);
             if (kept) std::memcpy(larger.data(), at_, kept);
             buffer_.swap(larger);
         } else if (kept) {
             std::memmove(buffer_.data(), at_, kept);
         }
         base_ += uint64_t(at_ - begin_);
-        const size_t got = (*source_)(buffer_.data() + kept, kXmlPieceBytes);
+        size_t got = 0;
+        while (got < wanted && !ended_) {
+            const size_t n = (*source_)(buffer_.data() + kept + got, wanted - got);
+            ended_ = n == 0;
+            got += n;
+        }
         begin_ = at_ = counted_ = buffer_.data();
         end_ = begin_ + kept + got;
-        ended_ = got == 0;
-        return !ended_;
+        return got > 0;
     }
 
     void ensureBytes(size_t count) {
@@ -319,12 +326,20 @@ private:
         tree_.attributes_.push_back({intern(name), store(value, breaks)});
     }
 
-    // Names are interned, so that one written twice has one offset.
-    void refuseRepeatedAttributes(const XmlTree::ElementRecord& element) const {
+    // Names are interned, so that one written twice has one offset. A scene's element has
+    // a few attributes, compared pairwise; a long list is sorted instead.
+    void refuseRepeatedAttributes(const XmlTree::ElementRecord& element) {
         const XmlTree::AttributeRecord* first = tree_.attributes_.data() + element.firstAttribute;
-        for (uint32_t i = 1; i < element.attributeCount; ++i)
-            for (uint32_t k = 0; k < i; ++k)
-                if (first[i].name == first[k].name) throw NotPlain();
+        if (element.attributeCount <= 16) {
+            for (uint32_t i = 1; i < element.attributeCount; ++i)
+                for (uint32_t k = 0; k < i; ++k)
+                    if (first[i].name == first[k].name) throw NotPlain();
+            return;
+        }
+        sortedNames_.clear();
+        for (uint32_t i = 0; i < element.attributeCount; ++i) sortedNames_.push_back(first[i].name);
+        std::sort(sortedNames_.begin(), sortedNames_.end());
+        if (std::adjacent_find(sortedNames_.begin(), sortedNames_.end()) != sortedNames_.end()) throw NotPlain();
     }
 
     void linkToParent(uint32_t index) {
@@ -412,6 +427,7 @@ private:
         size_t operator()(std::string_view name) const { return std::hash<std::string_view>()(name); }
     };
     std::unordered_map<std::string, uint32_t, NameHash, std::equal_to<>> names_;
+    std::vector<uint32_t> sortedNames_;  // a long attribute list's names (refuseRepeatedAttributes)
     static constexpr size_t kRecentNames = 64;
     static constexpr uint32_t kNoName = std::numeric_limits<uint32_t>::max();
     struct RecentName {
