@@ -1,9 +1,12 @@
-// The XML tree (xml_tree.h), built by libexpat fed a piece at a time.
+// The XML tree (xml_tree.h), built by libexpat fed a piece at a time (or by the plain reader,
+// xml_plain_reader.h, from a plain text in memory).
 //
 // Security: expat never loads an external entity or external DTD here (no external entity
 // handler is set and parameter entities are never parsed), and its protection against entity
 // expansion bombs ("billion laughs", on by default since 2.4) stays on.
 #include "scene/xml_tree.h"
+
+#include "scene/xml_plain_reader.h"
 
 #include <expat.h>
 
@@ -20,10 +23,6 @@
 
 namespace ray {
 namespace {
-
-// The size of each piece read and parsed: large enough that the calls cost nothing, small
-// enough that a scene of tens of megabytes is never held whole.
-constexpr size_t kPieceBytes = 1 << 20;
 
 // XML forbids "--" inside a comment, but tinyxml2, the loader's parser before expat, took
 // it, and scene files write it (our own scenes quote command-line options such as
@@ -154,7 +153,7 @@ public:
     XmlTreeBuilder(int maxDepth, size_t expectedBytes, bool recordSpans, const char* encoding = nullptr)
         : maxDepth_(maxDepth), recordSpans_(recordSpans), parser_(XML_ParserCreate(encoding)) {
         if (!parser_) throw std::bad_alloc();
-        reserveFor(expectedBytes);
+        tree_.reserveFor(expectedBytes);
         XML_SetUserData(parser_, this);
         XML_SetElementHandler(parser_, &XmlTreeBuilder::onStart, &XmlTreeBuilder::onEnd);
         // No character data, comment or external entity handler: expat skips text and
@@ -169,11 +168,11 @@ public:
         std::string carry;  // bytes the comment filter held back, parsed with the next piece
         bool last = false;
         while (!last) {
-            const size_t request = carry.size() + kPieceBytes;
+            const size_t request = carry.size() + kXmlPieceBytes;
             char* buffer = static_cast<char*>(XML_GetBuffer(parser_, int(request)));
             if (!buffer) throw std::bad_alloc();
             std::memcpy(buffer, carry.data(), carry.size());
-            const size_t got = source(buffer + carry.size(), kPieceBytes);
+            const size_t got = source(buffer + carry.size(), kXmlPieceBytes);
             last = got == 0;
             if (!sawNonBlank_) sawNonBlank_ = !isBlank(buffer + carry.size(), got);
             const size_t size = carry.size() + got;
@@ -188,16 +187,6 @@ public:
     }
 
 private:
-    // Room for what a document of `bytes` usually holds: a scene element takes 35 to 40
-    // bytes of text, an attribute 15 to 18, and names and values a third of the text.
-    // Generous, since room reserved and never used costs address space, not memory.
-    void reserveFor(size_t bytes) {
-        const size_t cap = std::numeric_limits<uint32_t>::max();
-        tree_.elements_.reserve(std::min(bytes / 24, cap));
-        tree_.attributes_.reserve(std::min(bytes / 10, cap));
-        tree_.text_.reserve(std::min(bytes / 2, cap));
-    }
-
     struct Open {
         uint32_t element;
         uint32_t lastChild;  // 0: none yet
@@ -430,11 +419,22 @@ XmlSource readingFrom(std::string_view text) {
 }  // namespace
 
 XmlTree XmlTree::parse(std::string_view text, int maxDepth, bool recordSpans) {
+    if (std::optional<XmlTree> plain = readPlainXml(text, maxDepth, recordSpans)) return std::move(*plain);
     return parse(readingFrom(text), maxDepth, text.size(), recordSpans);
 }
 
 XmlTree XmlTree::parseUtf8(std::string_view text, int maxDepth, bool recordSpans) {
     return XmlTreeBuilder(maxDepth, text.size(), recordSpans, "UTF-8").build(readingFrom(text));
+}
+
+// A scene element takes 35 to 40 bytes of text, an attribute 15 to 18, and names and
+// values a third of the text. Generous, since room reserved and never used costs address
+// space, not memory.
+void XmlTree::reserveFor(size_t bytes) {
+    const size_t cap = std::numeric_limits<uint32_t>::max();
+    elements_.reserve(std::min(bytes / 24, cap));
+    attributes_.reserve(std::min(bytes / 10, cap));
+    text_.reserve(std::min(bytes / 2, cap));
 }
 
 size_t XmlTree::bytes() const {

@@ -1,10 +1,11 @@
 // An XML document as a compact, read-only tree of elements and their attributes, built by
-// libexpat's streaming parser from text read a piece at a time.
+// libexpat's streaming parser from text read a piece at a time, or, from a text in memory
+// that is plain XML (scene/xml_plain_reader.h), in one pass without expat.
 //
 // The scene format (SPEC §1) lives entirely in element names and attributes, so that is all
 // the tree keeps: character data, comments and processing instructions are skipped. A large
 // flat scene has millions of elements; the tree holds them in three arrays (see XmlTree),
-// with no allocation per element, and the text it parses is never held in one piece.
+// with no allocation per element; expat's reading of a stream never holds its text in one piece.
 //
 // On request the tree also records where each element lies in the text (XmlSpan, from
 // expat's byte offsets): what lets a saved scene keep the text of what was not edited
@@ -40,6 +41,10 @@ public:
 // Fills `buffer` with up to `capacity` bytes of the document and returns how many; 0 means
 // the document has ended. It may throw (a read error): the exception passes through parse.
 using XmlSource = std::function<size_t(char* buffer, size_t capacity)>;
+
+// The size of each piece read from an XmlSource and parsed: large enough that the calls
+// cost nothing, small enough that a scene of tens of megabytes is never held whole.
+constexpr size_t kXmlPieceBytes = 1 << 20;
 
 class XmlTree;
 
@@ -86,6 +91,8 @@ public:
     // front, so that they are not copied as they grow. Throws XmlError, or what `source` throws.
     // With `recordSpans`, each element's place in the bytes read is kept too (XmlSpan).
     static XmlTree parse(const XmlSource& source, int maxDepth, size_t expectedBytes = 0, bool recordSpans = false);
+    // The same from a text in memory: read in one pass when it is plain XML (the usual
+    // scene file), else by expat; the same tree, and the same errors, either way.
     static XmlTree parse(std::string_view text, int maxDepth, bool recordSpans = false);
     // `text` read as UTF-8 whatever encoding its XML declaration names: a file's text turned
     // into UTF-8 (scene/text_encoding.h), its declaration kept as the file has it.
@@ -112,6 +119,11 @@ public:
 private:
     friend class XmlElement;
     friend class XmlTreeBuilder;
+    friend class PlainXmlReader;  // scene/xml_plain_reader.h
+
+    // Reserves room for what a document of `bytes` usually holds, so that the arrays are
+    // not copied as they grow.
+    void reserveFor(size_t bytes);
 
     // The layout. Elements are records in document order, so elements_[0] is the root and
     // every parent comes before its children; index 0 therefore never names a child or a
