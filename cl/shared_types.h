@@ -219,11 +219,11 @@ RAY_STRUCT(RayTriangle4) {
     float4 e2x, e2y, e2z;
 } RAY_END_STRUCT(RayTriangle4);
 
-/* What shading needs of a triangle, one a slot of the triangle records (RayTriangle4): 80 bytes. The corner
- * normals (the file's vn, or the face normal for every corner of a face without them) and
- * texture coordinates ((0, 0) without vt). Its directions are three floats each, read with
- * vload3, not float4s: this table grows with a mesh's triangles (a million: 80 MB, where
- * float4s would make it 96). */
+/* What shading needs of a triangle, one a slot of the triangle records (RayTriangle4; an
+ * unused slot's zeros): 80 bytes. The corner normals (the file's vn, or the face normal for
+ * every corner of a face without them) and texture coordinates ((0, 0) without vt). Its
+ * directions are three floats each, read with vload3, not float4s: this table grows with a
+ * mesh's triangles (a million: 80 MB, where float4s would make it 96). */
 RAY_STRUCT(RayTriangleShading) {
     float normal0[3], normal1[3], normal2[3];
     float uTangent[3];  /* the unit direction in which u grows over the triangle (bump mapping; 0 without vt) */
