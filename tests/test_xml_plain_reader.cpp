@@ -19,11 +19,13 @@
 #include "scene/xml_tree.h"
 #include "scene_comparison.h"
 #include "test_support.h"
+#include "xml_pieces.h"
 
 using ray::readPlainXml;
 using ray::XmlElement;
 using ray::XmlError;
 using ray::XmlTree;
+using ray::test::xmlInPieces;
 
 namespace {
 
@@ -32,25 +34,7 @@ constexpr int kDepth = 100;
 // Read by expat, fed 4 KiB at a time (XmlTree::parse of a source never takes the plain
 // reader).
 XmlTree parseWithExpat(const std::string& xml, bool spans, int maxDepth = kDepth) {
-    size_t at = 0;
-    return XmlTree::parse(
-        [&](char* buffer, size_t capacity) {
-            const size_t n = std::min({capacity, size_t(4096), xml.size() - at});
-            std::memcpy(buffer, xml.data() + at, n);
-            at += n;
-            return n;
-        },
-        maxDepth, 0, spans);
-}
-
-// `xml` handed over `piece` bytes at a time.
-ray::XmlSource inPieces(const std::string& xml, size_t piece) {
-    return [&xml, piece, at = size_t(0)](char* buffer, size_t capacity) mutable {
-        const size_t n = std::min({capacity, piece, xml.size() - at});
-        std::memcpy(buffer, xml.data() + at, n);
-        at += n;
-        return n;
-    };
+    return XmlTree::parse(xmlInPieces(xml, 4096), maxDepth, 0, spans);
 }
 
 // Everything a tree holds, element by element in document order: name, line, attributes,
@@ -93,7 +77,7 @@ void checkReadAsExpatReadsIt(const std::string& xml) {
         CHECK(everything(*plain) == expat);
         for (size_t piece : {1, 2, 3, 7, 64}) {
             INFO("pieces of " << piece);
-            std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, piece), 0, kDepth, spans);
+            std::optional<XmlTree> streamed = readPlainXml(xmlInPieces(xml, piece), 0, kDepth, spans);
             REQUIRE(streamed);
             CHECK(everything(*streamed) == expat);
         }
@@ -168,7 +152,7 @@ TEST_CASE("plain XML reader: what it does not take, expat reads, with the same t
     for (const std::string& xml : notPlain) {
         INFO(xml);
         CHECK_FALSE(readPlainXml(xml, kDepth, false));
-        CHECK_FALSE(readPlainXml(inPieces(xml, 2), 0, kDepth, false));
+        CHECK_FALSE(readPlainXml(xmlInPieces(xml, 2), 0, kDepth, false));
         // XmlTree::parse gives what expat gives.
         for (bool spans : {false, true})
             CHECK(outcome([&] { return XmlTree::parse(xml, kDepth, spans); }) ==
@@ -209,7 +193,7 @@ TEST_CASE("plain XML reader: tags and comments longer than a piece read from a s
     xml += "<c v=\"" + std::string(3 << 20, 'v') + "\"/>\n<!--" + std::string(3 << 20, '-') + "-->\n<d/></a>";
     const std::string expat = everything(parseWithExpat(xml, true));
     for (size_t piece : {size_t(1) << 20, size_t(4096)}) {
-        std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, piece), xml.size(), kDepth, true);
+        std::optional<XmlTree> streamed = readPlainXml(xmlInPieces(xml, piece), xml.size(), kDepth, true);
         REQUIRE(streamed);
         CHECK(everything(*streamed) == expat);
     }
@@ -231,7 +215,7 @@ TEST_CASE("plain XML reader: random edits of a scene read as expat reads them", 
     for (int round = 0; round < 3000; ++round) {
         const std::string xml = mutated(kScene, random, 1 + round % 3);
         std::optional<XmlTree> plain = readPlainXml(xml, kDepth, true);
-        std::optional<XmlTree> streamed = readPlainXml(inPieces(xml, 1 + size_t(round % 13)), 0, kDepth, true);
+        std::optional<XmlTree> streamed = readPlainXml(xmlInPieces(xml, 1 + size_t(round % 13)), 0, kDepth, true);
         CHECK(bool(streamed) == bool(plain));
         if (plain && streamed) CHECK(everything(*streamed) == everything(*plain));
         const std::string expat = outcome([&] { return parseWithExpat(xml, true); });

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene/xml_tree.h"
+#include "xml_pieces.h"
 
 using Catch::Matchers::Contains;
 using ray::XmlElement;
@@ -20,15 +21,7 @@ constexpr int kDepth = 100;
 
 // Parses `xml` handed over `piece` bytes at a time.
 XmlTree parseInPieces(const std::string& xml, size_t piece, int maxDepth = kDepth) {
-    size_t at = 0;
-    return XmlTree::parse(
-        [&](char* buffer, size_t capacity) {
-            const size_t n = std::min({capacity, piece, xml.size() - at});
-            std::memcpy(buffer, xml.data() + at, n);
-            at += n;
-            return n;
-        },
-        maxDepth);
+    return XmlTree::parse(ray::test::xmlInPieces(xml, piece), maxDepth);
 }
 
 // The tree written back as text: names, attributes and lines, children nested.
