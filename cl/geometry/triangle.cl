@@ -72,6 +72,18 @@ RAY_LANE_TEMPLATE void RAY_LANE_FN(intersectTriangle)(float3 p0, float3 e1, floa
     h->b2 = laneSelect(h->b2, b2, take);
 }
 
+/* The triangles in slots [first, first + count) (a mesh's leaf, or on a walk's overflow every
+ * leaf under a node: cl/traversal/wide_walk.cl leafRange) for every lane's ray, one after
+ * another in slot order: a GPU's ray (cl/device/gpu/triangle_test.cl) and a packet. */
+RAY_LANE_TEMPLATE void RAY_LANE_FN(intersectTriangleSlots)(__global const RayTriangle4* records, int first, int count,
+                                                          LaneVec3 o, LaneVec3 d, RAY_LANE_FN(TriangleHit) * h) {
+    for (int slot = first; slot < first + count; ++slot) {
+        float3 p0, e1, e2;
+        triangleOfSlot(records, slot, &p0, &e1, &e2);
+        RAY_LANE_FN(intersectTriangle)(p0, e1, e2, slot, o, d, h);
+    }
+}
+
 #else /* the lanes are a record's triangles (cl/lanes/quad.h) */
 
 /* One ray against the triangles in slots [first, first + count), a record's four at once:

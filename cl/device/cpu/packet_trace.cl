@@ -249,17 +249,6 @@ static inline PacketFloat meshPrune(const TriangleHitPacket* h, bool anyHit) {
     return anyHit ? select(h->best, (PacketFloat)(-1.0f), h->part >= (PacketInt)(0)) : h->best;
 }
 
-/* The triangles in slots [first, first + count) (a leaf of a mesh's tree, or on an overflow
- * every leaf under its root: leafRange) for every ray of the packet, in slot order. */
-static inline void packetIntersectTriangleSlots(__global const RayTriangle4* records, int first, int count,
-                                                const PacketRays* r, TriangleHitPacket* h) {
-    for (int slot = first; slot < first + count; ++slot) {
-        float3 p0, e1, e2;
-        triangleOfSlot(records, slot, &p0, &e1, &e2);
-        intersectTrianglePacket(p0, e1, e2, slot, r->origin, r->direction, h);
-    }
-}
-
 /* The rays of `lanes` search the subtree under `node` each alone (intersectMesh), going on
  * from where their searches in h stand: the tie rule makes the triangle found the same. */
 static void walkMeshLanesAlone(__global const RayWideBvhNode* nodes, __global const RayTriangle4* triangles, int node,
@@ -343,7 +332,7 @@ static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global
             if (!packetAny(enteredByPacket(entry, limit))) continue;
             const int count = ((__global const int*)&node->count)[c];
             if (count > 0) {
-                packetIntersectTriangleSlots(triangles, index, count, r, h);
+                intersectTriangleSlotsPacket(triangles, index, count, r->origin, r->direction, h);
                 limit = select((PacketFloat)(-1.0f), meshPrune(h, anyHit), active);
             } else {
                 addInnerPacket(inner, key, &innerCount, index, entry, anyHit ? 0.0f : packetMinimum(entry));
@@ -354,7 +343,7 @@ static inline void packetWalkMesh(__global const RayWideBvhNode* nodes, __global
     if (!stack.overflowed) return;
     /* As a ray's walk does on overflow (afterOverflow): every triangle under the root. */
     int2 range = leafRange(nodes, root);
-    packetIntersectTriangleSlots(triangles, range.x, range.y - range.x, r, h);
+    intersectTriangleSlotsPacket(triangles, range.x, range.y - range.x, r->origin, r->direction, h);
 }
 
 /* intersectPrimitive for the rays of `entering` and one mesh primitive (not under
